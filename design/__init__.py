@@ -1,0 +1,1 @@
+"""softcath design package: the catheter tip as validated data (skeleton; API lands with issue 2)."""

@@ -1,0 +1,1 @@
+"""softcath hardware package."""
