@@ -243,7 +243,7 @@ class FollowerPressure:
         self.body = body
         self.facets = facets
         self.gdofs = _vector_dofs(fb.element_dofs)
-        self.values = np.stack([fb.basis[a][0].value for a in range(10)]).transpose(1, 2, 0).copy()
+        self.values = np.stack([np.asarray(fb.basis[a][0]) for a in range(10)]).transpose(1, 2, 0).copy()
         self.grads = np.stack([fb.basis[a][0].grad for a in range(10)]).transpose(2, 3, 0, 1).copy()
         self.normals = np.asarray(fb.normals).transpose(1, 2, 0).copy()  # (n, q, 3)
         factor = np.ones(fb.dx.shape) if profile is None else np.asarray(profile(np.asarray(fb.global_coordinates())))
