@@ -239,6 +239,10 @@ def solve(
     return NonlinearResult(steps=tuple(records), displacements=np.stack(history))
 
 
+#: A Newton correction this small relative to the displacement is round-off.
+_DU_ROUNDOFF = 1e-11
+
+
 def _newton(body, u, lam, free, mask, tmpl, lin, residual, max_iter, rtol, *, fixed, dfixed):
     """Newton iterations in place on ``u``; returns (converged, iterations, residual history).
 
@@ -271,6 +275,10 @@ def _newton(body, u, lam, free, mask, tmpl, lin, residual, max_iter, rtol, *, fi
             if not np.all(np.isfinite(du)):
                 return False, it, res
             u[free] += du
+            if it > 1 and res[-1] <= 1e-5 and np.linalg.norm(du) <= _DU_ROUNDOFF * np.linalg.norm(u[free]):
+                # the correction is at round-off: the residual has hit its floor (stiff coil next
+                # to soft silicone), further iterations cannot lower it
+                return True, it, res
             if body.min_jacobian(u) <= 0:
                 return False, it, res
         r, _, ref = residual(u, lam)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["best_rotation", "bend_angle", "TipPose", "tip_pose"]
+__all__ = ["best_rotation", "bend_angle", "bend_angles", "TipPose", "tip_pose"]
 
 
 def best_rotation(reference: np.ndarray, deformed: np.ndarray) -> np.ndarray:
@@ -33,6 +33,12 @@ def bend_angle(nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis: 
     r = best_rotation(nodes[end_mask], nodes[end_mask] + u[end_mask])
     t = r[:, axis]
     return float(np.arctan2(sign * t[toward], t[axis]))
+
+
+def bend_angles(nodes: np.ndarray, displacements: np.ndarray, end_mask: np.ndarray) -> np.ndarray:
+    """Bend angle [rad] after each load step, unwrapped so it can pass ±π (a tip curling past a half turn)."""
+    raw = np.array([bend_angle(nodes, u, end_mask) for u in displacements])
+    return np.unwrap(np.concatenate([[0.0], raw]))[1:]
 
 
 class TipPose(tuple):
