@@ -134,7 +134,11 @@ def closed_cylinder(
 
 @dataclass(frozen=True)
 class MomentResult:
-    """Cantilever under a follower end moment: tip rotation and centre-line circle fit."""
+    """Cantilever under a follower end moment: tip rotation and centre-line circle fit.
+
+    ``radius_scatter`` is the spread (max − min) of the centre-line radii about the
+    fitted centre over the expected radius; ``nodes`` the reference P2 nodes [mm].
+    """
 
     bend_angle: float
     expected_angle: float
@@ -142,6 +146,7 @@ class MomentResult:
     expected_radius: float
     radius_scatter: float
     result: NonlinearResult
+    nodes: np.ndarray
 
 
 def end_moment_cantilever(
@@ -188,6 +193,7 @@ def end_moment_cantilever(
         expected_radius=float(r_expected),
         radius_scatter=float(np.ptp(radii) / r_expected),
         result=res,
+        nodes=x,
     )
 
 

@@ -109,15 +109,22 @@ def test_follower_end_moment_bends_into_an_arc():
     # traction, neutral-axis shift), measured at 0.2–0.6 of it on this and finer meshes
     assert r.bend_angle == pytest.approx(r.expected_angle, rel=0.6 * strain)
     assert r.radius == pytest.approx(r.expected_radius, rel=0.6 * strain)
+    # and the centre line is an arc: radii about the fitted centre agree within 0.4 % (measured 0.12 %)
+    assert r.radius_scatter < 0.05 * strain
 
 
 @pytest.mark.slow
 def test_follower_end_moment_closes_the_cantilever_into_a_circle():
-    r = end_moment_cantilever(length=40.0, bend_angle=2 * np.pi, cells=(2, 80), steps=16)
-    strain = 2 * np.pi / (2 * 40.0)
+    length = 30.0
+    r = end_moment_cantilever(length=length, bend_angle=2 * np.pi, cells=(1, 60), steps=12)
+    strain = 2 * np.pi / (2 * length)  # outer-fibre strain h θ / 2L = 10.5 %
+    # same bound and reason as the quarter-circle case (measured +1.8 % angle, -2.1 % radius)
     assert r.bend_angle == pytest.approx(2 * np.pi, rel=0.6 * strain)
     assert r.radius == pytest.approx(r.expected_radius, rel=0.6 * strain)
-    assert r.radius_scatter < strain
+    # the tip comes back to the clamp: the gap is the angle/radius error times the radius
+    end = np.isclose(r.nodes[:, 2], length)
+    tip = (r.nodes[end] + r.result.u[end]).mean(axis=0)
+    assert np.linalg.norm(tip) < 0.6 * strain * length
 
 
 def test_closed_form_cylinder_is_self_consistent():

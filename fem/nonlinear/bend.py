@@ -1,0 +1,231 @@
+"""Bend-angle-vs-pressure curve of a design by finite-strain FEM.
+
+:func:`bend_curve` meshes the tip (or takes a mesh), assigns the finite-strain
+laws, clamps the base, pressurises the lumen with a follower load and walks
+the pressures with Newton. At each requested pressure it reports the bend
+angle (rotation of the tip-end section), curvature θ/s, elongation, tip pose,
+and next to them the linear FEM (same mesh, small-strain tangent at zero
+load, scaled with p) and the analytic model. This is the function the
+studies package calls.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
+from fem.nonlinear.errors import NonlinearError
+from fem.nonlinear.meshes import dofs_of_facets
+from fem.nonlinear.newton import NonlinearResult, linear_solver, solve
+from fem.nonlinear.post import bend_angle, bend_angles, tip_pose
+
+__all__ = ["BendCurve", "bend_curve", "departure_angle", "LOADS"]
+
+log = logging.getLogger(__name__)
+
+#: "lumen": pressure on the lumen wall and the cap (the real load); "cap": on the cap face only
+#: (the end-cap force of the paper's formula).
+LOADS = ("lumen", "cap")
+
+
+@dataclass(frozen=True)
+class BendCurve:
+    """Finite-strain response of a design over pressures (arrays indexed like ``pressure``).
+
+    Attributes
+    ----------
+    pressure
+        Requested pressures [MPa], increasing.
+    bend_angle
+        Rotation of the tip-end section toward the channel side [rad] (nonlinear FEM).
+    curvature
+        θ / s [1/mm], s the arc length of a circle through the tip.
+    elongation
+        s / L − 1 [-].
+    tip_x, tip_y
+        Tip-end centroid in the bending plane (paper eq. 9 frame) [mm].
+    linear_bend_angle
+        Linear FEM on the same mesh (small-strain, scaled with p) [rad].
+    analytic_bend_angle
+        The analytic composite-beam model with the same load [rad].
+    newton_iterations
+        Newton iterations spent reaching each pressure (since the previous one).
+    load
+        ``"lumen"`` or ``"cap"``.
+    ndofs, n_tets
+        Model size.
+    result
+        The full load path (every accepted step); not serialised.
+    """
+
+    pressure: np.ndarray
+    bend_angle: np.ndarray
+    curvature: np.ndarray
+    elongation: np.ndarray
+    tip_x: np.ndarray
+    tip_y: np.ndarray
+    linear_bend_angle: np.ndarray
+    analytic_bend_angle: np.ndarray
+    newton_iterations: np.ndarray
+    load: str
+    ndofs: int
+    n_tets: int
+    result: NonlinearResult = field(repr=False, compare=False)
+    model: object = field(repr=False, compare=False, default=None)
+
+    def departure(self, threshold: float = 0.05) -> dict[str, float | None]:
+        """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by ``threshold``."""
+        return {
+            "linear_fem": departure_angle(self.bend_angle, self.linear_bend_angle, threshold),
+            "analytic": departure_angle(self.bend_angle, self.analytic_bend_angle, threshold),
+        }
+
+
+def departure_angle(nonlinear: np.ndarray, other: np.ndarray, threshold: float = 0.05) -> float | None:
+    """First nonlinear bend angle [rad] where |other − nonlinear| / |nonlinear| reaches ``threshold``.
+
+    Linear interpolation between sweep points; ``None`` if it never departs in the sweep.
+    """
+    nl, ot = np.asarray(nonlinear, float), np.asarray(other, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dev = np.abs(ot - nl) / np.abs(nl)
+    dev = np.where(np.abs(nl) > 0, dev, 0.0)
+    idx = np.flatnonzero(dev >= threshold)
+    if idx.size == 0:
+        return None
+    k = int(idx[0])
+    if k == 0:
+        return float(nl[0])
+    t = (threshold - dev[k - 1]) / (dev[k] - dev[k - 1])
+    return float(nl[k - 1] + t * (nl[k] - nl[k - 1]))
+
+
+class _Model:
+    """Mesh + body + loads of one design, reused for the linear and nonlinear solves."""
+
+    def __init__(self, design, cmesh: CatheterMesh, *, load: str, mixed: bool, hoop_cap=HOOP_CAP) -> None:
+        self.design = design
+        self.cmesh = cmesh
+        self.body = HyperelasticBody(cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=hoop_cap), mixed=mixed)
+        facets = cmesh.lumen_facets if load == "lumen" else cmesh.cap_facets
+        self.pressure = FollowerPressure(self.body, facets)
+        self.fixed = dofs_of_facets(self.body.basis, cmesh.base_facets)
+        x = self.body.nodes
+        self.end = np.isclose(x[:, 2], cmesh.length)
+
+    def linear_unit_angle(self) -> float:
+        """dθ/dp [rad/MPa] of the linear FEM (tangent at zero load, unit pressure)."""
+        body = self.body
+        free = np.setdiff1d(np.arange(body.ndofs), self.fixed)
+        mask, tmpl = body.pattern.restrict(free)
+        u0 = np.zeros(body.ndofs)
+        _, data = body.internal(u0)
+        f = np.zeros(body.ndofs)
+        self.pressure.add_to(u0, 1.0, f, np.zeros_like(data))
+        k = tmpl.copy()
+        k.data = data[mask]
+        u = np.zeros(body.ndofs)
+        u[free] = linear_solver(ndofs=free.size)(k, -f[free])
+        eps = 1e-6 / max(np.abs(u).max(), 1e-300)  # probe the rotation in the small-rotation range
+        return bend_angle(body.nodes, eps * u.reshape(-1, 3), self.end) / eps
+
+
+def bend_curve(
+    design,
+    pressures,
+    *,
+    load: str = "lumen",
+    mesh: CatheterMesh | None = None,
+    size: float = 0.1,
+    layers: int = 10,
+    mixed: bool = False,
+    substeps: int = 1,
+    max_iter: int = 20,
+    progress: bool = False,
+) -> BendCurve:
+    """Nonlinear bend curve of ``design`` at increasing ``pressures`` [MPa].
+
+    Parameters
+    ----------
+    design
+        A ``design.TipDesign``.
+    pressures
+        Increasing positive pressures [MPa]; the solve walks through them.
+    load
+        ``"lumen"`` (wall + cap, the real load) or ``"cap"`` (end-cap force only).
+    mesh
+        A ready :class:`~fem.nonlinear.catheter.CatheterMesh` (or any object with the same
+        attributes, e.g. built from another mesher); default: :func:`mesh_catheter`.
+    size, layers
+        Mesh controls of :func:`mesh_catheter` [mm, count].
+    mixed
+        Use the mixed u–p (P2–P0) formulation for the silicones.
+    substeps
+        Equal load steps between consecutive requested pressures (≥ 1).
+    max_iter
+        Newton iterations per step before a cutback.
+    progress
+        Show a progress bar.
+
+    Raises
+    ------
+    NonlinearError
+        Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
+    """
+    import analytic
+
+    if load not in LOADS:
+        raise NonlinearError(f"load = {load!r}: must be one of {LOADS}")
+    p = np.atleast_1d(np.asarray(pressures, float))
+    if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
+        raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
+    if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
+        raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
+    cmesh = mesh if mesh is not None else mesh_catheter(design, size=size, layers=layers)
+    model = _Model(design, cmesh, load=load, mixed=mixed)
+    p_max = float(p[-1])
+    edges = np.concatenate([[0.0], p / p_max])
+    factors = np.concatenate([np.linspace(edges[i], edges[i + 1], substeps + 1)[1:] for i in range(p.size)])
+    res = solve(
+        model.body,
+        fixed_dofs=model.fixed,
+        loads=[(model.pressure, p_max)],
+        load_factors=factors,
+        max_iter=max_iter,
+        progress=progress,
+    )
+    lam = np.array([s.load_factor for s in res.steps])
+    angles_all = bend_angles(model.body.nodes, res.displacements, model.end)
+    its_all = np.array([s.iterations for s in res.steps])
+    pick = np.array([int(np.argmin(np.abs(lam - f))) for f in p / p_max])
+    cum = np.cumsum(its_all)[pick]
+    poses = [tip_pose(model.body.nodes, res.displacements[k], model.end) for k in pick]
+    theta = angles_all[pick]
+    length = cmesh.length
+    arc = np.array([ps.arc_length for ps in poses])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        curvature = np.where(arc > 0, theta / arc, 0.0)
+    lin = model.linear_unit_angle() * p
+    ana = analytic.response(design, p, load=load).bend_angle
+    log.info("bend curve: %d pressures, %d Newton iterations, final angle %.4g rad", p.size, res.newton_iterations,
+             theta[-1])
+    return BendCurve(
+        pressure=p,
+        bend_angle=theta,
+        curvature=curvature,
+        elongation=arc / length - 1.0,
+        tip_x=np.array([ps.tip_x for ps in poses]),
+        tip_y=np.array([ps.tip_y for ps in poses]),
+        linear_bend_angle=lin,
+        analytic_bend_angle=np.asarray(ana, float),
+        newton_iterations=np.diff(np.concatenate([[0], cum])),
+        load=load,
+        ndofs=model.body.ndofs,
+        n_tets=int(cmesh.mesh.t.shape[1]),
+        result=res,
+        model=model,
+    )
