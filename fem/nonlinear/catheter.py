@@ -77,7 +77,7 @@ class CatheterMesh:
         return np.isclose(self.mesh.p[2], self.length)
 
 
-def _section_triangles(section, *, size: float, contact: float, curvature_points: int = 12):
+def _section_triangles(section, *, size: float, contact: float, curvature_points: int = 24):
     """Triangulate the section with gmsh; returns (points (n, 2), triangles (m, 3), class per triangle)."""
     import gmsh
 
@@ -174,7 +174,9 @@ def _extrude(pts2, tri, cls, z_levels, keep):
     return points[used], renum[tets], labels
 
 
-def mesh_catheter(design, *, size: float = 0.07, layers: int = 12, contact: float = 0.03) -> CatheterMesh:
+def mesh_catheter(
+    design, *, size: float = 0.15, layers: int = 6, contact: float = 0.03, curvature_points: int = 24
+) -> CatheterMesh:
     """Tetrahedral mesh of the tip of ``design`` (see module docstring).
 
     Parameters
@@ -188,6 +190,9 @@ def mesh_catheter(design, *, size: float = 0.07, layers: int = 12, contact: floa
     contact
         Relative growth of the tube's outer ellipse that turns its tangent contacts into
         short flat patches.
+    curvature_points
+        Segments per full circle on curved boundaries: polygon area error 1.1 % at 24
+        (1 − sin(2π/n) n/2π), which the coil's r⁴ bending stiffness doubles.
     """
     from skfem import MeshTet
 
@@ -202,7 +207,10 @@ def mesh_catheter(design, *, size: float = 0.07, layers: int = 12, contact: floa
     z_body = np.linspace(0.0, length - cap, layers + 1)
     n_cap = max(1, int(round(cap / (z_body[1] - z_body[0]))))
     z = np.concatenate([z_body, np.linspace(length - cap, length, n_cap + 1)[1:]])
-    pts2, tri, cls = _section_triangles(design.section, size=size, contact=contact)
+    if not (isinstance(curvature_points, (int, np.integer)) and curvature_points >= 8):
+        raise NonlinearError(f"curvature_points = {curvature_points!r}: must be an integer >= 8")
+    pts2, tri, cls = _section_triangles(design.section, size=size, contact=contact,
+                                        curvature_points=int(curvature_points))
     has_filler = design.filler is not None
 
     def keep(c, zmid):
