@@ -88,9 +88,11 @@ class BendCurve:
 def departure_angle(nonlinear: np.ndarray, other: np.ndarray, threshold: float = 0.05) -> float | None:
     """First nonlinear bend angle [rad] where |other − nonlinear| / |nonlinear| reaches ``threshold``.
 
-    Linear interpolation between sweep points; ``None`` if it never departs in the sweep.
+    Linear interpolation between sweep points, starting from the unloaded state
+    (0 rad, no deviation); ``None`` if it never departs in the sweep.
     """
-    nl, ot = np.asarray(nonlinear, float), np.asarray(other, float)
+    nl = np.concatenate([[0.0], np.asarray(nonlinear, float)])
+    ot = np.concatenate([[0.0], np.asarray(other, float)])
     with np.errstate(divide="ignore", invalid="ignore"):
         dev = np.abs(ot - nl) / np.abs(nl)
     dev = np.where(np.abs(nl) > 0, dev, 0.0)
@@ -98,8 +100,6 @@ def departure_angle(nonlinear: np.ndarray, other: np.ndarray, threshold: float =
     if idx.size == 0:
         return None
     k = int(idx[0])
-    if k == 0:
-        return float(nl[0])
     t = (threshold - dev[k - 1]) / (dev[k] - dev[k - 1])
     return float(nl[k - 1] + t * (nl[k] - nl[k - 1]))
 

@@ -84,6 +84,8 @@ def test_departure_angle_interpolates():
     # 5 % is 2/7 of the way from 3 % to 10 %: angle 0.2 + 2/7 * 0.2
     assert departure_angle(nl, other, 0.05) == pytest.approx(0.2 + 2 / 7 * 0.2)
     assert departure_angle(nl, nl, 0.05) is None
+    # already 10 % off at the first point: interpolate from the unloaded state (0 rad, 0 %)
+    assert departure_angle(nl, 1.1 * nl, 0.05) == pytest.approx(0.05)
 
 
 def test_bad_inputs_are_named(paper):
@@ -99,8 +101,10 @@ def test_bad_inputs_are_named(paper):
 
 @pytest.mark.slow
 def test_small_pressure_nonlinear_equals_linear_fem(paper, coarse):
-    c = bend_curve(paper, [0.005], load="cap", mesh=coarse)
-    # issue criterion: nonlinear = linear within 0.5 % at small load (here a 0.1 deg bend)
+    # the cap-only follower force grows its moment arm with the tip rotation (measured: nonlinear/linear
+    # = 1 + 1.5 p/MPa, +38 % at 0.25 MPa), so "small load" must be small: 0.001 MPa -> 0.15 %
+    c = bend_curve(paper, [0.001], load="cap", mesh=coarse)
+    # issue criterion: nonlinear = linear within 0.5 % at small load
     assert c.bend_angle[0] == pytest.approx(c.linear_bend_angle[0], rel=5e-3)
     # positive: the tip bends away from the tube, toward the channel (project sign convention)
     assert c.bend_angle[0] > 0 and c.analytic_bend_angle[0] > 0
@@ -127,7 +131,8 @@ def test_cli_writes_json_csv_vtu_series_and_png(tmp_path):
         assert key in summary
     assert summary["pressure_MPa"] == pytest.approx(0.02)
     assert summary["newton_iterations"] == sum(s["iterations"] for s in summary["steps"])
-    rows = list(csv.DictReader(open(tmp_path / "pressure_sweep.csv")))
+    with open(tmp_path / "pressure_sweep.csv") as fh:
+        rows = list(csv.DictReader(fh))
     assert [float(r["pressure_MPa"]) for r in rows] == pytest.approx([0.01, 0.02])
     assert float(rows[-1]["bend_angle_rad"]) == pytest.approx(summary["bend_angle_rad"])
     pvd = (tmp_path / "tip_series.pvd").read_text()
