@@ -29,17 +29,27 @@ log = logging.getLogger(__name__)
 
 
 def add_cli_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the ``--nonlinear`` options (the design positional and ``--out`` belong to ``softcath fem``)."""
+    """Add the ``--nonlinear`` options (the design positional and ``--out`` belong to ``softcath fem``).
+
+    Options the parser already has (e.g. the linear check's ``--pressure`` or
+    ``--load``) are left alone and shared.
+    """
     g = parser.add_argument_group("finite strain (--nonlinear)")
-    g.add_argument("--nonlinear", action="store_true", help="geometrically nonlinear FEM with hyperelastic silicone")
-    g.add_argument("--pressure", type=float, default=None, help="largest pressure [MPa] (nonlinear: default 1.0)")
-    g.add_argument("--steps", type=int, default=8, help="pressure steps of the sweep (default 8)")
-    g.add_argument("--load", choices=("lumen", "cap"), default="lumen",
+    existing = set(parser._option_string_actions)
+
+    def add(flag, **kw):
+        if flag not in existing:
+            g.add_argument(flag, **kw)
+
+    add("--nonlinear", action="store_true", help="geometrically nonlinear FEM with hyperelastic silicone")
+    add("--pressure", type=float, default=None, help="largest pressure [MPa] (nonlinear: default 1.0)")
+    add("--steps", type=int, default=8, help="pressure steps of the sweep (default 8)")
+    add("--load", choices=("lumen", "cap"), default="lumen",
                    help="pressure on lumen wall + cap (real load) or cap only (paper's formula)")
-    g.add_argument("--mesh-size", type=float, default=0.15, help="largest section triangle edge [mm]")
-    g.add_argument("--layers", type=int, default=6, help="element layers along the bending length")
-    g.add_argument("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
-    g.add_argument("--compare-linear", action="store_true",
+    add("--mesh-size", type=float, default=0.15, help="largest section triangle edge [mm]")
+    add("--layers", type=int, default=6, help="element layers along the bending length")
+    add("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
+    add("--compare-linear", action="store_true",
                    help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%")
 
 
@@ -59,6 +69,8 @@ def run_cli(args: argparse.Namespace, echo=None) -> int:
 
     d = design_mod.resolve(_get(args, "design", "paper") or "paper")
     p_max = _get(args, "pressure")
+    if isinstance(p_max, (list, tuple, np.ndarray)):  # a linear check's pressure list: sweep to its largest
+        p_max = max(p_max) if len(p_max) else None
     p_max = 1.0 if p_max is None else float(p_max)
     steps = int(_get(args, "steps", 8))
     if not (np.isfinite(p_max) and p_max > 0):

@@ -149,3 +149,12 @@ def test_cli_rejects_bad_pressure(tmp_path):
     args = _parser().parse_args(["paper", "--nonlinear", "--pressure", "-1", "--out", str(tmp_path)])
     with pytest.raises(NonlinearError, match=r"--pressure = -1.0: must be a finite pressure > 0 MPa"):
         run_cli(args)
+
+
+def test_cli_arguments_share_options_the_fem_command_already_has():
+    p = argparse.ArgumentParser()
+    p.add_argument("design")
+    p.add_argument("--pressure", type=float, nargs="+", default=[0.5])
+    add_cli_arguments(p)  # must not clash with the existing --pressure
+    args = p.parse_args(["paper", "--nonlinear", "--pressure", "0.2", "0.4", "--steps", "3"])
+    assert args.nonlinear and args.pressure == [0.2, 0.4] and args.steps == 3 and args.load == "lumen"
