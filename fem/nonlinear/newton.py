@@ -84,22 +84,36 @@ class NonlinearResult:
 PARDISO_MIN_DOFS = 3000
 
 
+_PARDISO = None
+
+
+def _pardiso():
+    """One shared PARDISO instance: creating one searches the MKL library on disk (~1–3 s here)."""
+    global _PARDISO
+    if _PARDISO is None:
+        import pypardiso
+
+        _PARDISO = pypardiso.PyPardisoSolver(mtype=11)  # real, structurally symmetric, non-symmetric values
+    return _PARDISO
+
+
 def linear_solver(method: str | None = None, *, ndofs: int | None = None) -> Callable:
     """A sparse solve ``(A_csr, b) -> x`` for the (non-symmetric) tangent.
 
     PARDISO in general non-symmetric mode (follower loads make the tangent
-    non-symmetric) when installed and the system is large, else SuperLU.
+    non-symmetric) when installed and the system is large, else SuperLU with
+    the minimum-degree ordering of AᵀA + A, which on these P2 tangents is ~10×
+    faster than SuperLU's default COLAMD (5.9k DOFs: 0.6 s against 5.4 s).
     """
     if method is None and ndofs is not None and ndofs < PARDISO_MIN_DOFS:
         method = "superlu"
     if method in (None, "pardiso"):
         try:
-            import pypardiso
+            solver = _pardiso()
         except ImportError:
             if method == "pardiso":
                 raise NonlinearError("solver method = 'pardiso': pypardiso is not installed") from None
         else:
-            solver = pypardiso.PyPardisoSolver(mtype=11)
 
             def solve_pardiso(a, b):
                 a = a.tocsr()
@@ -112,7 +126,7 @@ def linear_solver(method: str | None = None, *, ndofs: int | None = None) -> Cal
         raise NonlinearError(f"solver method = {method!r}: must be 'pardiso' or 'superlu'")
     import scipy.sparse.linalg as spla
 
-    return lambda a, b: spla.splu(a.tocsc()).solve(b)
+    return lambda a, b: spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A").solve(b)
 
 
 def solve(
