@@ -319,5 +319,3 @@ class VirtualStage:
         self._stop.set()
         self._thread.join(timeout=2)
         self.pty.close()
-
-
