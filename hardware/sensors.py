@@ -45,6 +45,11 @@ class SerialSensor:
         Conversion ``value = scale * raw + offset`` to physical units.
     baudrate
         Line speed in baud.
+    timeout_s
+        Longest a :meth:`poll` waits for data, s.
+    rate_hz
+        The device's sample rate, Hz, for device-clock recording (None: the
+        recorder's default).
     """
 
     def __init__(
@@ -56,8 +61,12 @@ class SerialSensor:
         scale: float = 1.0,
         offset: float = 0.0,
         baudrate: int = 115200,
+        timeout_s: float = 0.02,
+        rate_hz: float | None = None,
     ) -> None:
         self.url = url
+        self.rate_hz = rate_hz
+        self.timeout_s = timeout_s
         self.name = name
         self.scale = float(scale)
         self.offset = float(offset)
@@ -78,7 +87,9 @@ class SerialSensor:
 
     def open(self) -> SerialSensor:
         """Open the port (raises :class:`DeviceError` naming the device if it cannot)."""
-        self._port = open_port(self.url, baudrate=self.baudrate, name=self.name)
+        self._port = open_port(
+            self.url, baudrate=self.baudrate, timeout_s=self.timeout_s, name=self.name
+        )
         self._reader = LineReader(self._port)
         return self
 
