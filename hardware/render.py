@@ -3,7 +3,9 @@
 The tip is a constant-curvature arc (the paper's model) drawn as a dark tube
 of the catheter's diameter with a red painted end (a disc centred on the
 arc's end, so the red centroid is the tip position), on a lit background
-with an illumination gradient, optical blur and sensor noise.
+with an illumination gradient, optical blur and sensor noise: fresh noise
+in a box around the tube every frame, a fixed noise pattern elsewhere
+(rendering only that box keeps the virtual camera fast).
 
 Conventions (shared by :mod:`hardware.tipvision`): image pixels ``(u, v)``
 with the origin top-left and ``v`` down; world millimetres ``(x, y)`` with
@@ -17,6 +19,7 @@ the paper's eq. 9.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -155,38 +158,58 @@ def render_frame(
     s = scene.px_per_mm
     base = scene.base
     heading = np.deg2rad(scene.base_angle_deg)
-    # background: a gentle left-to-right illumination gradient
-    grad = np.linspace(-12.0, 12.0, w, dtype=np.float32)
-    img = np.empty((h, w, 3), np.float32)
-    img[:] = (scene.background_grey + grad)[None, :, None]
-    # bounding box of the tube (+ margin) so the distance field is computed on a small ROI
-    pts = arc_points(curvature_per_mm * 1.0, np.linspace(0, arc_length_mm, 64), heading) * s
+    noisy = rng is not None and scene.noise > 0
+    img = _background(scene, noisy).copy()
+    # only a box around the tube changes from frame to frame: draw, blur and add fresh
+    # noise there (the rest keeps the fixed sensor pattern of the cached background)
+    pts = arc_points(curvature_per_mm, np.linspace(0, arc_length_mm, 64), heading) * s
     us = base[0] + pts[:, 0]
     vs = base[1] - pts[:, 1]
-    margin = scene.tip_diameter_mm * s + 4 * scene.blur_px + 3
+    margin = scene.tip_diameter_mm * s + 4 * scene.blur_px + 4
     u0, u1 = int(max(0, np.floor(us.min() - margin))), int(min(w, np.ceil(us.max() + margin)))
     v0, v1 = int(max(0, np.floor(vs.min() - margin))), int(min(h, np.ceil(vs.max() + margin)))
-    if u1 > u0 and v1 > v0:
-        vv, uu = np.mgrid[v0:v1, u0:u1].astype(np.float64)
-        k_px = curvature_per_mm / s
-        length_px = arc_length_mm * s
-        # the arc in image space: the same curve, heading relative to the base direction
-        d = _distance_to_arc(uu, vv, base, heading, k_px, length_px)
-        half = scene.diameter_mm * s / 2
-        body = np.clip(half + 0.5 - d, 0.0, 1.0)  # 1-px linear anti-aliasing ramp
-        ex, ey = arc_points(curvature_per_mm, arc_length_mm, heading) * s
-        dt = np.hypot(uu - (base[0] + ex), vv - (base[1] - ey))
-        tip = np.clip(scene.tip_diameter_mm * s / 2 + 0.5 - dt, 0.0, 1.0)
-        roi = img[v0:v1, u0:u1]
-        body_col = np.array([scene.body_grey] * 3, np.float32)
-        red = np.array([40.0, 35.0, 200.0], np.float32)  # BGR
-        roi[:] = roi * (1 - body[..., None]) + body_col * body[..., None]
-        roi[:] = roi * (1 - tip[..., None]) + red * tip[..., None]
+    if u1 <= u0 or v1 <= v0:
+        return img
+    roi = _gradient(scene)[v0:v1, u0:u1].copy()
+    vv, uu = np.mgrid[v0:v1, u0:u1].astype(np.float64)
+    k_px = curvature_per_mm / s
+    d = _distance_to_arc(uu, vv, base, heading, k_px, arc_length_mm * s)
+    half = scene.diameter_mm * s / 2
+    body = np.clip(half + 0.5 - d, 0.0, 1.0).astype(np.float32)  # 1-px anti-aliasing ramp
+    ex, ey = arc_points(curvature_per_mm, arc_length_mm, heading) * s
+    dt = np.hypot(uu - (base[0] + ex), vv - (base[1] - ey))
+    tip = np.clip(scene.tip_diameter_mm * s / 2 + 0.5 - dt, 0.0, 1.0).astype(np.float32)
+    body_col = np.array([scene.body_grey] * 3, np.float32)
+    red = np.array([40.0, 35.0, 200.0], np.float32)  # BGR
+    roi = roi * (1 - body[..., None]) + body_col * body[..., None]
+    roi = roi * (1 - tip[..., None]) + red * tip[..., None]
     if scene.blur_px > 0:
-        img = cv2.GaussianBlur(img, (0, 0), scene.blur_px)
-    if rng is not None and scene.noise > 0:
-        img += rng.standard_normal(img.shape, dtype=np.float32) * np.float32(scene.noise)
-    return np.clip(img + 0.5, 0, 255).astype(np.uint8)
+        roi = cv2.GaussianBlur(roi, (0, 0), scene.blur_px, borderType=cv2.BORDER_REPLICATE)
+    if noisy:
+        roi += rng.standard_normal(roi.shape, dtype=np.float32) * np.float32(scene.noise)
+    img[v0:v1, u0:u1] = np.clip(roi + 0.5, 0, 255).astype(np.uint8)
+    return img
+
+
+@functools.lru_cache(maxsize=8)
+def _gradient(scene: Scene) -> np.ndarray:
+    """Lit background: a gentle left-to-right illumination gradient (float32 BGR)."""
+    grad = np.linspace(-12.0, 12.0, scene.width_px, dtype=np.float32)
+    img = np.empty((scene.height_px, scene.width_px, 3), np.float32)
+    img[:] = (scene.background_grey + grad)[None, :, None]
+    img.setflags(write=False)
+    return img
+
+
+@functools.lru_cache(maxsize=8)
+def _background(scene: Scene, noisy: bool) -> np.ndarray:
+    """Background frame (uint8) with, if ``noisy``, a fixed sensor noise pattern (seed 0)."""
+    img = _gradient(scene).copy()
+    if noisy:
+        img += np.random.default_rng(0).standard_normal(img.shape, dtype=np.float32) * np.float32(scene.noise)
+    out = np.clip(img + 0.5, 0, 255).astype(np.uint8)
+    out.setflags(write=False)
+    return out
 
 
 def render_chessboard(

@@ -196,6 +196,7 @@ class VirtualStage:
         self.max_position = max_position
         self.maxspeed = maxspeed  # Zaber units
         self.motion = _Motion(0.0, 0.0, "hold")
+        self.history: list[_Motion] = [self.motion]
         self.commands: list[tuple[float, str]] = []
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -211,6 +212,24 @@ class VirtualStage:
         """Position in microsteps at virtual time ``t_s`` (now if None)."""
         with self._lock:
             return self.motion.position(self.clock.now() if t_s is None else t_s)
+
+    def trajectory_steps(self, t_s) -> np.ndarray:
+        """Position in microsteps at the times ``t_s`` from the recorded motion history.
+
+        Valid for times at or after the command that started each motion (the
+        virtual bench sends its commands on a manual clock before it samples).
+        """
+        t = np.atleast_1d(np.asarray(t_s, dtype=float))
+        with self._lock:
+            hist = list(self.history)
+        starts = np.array([m.t0 for m in hist])
+        idx = np.searchsorted(starts, t, side="right") - 1
+        out = np.empty_like(t)
+        for j in np.unique(idx):
+            sel = idx == j
+            m = hist[max(j, 0)]
+            out[sel] = [m.position(ti) for ti in t[sel]]
+        return out
 
     def _serve(self) -> None:
         buf = b""
@@ -258,10 +277,13 @@ class VirtualStage:
         t = self.clock.now()
         with self._lock:
             self.commands.append((t, " ".join(words)))
+            before = self.motion
             try:
                 data = self._execute(words, t)
             except (ValueError, IndexError):
                 return self._reply(axis, "RJ", "BADDATA", with_cs, t)
+            if self.motion is not before:
+                self.history.append(self.motion)
             if data is None:
                 return self._reply(axis, "RJ", "BADCOMMAND", with_cs, t)
             return self._reply(axis, "OK", data, with_cs, t)
@@ -305,9 +327,7 @@ class VirtualStage:
             return None
         return "0"
 
-    def _reply(
-        self, axis: int, flag: str, data: str, with_cs: bool, t: float | None = None
-    ) -> bytes:
+    def _reply(self, axis: int, flag: str, data: str, with_cs: bool, t: float | None = None) -> bytes:
         busy = t is not None and self.motion.busy(t)
         body = f"{self.device:02d} {axis} {flag} {'BUSY' if busy else 'IDLE'} -- {data}"
         if with_cs:
