@@ -282,7 +282,8 @@ def run_bench(
         kappa = np.asarray(resp.curvature_per_mm, float)
         arc = np.asarray(resp.arc_length_mm, float)
         sensor_kpa = (p_true + rng.normal(0.0, 0.002 * cfg.noise, n)) * 1e3
-        t_frames = np.arange(0.0, cfg.duration_s + 1e-9, 1.0 / cfg.fps)
+        # frames cover every row: the last frame is at or after the last row
+        t_frames = np.arange(int(math.ceil(t[-1] * cfg.fps - 1e-9)) + 1) / cfg.fps
         k_frames = np.interp(t_frames, t, kappa)
         arc_frames = np.interp(t_frames, t, arc)
 
