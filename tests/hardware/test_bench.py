@@ -35,9 +35,7 @@ def test_cli_bench_outputs_match_the_plant(tmp_path, capsys):
     tr = read_measurement_csv(out / "truth.csv")
     run = read_measurement_csv(out / "run.csv")
     # (both columns are printed with 9 significant digits: rtol 1e-8)
-    np.testing.assert_allclose(
-        tr["curvature_per_mm"], k_gain * tr["pressure_MPa"], rtol=1e-8, atol=1e-15
-    )
+    np.testing.assert_allclose(tr["curvature_per_mm"], k_gain * tr["pressure_MPa"], rtol=1e-8, atol=1e-15)
     # camera noise 2 grey levels, 40 px/mm: the default method is within 2 % of the peak
     # curvature at every row (frames are 25 Hz, rows 200 Hz: interpolation between frames
     # of a 2 Hz sine adds <= (2 pi 2)^2 A / (8 * 25^2) = 0.3 % of the amplitude A)

@@ -22,9 +22,7 @@ ANGLES = [10, 30, 60, 90, 120, 150]
 
 def _frame(bend_deg, seed=0, scene=SCENE):
     k = math.radians(bend_deg) / L_MM
-    return k, render_frame(
-        scene, curvature_per_mm=k, arc_length_mm=L_MM, rng=np.random.default_rng(seed)
-    )
+    return k, render_frame(scene, curvature_per_mm=k, arc_length_mm=L_MM, rng=np.random.default_rng(seed))
 
 
 @pytest.mark.parametrize("bend_deg", ANGLES + [-45])
@@ -62,9 +60,7 @@ def test_paper_method_error_is_measured_and_reported():
         k, f = _frame(deg)
         m = measure(f, CAL, method="paper")
         errs[deg] = (m.curvature_per_mm / k - 1) * 100 if m.ok else float("nan")
-    print(
-        "paper method curvature error, % by bend angle:", {d: round(e, 1) for d, e in errs.items()}
-    )
+    print("paper method curvature error, % by bend angle:", {d: round(e, 1) for d, e in errs.items()})
     # the notes measured -23 % to -50 % for 10-105 degrees on such renders; our renders
     # reproduce a large underestimate: it is what the paper's pipeline does, not a bug here
     assert all(abs(errs[d]) > 5 for d in (30, 60, 90))
