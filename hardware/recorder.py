@@ -180,9 +180,7 @@ class Status:
 
     def line(self) -> str:
         """One human-readable status line."""
-        vals = "  ".join(
-            f"{k}={v:.4g}" for k, v in self.last.items() if v is not None and math.isfinite(v)
-        )
+        vals = "  ".join(f"{k}={v:.4g}" for k, v in self.last.items() if v is not None and math.isfinite(v))
         return (
             f"rows {self.rows}  {self.rows_per_s:.0f}/s  dropped {self.dropped_lines}  "
             f"gaps {self.gaps}  {vals}"
@@ -285,8 +283,10 @@ class Recorder:
     encoder
         Encoder reader (values in mm), written as ``encoder_mm``; optional.
     camera
-        Iterable of ``(time_s, TipMeasurement)`` (e.g. :func:`measured_frames`);
-        consumed in a background thread. Optional.
+        Iterable of ``(time_s, TipMeasurement)`` (e.g.
+        :func:`hardware.measure_video.measured_frames`), consumed in a background
+        thread; ``time_s`` None means a live camera, stamped on arrival. With the
+        host clock, a file's frame times count from the first row. Optional.
     stage
         An open :class:`hardware.stage.ZaberStage` polled for its position
         (``stage_position_mm``, host time) about 10 times a second. Optional.
@@ -362,13 +362,11 @@ class Recorder:
         cam_q: queue.Queue = queue.Queue()
         cam_counts = {"frames": 0, "misses": 0}
         if self.camera is not None:
-            threading.Thread(
-                target=self._camera_thread, args=(cam_q, cam_counts), daemon=True
-            ).start()
+            threading.Thread(target=self._camera_thread, args=(cam_q, cam_counts), daemon=True).start()
         stage_series = _Series("stage_position_mm") if self.stage is not None else None
         sink = CsvSink(self.out_csv, self._columns(), fsync_interval_s=self.cfg.fsync_interval_s)
         dt = 1.0 / self.cfg.fs_hz
-        k = 0
+        k = k0 = None  # row index (time k * dt); starts at the first pressure sample
         stop_reason = "stopped"
         last_status = time.monotonic()
         last_stage = 0.0
@@ -393,7 +391,8 @@ class Recorder:
                     except DeviceError as exc:
                         self._reconnect(d, exc)
                 # 2. camera results
-                while cam_series is not None:
+                # (host clock: a file's frame times start with the first row, so wait for it)
+                while cam_series is not None and (self.cfg.clock == "device" or k0 is not None):
                     try:
                         item = cam_q.get_nowait()
                     except queue.Empty:
@@ -401,9 +400,11 @@ class Recorder:
                     if item is None:
                         cam_series.finished = True
                         break
-                    t, values = item
-                    if self.cfg.clock == "host" and t is None:
-                        t = time.monotonic() - t_start
+                    t, values, live_t = item
+                    if t is None:  # a live camera: its arrival time on the host clock
+                        t = live_t - t_start
+                    elif self.cfg.clock == "host":
+                        t += k0 * dt
                     cam_series.add(t, values)
                     if math.isfinite(values[0]):
                         latest["curvature_per_mm"] = values[0]
@@ -423,8 +424,14 @@ class Recorder:
                 # 4. rows that every live source can now provide
                 p = devs[0].series
                 done = p.finished or self._stop.is_set()
-                end_t = duration_s if duration_s is not None else math.inf
-                while True:
+                if k is None and p.t:
+                    # host clock: the first row is the first tick at or after the first
+                    # pressure sample (device clock: that sample is t = 0)
+                    k = k0 = int(math.ceil(p.t[0] / dt - 1e-9))
+                end_t = math.inf
+                if duration_s is not None and k0 is not None:
+                    end_t = k0 * dt + duration_s
+                while k is not None:
                     t = k * dt
                     if t > end_t + 1e-9 or t > p.t_last:
                         break
@@ -434,9 +441,7 @@ class Recorder:
                         if s is not None and not s.finished and s.t_last < t
                     ]
                     if waiting and not done:
-                        late = all(
-                            time.monotonic() - s.last_arrival > self.cfg.max_wait_s for s in waiting
-                        )
+                        late = all(time.monotonic() - s.last_arrival > self.cfg.max_wait_s for s in waiting)
                         if not late:
                             break
                     row = {"time_s": t, "pressure_MPa": float(p.at(t)[0])}
@@ -451,7 +456,7 @@ class Recorder:
                     sink.append(row)
                     k += 1
                 sink.flush()
-                if duration_s is not None and k * dt > duration_s + 1e-9:
+                if duration_s is not None and k is not None and k * dt > end_t + 1e-9:
                     stop_reason = "duration reached"
                     break
                 if p.finished:
@@ -532,7 +537,8 @@ class Recorder:
                 counts["frames"] += 1
                 if not m.ok:
                     counts["misses"] += 1
-                q.put((t, [m.row()[c] for c in CAMERA_COLUMNS]))
+                # live frames are stamped here, after measurement (a few ms late)
+                q.put((t, [m.row()[c] for c in CAMERA_COLUMNS], time.monotonic()))
                 if self._stop.is_set():
                     break
         except Exception as exc:  # noqa: BLE001 - reported, and the recording goes on without it

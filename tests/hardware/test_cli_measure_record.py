@@ -148,3 +148,61 @@ def test_socket_device_reconnects_without_losing_rows(tmp_path):
     np.testing.assert_allclose(d["pressure_MPa"], 0.001 * np.arange(2 * n_per_conn), atol=1e-12)
     assert any("reconnected" in m for m in summary.messages)
     assert summary.stop_reason == "pressure sensor lost"
+
+
+def test_record_cli_with_stage_and_camera(video, tmp_path, capsys):
+    from hardware.stage import ZaberStage
+    from hardware.virtual_devices import VirtualClock, VirtualLineDevice, VirtualStage
+
+    clock = VirtualClock(manual=True)
+    stage_dev = VirtualStage(clock)
+    with ZaberStage(stage_dev.url) as st:
+        st.move_abs(1.25)
+    clock.set(1e3)  # the move is long over
+    press, enc = VirtualLineDevice(), VirtualLineDevice()
+    press.start_paced(lambda t: 100.0, rate_hz=200.0)  # kPa
+    enc.start_paced(lambda t: 7.0, rate_hz=200.0)
+    rc = main(
+        [
+            "record",
+            "--pressure-port",
+            press.url,
+            "--encoder-port",
+            enc.url,
+            "--stage-port",
+            stage_dev.url,
+            "--camera",
+            str(video),
+            "--px-per-mm",
+            "40",
+            "--base",
+            f"{SCENE.base[0]},{SCENE.base[1]}",
+            "--pressure-scale",
+            "1e-3",
+            "--duration",
+            "1.0",
+            "--run",
+            "hold",
+            "--out",
+            str(tmp_path),
+        ]
+    )
+    press.close()
+    enc.close()
+    stage_dev.close()
+    assert rc == 0
+    assert "recorded 201 rows" in capsys.readouterr().out
+    d = read_measurement_csv(tmp_path / "measurements.csv")
+    assert len(d["time_s"]) == 201
+    np.testing.assert_allclose(d["pressure_MPa"], 0.1)
+    np.testing.assert_allclose(d["encoder_mm"], 7.0)
+    st_mm = d["stage_position_mm"][np.isfinite(d["stage_position_mm"])]
+    assert st_mm.size and np.allclose(st_mm, 1.25, atol=1e-3)
+    # the folder plays at 30 fps from the first row: frames 0-3 carry a tip, frame 4
+    # (t = 4/30 s) has none, and there are no frames later: curvature only up to 3/30 s
+    k = d["curvature_per_mm"]
+    rel = d["time_s"] - d["time_s"][0]
+    early = rel <= 3 / 30 + 1e-9
+    assert early.sum() == 21 and np.isfinite(k[early]).all() and np.isnan(k[~early]).all()
+    assert set(d["run"]) == {"hold"}
+    assert (tmp_path / "record.json").exists()
