@@ -38,14 +38,10 @@ def _corners(image: np.ndarray, pattern: tuple[int, int]) -> np.ndarray:
             f"chessboard with {pattern[0]}x{pattern[1]} inner corners: not found in the image"
         )
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 50, 1e-4)
-    return cv2.cornerSubPix(gray, corners, (5, 5), (-1, -1), crit).reshape(
-        pattern[1], pattern[0], 2
-    )
+    return cv2.cornerSubPix(gray, corners, (5, 5), (-1, -1), crit).reshape(pattern[1], pattern[0], 2)
 
 
-def scale_from_chessboard(
-    image: np.ndarray, *, pattern: tuple[int, int], square_mm: float
-) -> float:
+def scale_from_chessboard(image: np.ndarray, *, pattern: tuple[int, int], square_mm: float) -> float:
     """Scale (px/mm) from a fronto-parallel chessboard in the bending plane.
 
     Parameters

@@ -58,9 +58,7 @@ class FrameSource:
         if path.is_dir():
             files = sorted(p for p in path.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES)
             if not files:
-                raise FrameSourceError(
-                    f"image folder {path}: holds no images ({', '.join(IMAGE_SUFFIXES)})"
-                )
+                raise FrameSourceError(f"image folder {path}: holds no images ({', '.join(IMAGE_SUFFIXES)})")
             return "folder", None, files
         if not path.exists():
             raise FrameSourceError(f"video {path}: no such file")

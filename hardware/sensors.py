@@ -87,9 +87,7 @@ class SerialSensor:
 
     def open(self) -> SerialSensor:
         """Open the port (raises :class:`DeviceError` naming the device if it cannot)."""
-        self._port = open_port(
-            self.url, baudrate=self.baudrate, timeout_s=self.timeout_s, name=self.name
-        )
+        self._port = open_port(self.url, baudrate=self.baudrate, timeout_s=self.timeout_s, name=self.name)
         self._reader = LineReader(self._port)
         return self
 

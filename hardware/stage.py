@@ -50,9 +50,7 @@ def lrc(body: str) -> str:
     return f"{(256 - sum(body.encode('ascii')) % 256) % 256:02X}"
 
 
-def format_command(
-    command: str, *, device: int = 1, axis: int = 0, checksums: bool = False
-) -> bytes:
+def format_command(command: str, *, device: int = 1, axis: int = 0, checksums: bool = False) -> bytes:
     """One command line, e.g. ``/1 1 move abs 4321\\n`` (with ``:CC`` when ``checksums``)."""
     body = f"{device} {axis} {command}".strip() if command else f"{device} {axis}"
     if checksums:
@@ -270,13 +268,9 @@ class SyringeModel:
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.plunger_diameter_mm) and self.plunger_diameter_mm > 0):
-            raise DesignError(
-                "syringe.plunger_diameter_mm", self.plunger_diameter_mm, "must be > 0"
-            )
+            raise DesignError("syringe.plunger_diameter_mm", self.plunger_diameter_mm, "must be > 0")
         if not (math.isfinite(self.compliance_mm3_per_MPa) and self.compliance_mm3_per_MPa > 0):
-            raise DesignError(
-                "syringe.compliance_mm3_per_MPa", self.compliance_mm3_per_MPa, "must be > 0"
-            )
+            raise DesignError("syringe.compliance_mm3_per_MPa", self.compliance_mm3_per_MPa, "must be > 0")
 
     @property
     def gain_MPa_per_mm(self) -> float:
@@ -292,9 +286,7 @@ class SyringeModel:
         return (np.asarray(pressure_MPa, dtype=float) - self.p0_MPa) / self.gain_MPa_per_mm
 
 
-def sine_trajectory(
-    t_s, *, amplitude_mm: float, period_s: float, start_mm: float = 0.0
-) -> np.ndarray:
+def sine_trajectory(t_s, *, amplitude_mm: float, period_s: float, start_mm: float = 0.0) -> np.ndarray:
     """Sine move started at rest at ``start_mm`` at ``t = 0``: ``x0 + A (1 - cos(2 pi t/T))``, mm.
 
     Starting at an extreme with zero velocity avoids a velocity step, and a

@@ -483,16 +483,10 @@ def draw_overlay(frame: np.ndarray, m: TipMeasurement, cal: Calibration) -> np.n
 
         s = cal.px_per_mm
         ext = max(m.arc_length_mm, 0.0) * 1.15
-        world = arc_points(
-            m.curvature_per_mm, np.linspace(0, ext, 60), math.radians(m.base_angle_deg)
-        )
+        world = arc_points(m.curvature_per_mm, np.linspace(0, ext, 60), math.radians(m.base_angle_deg))
         poly = np.column_stack([m.base_px[0] + world[:, 0] * s, m.base_px[1] - world[:, 1] * s])
-        cv2.polylines(
-            out, [np.round(poly * 16).astype(np.int32)], False, (0, 220, 0), 1, cv2.LINE_AA, 4
-        )
-        cv2.drawMarker(
-            out, tuple(int(round(c)) for c in m.base_px), (255, 0, 255), cv2.MARKER_CROSS, 12, 2
-        )
+        cv2.polylines(out, [np.round(poly * 16).astype(np.int32)], False, (0, 220, 0), 1, cv2.LINE_AA, 4)
+        cv2.drawMarker(out, tuple(int(round(c)) for c in m.base_px), (255, 0, 255), cv2.MARKER_CROSS, 12, 2)
         if m.tip_px is not None:
             cv2.drawMarker(
                 out,

@@ -47,9 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="PX",
         help="slice height of the paper's point reduction, px (--method paper)",
     )
-    parser.add_argument(
-        "--diameter", type=float, default=0.8, metavar="MM", help="tube diameter, mm (0.8)"
-    )
+    parser.add_argument("--diameter", type=float, default=0.8, metavar="MM", help="tube diameter, mm (0.8)")
     parser.add_argument(
         "--fps",
         type=float,

@@ -91,9 +91,7 @@ def run(args: argparse.Namespace) -> int:
     pressure = SerialSensor(
         args.pressure_port, name="pressure sensor", framed=framed, scale=args.pressure_scale
     )
-    encoder = SerialSensor(
-        args.encoder_port, name="encoder", framed=framed, scale=args.encoder_scale
-    )
+    encoder = SerialSensor(args.encoder_port, name="encoder", framed=framed, scale=args.encoder_scale)
     cfg = RecorderConfig(clock=args.clock, device_rate_hz=args.device_rate)
     camera = stage = source = None
     if args.camera is not None:
