@@ -219,7 +219,7 @@ def track_centre_line(
     """
     h, w = gray.shape[:2]
     step = max(2.0, width_px / 3.0)
-    ds = 0.5
+    ds = 1.0  # profile spacing, px: the edge crossing is interpolated between samples
     half = 1.5 * width_px
     offsets = np.arange(-half, half + ds / 2, ds)
     d = np.asarray(direction, float)
