@@ -22,10 +22,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--px-per-mm",
         type=float,
-        required=True,
         metavar="S",
-        help="image scale in the bending plane, px/mm",
+        help="image scale in the bending plane, px/mm (or give --chessboard)",
     )
+    add_chessboard_arguments(parser)
     parser.add_argument("--base", metavar="X,Y", help="base position, pixels (origin top-left)")
     parser.add_argument(
         "--base-angle",
@@ -57,13 +57,50 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
 
 
+def add_chessboard_arguments(parser: argparse.ArgumentParser) -> None:
+    """--chessboard IMAGE --pattern CxR --square-mm MM: the scale from a board in the bending plane."""
+    parser.add_argument(
+        "--chessboard",
+        metavar="IMAGE",
+        help="image of a chessboard lying in the bending plane: sets the scale instead of --px-per-mm",
+    )
+    parser.add_argument(
+        "--pattern", default="9x6", metavar="CxR", help="inner corners of the chessboard (9x6)"
+    )
+    parser.add_argument("--square-mm", type=float, metavar="MM", help="chessboard square side, mm")
+
+
+def _scale_from_args(args: argparse.Namespace) -> float:
+    from design.errors import DesignError
+
+    board = getattr(args, "chessboard", None)
+    if board is None:
+        if args.px_per_mm is None:
+            raise DesignError("--px-per-mm", None, "is required (or give --chessboard)")
+        return args.px_per_mm
+    import cv2
+
+    from hardware.calibration import scale_from_chessboard
+    from hardware.errors import FrameSourceError
+
+    if args.square_mm is None:
+        raise DesignError("--square-mm", None, "is required with --chessboard")
+    try:
+        cols, rows = (int(v) for v in args.pattern.lower().split("x"))
+    except ValueError as exc:
+        raise DesignError("--pattern", args.pattern, "must look like 9x6 (inner corners)") from exc
+    img = cv2.imread(str(board), cv2.IMREAD_COLOR)
+    if img is None:
+        raise FrameSourceError(f"chessboard image {board}: cannot be read")
+    return scale_from_chessboard(img, pattern=(cols, rows), square_mm=args.square_mm)
+
+
 def calibration_from_args(args: argparse.Namespace):
-    """A :class:`hardware.tipvision.Calibration` from --px-per-mm, --base, --base-angle."""
+    """A :class:`hardware.tipvision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
     from design.errors import DesignError
     from hardware.tipvision import Calibration
 
-    if args.px_per_mm is None:
-        raise DesignError("--px-per-mm", None, "is required to measure a camera or video")
+    scale = _scale_from_args(args)
     base = None
     if args.base:
         try:
@@ -72,7 +109,7 @@ def calibration_from_args(args: argparse.Namespace):
             raise DesignError("--base", args.base, "must be two numbers X,Y in pixels") from exc
         base = (x, y)
     return Calibration(
-        px_per_mm=args.px_per_mm,
+        px_per_mm=scale,
         base_px=base,
         base_angle_deg=args.base_angle,
         diameter_mm=getattr(args, "diameter", 0.8),
@@ -88,6 +125,8 @@ def run(args: argparse.Namespace) -> int:
     from hardware.measure_video import measure_video
 
     cal = calibration_from_args(args)
+    if getattr(args, "chessboard", None):
+        print(f"scale from the chessboard: {cal.px_per_mm:.3f} px/mm")
     # per-frame misses are counted and summarised below rather than logged one by one
     logging.getLogger("hardware.measure_video").setLevel(logging.ERROR)
     with open_source(args.src, fps=args.fps) as src:

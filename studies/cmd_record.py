@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from studies.cmd_measure import add_chessboard_arguments
+
 HELP = "record serial sensors (and a camera) into the measurement CSV at 200 Hz"
 
 
@@ -62,6 +64,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--encoder-scale", type=float, default=1.0, metavar="K", help="mm per raw encoder unit"
     )
     parser.add_argument("--px-per-mm", type=float, metavar="S", help="camera scale (with --camera)")
+    add_chessboard_arguments(parser)
     parser.add_argument("--base", metavar="X,Y", help="base position in pixels (with --camera)")
     parser.add_argument(
         "--base-angle",

@@ -206,3 +206,45 @@ def test_record_cli_with_stage_and_camera(video, tmp_path, capsys):
     assert early.sum() == 21 and np.isfinite(k[early]).all() and np.isnan(k[~early]).all()
     assert set(d["run"]) == {"hold"}
     assert (tmp_path / "record.json").exists()
+
+
+def test_measure_cli_scale_from_a_chessboard(video, tmp_path, capsys):
+    from hardware.render import render_chessboard
+
+    # 40 px squares of 1 mm: the frames' 40 px/mm
+    board = render_chessboard(squares=(10, 7), square_px=40.0, size=(640, 480), origin=(40.0, 40.0))
+    cv2.imwrite(str(tmp_path / "board.png"), board)
+    base = f"{SCENE.base[0]},{SCENE.base[1]}"
+    args = [
+        "measure",
+        str(video),
+        "--chessboard",
+        str(tmp_path / "board.png"),
+        "--pattern",
+        "9x6",
+        "--square-mm",
+        "1",
+        "--base",
+        base,
+        "--out",
+        str(tmp_path / "m"),
+    ]
+    assert main(args) == 0
+    assert "scale from the chessboard: 40.0" in capsys.readouterr().out
+    d = read_measurement_csv(tmp_path / "m" / "measurements.csv")
+    # sub-pixel corners give the scale to ~0.1 %, which passes straight into curvature
+    np.testing.assert_allclose(d["curvature_per_mm"][:4], np.radians(ANGLES) / 5.0, rtol=0.02)
+    assert (
+        main(
+            [
+                "measure",
+                str(video),
+                "--chessboard",
+                str(tmp_path / "board.png"),
+                "--out",
+                str(tmp_path / "m2"),
+            ]
+        )
+        == 2
+    )
+    assert "--square-mm = None: is required with --chessboard" in capsys.readouterr().err
