@@ -441,7 +441,13 @@ class Recorder:
                         if s is not None and not s.finished and s.t_last < t
                     ]
                     if waiting and not done:
-                        late = all(time.monotonic() - s.last_arrival > self.cfg.max_wait_s for s in waiting)
+                        # a silent source is given up after max_wait_s; on the device clock the
+                        # camera is never given up while it runs (rows stay deterministic)
+                        late = all(
+                            time.monotonic() - s.last_arrival > self.cfg.max_wait_s
+                            and not (s is cam_series and self.cfg.clock == "device")
+                            for s in waiting
+                        )
                         if not late:
                             break
                     row = {"time_s": t, "pressure_MPa": float(p.at(t)[0])}
