@@ -37,7 +37,6 @@ import numpy as np
 
 from design.errors import DataError, DesignError
 from hardware.errors import DeviceError
-from hardware.filtering import PAPER_FS_HZ
 from hardware.protocol import SEQ_MODULUS
 from hardware.sensors import SerialSensor
 
@@ -52,6 +51,10 @@ __all__ = [
 ]
 
 log = logging.getLogger(__name__)
+
+#: The paper's sample rate, Hz (equal to ``hardware.filtering.PAPER_FS_HZ``, repeated here so
+#: that starting a recording does not import scipy.signal, ~2 s).
+PAPER_FS_HZ = 200.0
 
 CAMERA_COLUMNS = ("curvature_per_mm", "arc_length_mm", "bend_angle_rad", "tip_x_mm", "tip_y_mm")
 

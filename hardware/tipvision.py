@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from design.errors import DesignError
-from hardware.circlefit import fit_with_base, geometric_fit, hyper_fit, kasa_fit
+from hardware.circlefit import fit_with_base, geometric_fit, kasa_fit
 
 __all__ = ["Calibration", "TipMeasurement", "measure", "draw_overlay", "METHODS"]
 
@@ -507,4 +507,4 @@ def draw_overlay(frame: np.ndarray, m: TipMeasurement, cal: Calibration) -> np.n
     return out
 
 
-__all__ += ["find_red_tip", "track_centre_line", "hyper_fit"]
+__all__ += ["find_red_tip", "track_centre_line"]

@@ -87,3 +87,9 @@ def test_bad_specs_name_the_bound():
         FilterSpec(passband_hz=1.0, stopband_hz=0.5)
     with pytest.raises(DataError, match="series length = 5: must be >= 10"):
         filtfilt(np.ones(5))
+
+
+def test_recorder_time_base_is_the_filters():
+    from hardware import filtering, recorder
+
+    assert recorder.RecorderConfig().fs_hz == recorder.PAPER_FS_HZ == filtering.PAPER_FS_HZ
