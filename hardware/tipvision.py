@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -91,6 +91,8 @@ class TipMeasurement:
     base_angle_deg: float = float("nan")
     tip_px: tuple[float, float] | None = None
     points_px: np.ndarray | None = None
+    edges_px: np.ndarray | None = None
+    circle_px: tuple[float, float, float] | None = None
     reason: str = ""
 
     def row(self) -> dict[str, float]:
@@ -325,7 +327,7 @@ def _measure_default(frame: np.ndarray, cal: Calibration) -> TipMeasurement:
         base = (float(cal.base_px[0]), float(cal.base_px[1]))
         heading_deg = cal.base_angle_deg
         a = math.radians(heading_deg)
-        pts, _, _ = track_centre_line(
+        pts, widths, _ = track_centre_line(
             gray, base, (math.cos(a), -math.sin(a)), wpx, stop_at=tip_px, stop_radius=stop_r
         )
         if len(pts) < 4:
@@ -337,9 +339,27 @@ def _measure_default(frame: np.ndarray, cal: Calibration) -> TipMeasurement:
         if got is None:
             return TipMeasurement(ok=False, reason="could not follow the tube from the red tip")
         base, heading_deg, pts = got
+        widths = np.full(len(pts), wpx)
     world = _to_world(pts, base, s)
     k_ccw, _ = fit_with_base(world, (0.0, 0.0), math.radians(heading_deg))
-    return _result(-k_ccw, base, heading_deg, tip_px, pts, s)
+    m = _result(-k_ccw, base, heading_deg, tip_px, pts, s)
+    circle = None
+    if abs(k_ccw) > 1e-9:
+        # centre on the right of travel for clockwise (k_ccw < 0); image v points down
+        a = math.radians(heading_deg)
+        dx, dy = math.cos(a), -math.sin(a)
+        r_px = s / abs(k_ccw)
+        side = 1.0 if k_ccw < 0 else -1.0
+        circle = (base[0] - side * dy * r_px, base[1] + side * dx * r_px, r_px)
+    return replace(m, edges_px=_edges(pts, widths), circle_px=circle)
+
+
+def _edges(pts: np.ndarray, widths: np.ndarray) -> np.ndarray:
+    """Both tube edges at each centre point (for the overlay), px."""
+    tan = np.gradient(pts, axis=0)
+    tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-12)[:, None]
+    nrm = np.column_stack([-tan[:, 1], tan[:, 0]]) * (widths / 2)[:, None]
+    return np.vstack([pts + nrm, pts - nrm])
 
 
 def _find_base(gray: np.ndarray, tip_px, wpx: float):
@@ -413,8 +433,9 @@ def _measure_paper(frame: np.ndarray, cal: Calibration, dy_px: float) -> TipMeas
         base = (float(mx[j]), float(my[j]))
     heading_deg = cal.base_angle_deg
     pts = np.column_stack([mx, my])
+    edges = p[:: max(1, len(p) // 3000)]  # the Canny edge points, thinned for display
     if not np.isfinite(circ.radius) or red is None:
-        return TipMeasurement(ok=False, points_px=pts, reason="no circle or no red tip")
+        return TipMeasurement(ok=False, points_px=pts, edges_px=edges, reason="no circle or no red tip")
     s = cal.px_per_mm
     a = math.radians(heading_deg)
     dvec = np.array([math.cos(a), -math.sin(a)])  # image coordinates
@@ -439,6 +460,8 @@ def _measure_paper(frame: np.ndarray, cal: Calibration, dy_px: float) -> TipMeas
         base_angle_deg=heading_deg,
         tip_px=red,
         points_px=pts,
+        edges_px=edges,
+        circle_px=(circ.xc, circ.yc, circ.radius),
     )
 
 
@@ -475,26 +498,37 @@ def draw_overlay(frame: np.ndarray, m: TipMeasurement, cal: Calibration) -> np.n
     import cv2
 
     out = frame.copy()
+    if m.edges_px is not None and len(m.edges_px):
+        e = np.round(np.asarray(m.edges_px)).astype(np.intp)
+        h, w = out.shape[:2]
+        e = e[(e[:, 0] >= 0) & (e[:, 0] < w) & (e[:, 1] >= 0) & (e[:, 1] < h)]
+        for u, v in e[:: max(1, len(e) // 400)]:
+            cv2.circle(out, (int(u), int(v)), 1, (0, 140, 255), -1)  # edges in orange
     if m.points_px is not None and len(m.points_px):
         for u, v in np.asarray(m.points_px):
             cv2.circle(out, (int(round(u)), int(round(v))), 2, (255, 200, 0), -1, cv2.LINE_AA)
     if m.ok and m.base_px is not None:
-        from hardware.render import arc_points
-
-        s = cal.px_per_mm
-        ext = max(m.arc_length_mm, 0.0) * 1.15
-        world = arc_points(m.curvature_per_mm, np.linspace(0, ext, 60), math.radians(m.base_angle_deg))
-        poly = np.column_stack([m.base_px[0] + world[:, 0] * s, m.base_px[1] - world[:, 1] * s])
-        cv2.polylines(out, [np.round(poly * 16).astype(np.int32)], False, (0, 220, 0), 1, cv2.LINE_AA, 4)
+        if m.circle_px is not None and m.tip_px is not None:
+            xc, yc, r = m.circle_px
+            if r < 4 * max(out.shape[:2]):  # the whole fitted circle, thin and grey
+                cv2.circle(
+                    out, (round(xc * 16), round(yc * 16)), round(r * 16), (160, 160, 160), 1, cv2.LINE_AA, 4
+                )
+            # the fitted arc from the base to the tip (green)
+            tb = math.atan2(m.base_px[1] - yc, m.base_px[0] - xc)
+            tt = math.atan2(m.tip_px[1] - yc, m.tip_px[0] - xc)
+            sweep = (tt - tb + math.pi) % (2 * math.pi) - math.pi
+            if abs(m.bend_angle_rad) > math.pi:  # past half a turn: go the long way
+                sweep += -2 * math.pi * math.copysign(1.0, sweep)
+            ang = tb + np.linspace(0.0, sweep, 90)
+            poly = np.column_stack([xc + r * np.cos(ang), yc + r * np.sin(ang)])
+        else:  # straight: the base-to-tip line
+            poly = np.array([m.base_px, m.tip_px if m.tip_px is not None else m.base_px])
+        cv2.polylines(out, [np.round(poly * 16).astype(np.int32)], False, (0, 220, 0), 2, cv2.LINE_AA, 4)
         cv2.drawMarker(out, tuple(int(round(c)) for c in m.base_px), (255, 0, 255), cv2.MARKER_CROSS, 12, 2)
         if m.tip_px is not None:
             cv2.drawMarker(
-                out,
-                tuple(int(round(c)) for c in m.tip_px),
-                (0, 255, 255),
-                cv2.MARKER_TILTED_CROSS,
-                12,
-                2,
+                out, tuple(int(round(c)) for c in m.tip_px), (0, 255, 255), cv2.MARKER_TILTED_CROSS, 12, 2
             )
         text = (
             f"k={m.curvature_per_mm:+.4f}/mm  L={m.arc_length_mm:.2f}mm  "
@@ -502,7 +536,9 @@ def draw_overlay(frame: np.ndarray, m: TipMeasurement, cal: Calibration) -> np.n
         )
     else:
         text = f"no tip: {m.reason}"
-    cv2.putText(out, text, (10, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (0, 0, 0), 3, cv2.LINE_AA)
+    # white text on a dark box (Hershey glyph advance grows with thickness: no outline trick)
+    (tw, th), base_line = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 1)
+    cv2.rectangle(out, (4, 4), (16 + tw, 14 + th + base_line), (30, 30, 30), -1)
     cv2.putText(out, text, (10, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 1, cv2.LINE_AA)
     return out
 
