@@ -123,3 +123,22 @@ def test_unreadable_sources_say_so(tmp_path):
     (tmp_path / "junk.avi").write_bytes(b"not a video")
     with pytest.raises(FrameSourceError, match="junk.avi"):
         list(open_source(tmp_path / "junk.avi"))
+
+
+@pytest.mark.parametrize("method", ["default", "paper"])
+def test_overlay_draws_the_fitted_arc_on_the_tube(method):
+    from hardware.render import arc_points
+
+    k, f = _frame(80)
+    m = measure(f, CAL, method=method)
+    ov = draw_overlay(f, m, CAL)
+    green = (ov[..., 1] > 180) & (ov[..., 0] < 80) & (ov[..., 2] < 80)
+    if method == "default":
+        # the default fit passes within 3 px of the true centre line everywhere
+        pts = arc_points(k, np.linspace(0.3, L_MM - 0.6, 12)) * 40.0
+        u = np.round(SCENE.base[0] + pts[:, 0]).astype(int)
+        v = np.round(SCENE.base[1] - pts[:, 1]).astype(int)
+        assert all(green[vi - 3 : vi + 4, ui - 3 : ui + 4].any() for ui, vi in zip(u, v, strict=True))
+    else:  # the paper's (biased) circle is drawn, wherever it lies
+        assert green.sum() > 100
+    assert ov[4:20, 6:200].mean() < 120  # the dark text box with the numbers
