@@ -168,6 +168,10 @@ class RecorderConfig:
             raise DesignError("fsync_interval_s", self.fsync_interval_s, "must be in (0, 1] s")
         if self.reconnect_timeout_s < 0:
             raise DesignError("reconnect_timeout_s", self.reconnect_timeout_s, "must be >= 0")
+        if not self.status_interval_s > 0:
+            raise DesignError("status_interval_s", self.status_interval_s, "must be > 0 s")
+        if not self.max_wait_s > 0:
+            raise DesignError("max_wait_s", self.max_wait_s, "must be > 0 s")
 
 
 @dataclass(frozen=True)
@@ -484,6 +488,10 @@ class Recorder:
                     last_status = time.monotonic()
                     if self.on_status is not None:
                         self.on_status(self._status(sink.rows_written, rate, devs, latest))
+        except KeyboardInterrupt:
+            # Ctrl-C is the normal way to end a live recording: stop cleanly, keep every row
+            stop_reason = "interrupted"
+            self._stop.set()
         finally:
             sink.close()
             for d in devs:

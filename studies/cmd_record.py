@@ -123,10 +123,7 @@ def run(args: argparse.Namespace) -> int:
         on_status=status,
     )
     try:
-        summary = rec.run(duration_s=args.duration)
-    except KeyboardInterrupt:
-        rec.stop()
-        raise
+        summary = rec.run(duration_s=args.duration)  # Ctrl-C ends it cleanly
     finally:
         if stage is not None:
             stage.close()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -162,3 +163,45 @@ def test_sigkill_leaves_a_valid_csv_with_every_flushed_row(tmp_path):
     # pressure is 0.05 + 0.01 t on the device's clock, which started before the recorder:
     # consecutive rows differ by exactly 0.01 MPa/s * 5 ms (no row lost or duplicated)
     np.testing.assert_allclose(np.diff(data["pressure_MPa"]), 0.01 * 0.005, atol=1e-9)
+
+
+def test_sigint_stops_a_recording_cleanly(tmp_path):
+    press, enc = VirtualLineDevice(), VirtualLineDevice()
+    press.start_paced(lambda t: 0.2, rate_hz=200.0)
+    enc.start_paced(lambda t: 1.0, rate_hz=200.0)
+    out = tmp_path / "rec"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "studies",
+            "record",
+            "--pressure-port",
+            press.url,
+            "--encoder-port",
+            enc.url,
+            "--out",
+            str(out),
+        ],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    csv_path = out / "measurements.csv"
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:
+        if csv_path.exists() and csv_path.read_text().count("\n") > 100:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=20)
+    press.close()
+    enc.close()
+    assert proc.returncode == 0, stderr.decode()
+    assert "stop: interrupted" in stdout.decode()
+    summary = json.loads((out / "record.json").read_text())
+    data = read_measurement_csv(csv_path)
+    assert summary["rows"] == len(data["time_s"]) > 100
+    np.testing.assert_allclose(data["pressure_MPa"], 0.2)
