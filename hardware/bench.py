@@ -308,13 +308,25 @@ def run_bench(
             on_status=(lambda s: progress(s.rows, n)) if progress else None,
         )
         result: dict = {}
-        th = threading.Thread(target=lambda: result.update(s=rec.run(duration_s=t[-1])))
+
+        def record() -> None:
+            try:
+                result["s"] = rec.run(duration_s=t[-1])
+            except BaseException as exc:  # noqa: BLE001 - re-raised in the caller's thread
+                result["error"] = exc
+
+        th = threading.Thread(target=record, name="bench-recorder")
         th.start()
-        for k in range(n):
-            press_dev.emit(sensor_kpa[k])
-            enc_dev.emit(float(np.round(steps[k])))
+        try:
+            for k in range(n):
+                press_dev.emit(sensor_kpa[k])
+                enc_dev.emit(float(np.round(steps[k])))
+        except OSError:
+            pass  # the recorder stopped reading (it failed): its error is raised below
         th.join()
         writer.close()
+        if "error" in result:
+            raise result["error"]
         summary: RecordSummary = result["s"]
     finally:
         stage_dev.close()
@@ -328,8 +340,15 @@ def run_bench(
     ok = np.isfinite(k_meas)
     rms = float(np.sqrt(np.mean((k_meas[ok] - k_true_rows[ok]) ** 2))) if ok.any() else math.nan
     _write_truth_csv(out / "truth.csv", t, p_true, x_mm, resp)
+    try:
+        import design as design_pkg
+
+        design_toml = design_pkg.dumps(design)
+    except Exception:  # noqa: BLE001 - a design object without TOML support still runs
+        design_toml = None
     truth = {
         "design": design_label,
+        "design_toml": design_toml,
         "load": load,
         "plant": {
             "kind": type(plant).__module__ + "." + type(plant).__name__,

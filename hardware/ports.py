@@ -63,10 +63,19 @@ class PtyPair:
         self.path = os.ttyname(self._slave_fd)
         os.set_blocking(self.master_fd, True)
 
-    def write(self, data: bytes) -> None:
-        """Write all of ``data`` to the master side."""
+    def write(self, data: bytes, *, timeout_s: float = 10.0) -> None:
+        """Write all of ``data`` to the master side.
+
+        Raises ``TimeoutError`` (an ``OSError``) if the pty stays full for
+        ``timeout_s``: nobody is reading the other side.
+        """
+        import select
+
         view = memoryview(data)
         while view:
+            _, ready, _ = select.select([], [self.master_fd], [], timeout_s)
+            if not ready:
+                raise TimeoutError(f"pty {self.path}: full for {timeout_s} s (no reader)")
             n = os.write(self.master_fd, view)
             view = view[n:]
 
