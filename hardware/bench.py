@@ -418,7 +418,7 @@ def _json_default(o):
 
 
 def _write_truth_csv(path: Path, t, p_true, x_mm, resp) -> None:
-    from hardware.recorder import CsvSink
+    from hardware.csvio import CsvSink
 
     cols = ("time_s", "pressure_MPa", "stage_mm", "curvature_per_mm", "arc_length_mm")
     sink = CsvSink(path, cols)

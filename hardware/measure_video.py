@@ -9,8 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from hardware.csvio import CsvSink
 from hardware.frames import FrameSource, VideoWriter
-from hardware.recorder import CAMERA_COLUMNS, CsvSink
+from hardware.recorder import CAMERA_COLUMNS
 from hardware.tipvision import Calibration, TipMeasurement, draw_overlay, measure
 
 __all__ = ["FRAME_COLUMNS", "MeasureSummary", "measured_frames", "measure_video"]

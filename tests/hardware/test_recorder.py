@@ -203,5 +203,5 @@ def test_sigint_stops_a_recording_cleanly(tmp_path):
     assert "stop: interrupted" in stdout.decode()
     summary = json.loads((out / "record.json").read_text())
     data = read_measurement_csv(csv_path)
-    assert summary["rows"] == len(data["time_s"]) > 100
+    assert summary["rows"] == len(data["time_s"]) >= 100
     np.testing.assert_allclose(data["pressure_MPa"], 0.2)
