@@ -142,3 +142,25 @@ def test_overlay_draws_the_fitted_arc_on_the_tube(method):
     else:  # the paper's (biased) circle is drawn, wherever it lies
         assert green.sum() > 100
     assert ov[4:20, 6:200].mean() < 120  # the dark text box with the numbers
+
+
+def test_camera_intrinsics_recover_a_known_focal_length():
+    import cv2
+
+    from hardware.calibration import camera_intrinsics
+
+    # board: 10x7 squares of 30 px at origin (40, 40) -> 1 board px = 0.1 mm (3 mm squares)
+    board = render_chessboard(squares=(10, 7), square_px=30.0, size=(400, 300), origin=(40.0, 40.0))
+    k_true = np.array([[800.0, 0, 320], [0, 800.0, 240], [0, 0, 1]])
+    s = np.array([[0.1, 0, -4.0 - 0.05], [0, 0.1, -4.0 - 0.05], [0, 0, 1]])  # px -> mm, first corner
+    views = []
+    for rx, ry, tz in [(0.3, 0, 60), (-0.3, 0.1, 65), (0, 0.35, 62), (0.2, -0.3, 58), (-0.2, -0.2, 70)]:
+        r, _ = cv2.Rodrigues(np.array([rx, ry, 0.0]))
+        h = k_true @ np.column_stack([r[:, 0], r[:, 1], [-12.0, -8.0, tz]]) @ s
+        views.append(cv2.warpPerspective(board, h, (640, 480), borderValue=(230, 230, 230)))
+    k, _, rms = camera_intrinsics(views, pattern=(9, 6), square_mm=3.0)
+    # exact synthetic projections: reprojection error well under a pixel, focal length to 2 %
+    assert rms < 0.5
+    assert k[0, 0] == pytest.approx(800.0, rel=0.02) and k[1, 1] == pytest.approx(800.0, rel=0.02)
+    with pytest.raises(DesignError, match="images = 2: must hold >= 3 chessboard views"):
+        camera_intrinsics(views[:2], pattern=(9, 6), square_mm=3.0)
