@@ -53,18 +53,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
 
 
-def parse_effect(text: str) -> tuple[str, dict[str, float]]:
+def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
     """``"lag:tau_s=0.2"`` -> ``("lag", {"tau_s": 0.2})``."""
     from design.errors import DesignError
 
     name, _, rest = text.partition(":")
-    params: dict[str, float] = {}
+    params: dict[str, float | int] = {}
     for item in filter(None, rest.split(",")):
         key, eq, value = item.partition("=")
         try:
             if not eq:
                 raise ValueError(item)
-            params[key.strip()] = float(value)
+            v = value.strip()
+            params[key.strip()] = int(v) if v.lstrip("+-").isdigit() else float(v)  # counts stay int
         except ValueError as exc:
             raise DesignError("--effect", text, "must look like NAME or NAME:key=value,...") from exc
     return name.strip(), params

@@ -109,3 +109,14 @@ def test_default_bench_run(tmp_path):
     run = read_peer(tmp_path / "run.csv")
     assert run.runs == ["sine_0.5Hz", "sine_1Hz"]
     assert len(run) == int(round(BenchConfig().duration_s * 200)) + 1
+
+
+def test_parse_effect():
+    from studies.cmd_bench import parse_effect
+
+    assert parse_effect("lag") == ("lag", {})
+    assert parse_effect("hysteresis:n_centres=40, fraction=0.5") == (
+        "hysteresis",
+        {"n_centres": 40, "fraction": 0.5},
+    )
+    assert isinstance(parse_effect("x:n=3")[1]["n"], int)
