@@ -1,0 +1,74 @@
+"""Candidate ``hysteresis``: rate-independent hysteresis as a Prandtl–Ishlinskii operator.
+
+The pressure reaching the bending mechanics passes partly through a bank of
+play (backlash) operators with thresholds spread uniformly over
+``[0, loop_width/2]``: friction between tube, coil and channel, and the
+silicone's rate-independent losses. The loop does not change with the
+excitation frequency, which is what separates it from ``lag`` and ``delay``
+when the data hold more than one frequency.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from analytic.effects.base import Candidate, Param
+
+N_PLAYS = 6
+
+
+def play(x: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """Play (backlash) operators of the given radii (MPa) on a series, started centred.
+
+    ``y[k] = clip(y[k-1], x[k] - r, x[k] + r)``; returns shape ``(x.size, radii.size)``.
+    """
+    r = np.asarray(radii, dtype=float)
+    out = np.empty((x.size, r.size))
+    y = np.full(r.size, x[0]) - r  # as if reached by loading from below
+    y = np.maximum(y, x[0] - r)
+    lo = x[:, None] - r[None, :]
+    hi = x[:, None] + r[None, :]
+    # Python loop over time on small vectors: the input is the decimated, filtered
+    # pressure (a few thousand samples), so this is a few milliseconds
+    lo_l, hi_l = lo.tolist(), hi.tolist()
+    yl = y.tolist()
+    n = r.size
+    for k in range(x.size):
+        a, b = lo_l[k], hi_l[k]
+        for j in range(n):
+            v = yl[j]
+            if v < a[j]:
+                v = a[j]
+            elif v > b[j]:
+                v = b[j]
+            yl[j] = v
+        out[k] = yl
+    return out
+
+
+class Hysteresis(Candidate):
+    """``x = (1 - phi) p + phi * mean_i play_{r_i}(p)``, ``r_i`` uniform in ``[0, w/2]``.
+
+    Parameters: ``fraction`` phi of the response that is hysteretic, and the mean
+    full loop width ``loop_width_MPa`` w along the pressure axis.
+    """
+
+    name = "hysteresis"
+    kind = "pressure"
+    meaning = "rate-independent hysteresis (friction, material losses): Prandtl-Ishlinskii"
+    params = (
+        Param("fraction", "-", 0.0, 1.0, "share of the response passing through the plays"),
+        Param("loop_width_MPa", "MPa", 0.002, 0.6, "mean full width of the play operators",
+              relative_to="pressure", log=True),
+    )
+    starts = (0.3, 0.7)
+
+    def apply(
+        self, dt_s: float, x: np.ndarray, *, fraction: float, loop_width_MPa: float
+    ) -> np.ndarray:
+        # radii (i + 1/2)/n of w, so the mean full width 2*mean(r) is w
+        radii = loop_width_MPa * (np.arange(N_PLAYS) + 0.5) / N_PLAYS
+        return (1 - fraction) * x + fraction * play(x, radii).mean(axis=1)
+
+
+CANDIDATE = Hysteresis()
