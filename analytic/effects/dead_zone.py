@@ -17,7 +17,7 @@ class DeadZone(Candidate):
         Param("threshold_MPa", "MPa", 0.0, 0.5, "pressure needed before bending starts",
               relative_to="pressure"),
     )
-    starts = (0.05, 0.3)
+    starts = (0.02, 0.1, 0.25, 0.5, 0.8)
 
     def apply(self, dt_s: float, x: np.ndarray, *, threshold_MPa: float) -> np.ndarray:
         return np.maximum(x - threshold_MPa, 0.0)

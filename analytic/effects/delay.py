@@ -14,7 +14,7 @@ class Delay(Candidate):
     kind = "output"
     meaning = "pure time delay between pressure and measured shape (camera/recorder latency)"
     params = (Param("delay_s", "s", 0.0, 2.0, "latency of the measured output"),)
-    starts = (0.05, 0.3)
+    starts = (0.0, 0.03, 0.08, 0.2, 0.5)
 
     def apply(self, dt_s: float, x: np.ndarray, *, delay_s: float) -> np.ndarray:
         t = np.arange(x.size) * dt_s

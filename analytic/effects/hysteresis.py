@@ -18,32 +18,29 @@ N_PLAYS = 6
 
 
 def play(x: np.ndarray, radii: np.ndarray) -> np.ndarray:
-    """Play (backlash) operators of the given radii (MPa) on a series, started centred.
+    """Play (backlash) operators of the given radii (MPa) on a series.
 
-    ``y[k] = clip(y[k-1], x[k] - r, x[k] + r)``; returns shape ``(x.size, radii.size)``.
+    ``y[k] = clip(y[k-1], x[k] - r, x[k] + r)``, started as if reached by loading
+    from below (``y[-1] = x[0] - r``); returns shape ``(x.size, radii.size)``.
+
+    The recursion is a chain of clamps, and clamps compose into clamps:
+    ``clip(clip(y, a1, b1), a2, b2) = clip(y, clip(a1, a2, b2), clip(b1, a2, b2))``.
+    So the whole history is a prefix scan of an associative operation, done in
+    ``log2(n)`` vectorised passes (Hillis–Steele) instead of a Python loop.
     """
-    r = np.asarray(radii, dtype=float)
-    out = np.empty((x.size, r.size))
-    y = np.full(r.size, x[0]) - r  # as if reached by loading from below
-    y = np.maximum(y, x[0] - r)
+    x = np.asarray(x, dtype=float)
+    r = np.atleast_1d(np.asarray(radii, dtype=float))
     lo = x[:, None] - r[None, :]
     hi = x[:, None] + r[None, :]
-    # Python loop over time on small vectors: the input is the decimated, filtered
-    # pressure (a few thousand samples), so this is a few milliseconds
-    lo_l, hi_l = lo.tolist(), hi.tolist()
-    yl = y.tolist()
-    n = r.size
-    for k in range(x.size):
-        a, b = lo_l[k], hi_l[k]
-        for j in range(n):
-            v = yl[j]
-            if v < a[j]:
-                v = a[j]
-            elif v > b[j]:
-                v = b[j]
-            yl[j] = v
-        out[k] = yl
-    return out
+    shift = 1
+    while shift < x.size:
+        # compose the block ending at k with the block ending at k - shift
+        new_lo = np.clip(lo[:-shift], lo[shift:], hi[shift:])
+        new_hi = np.clip(hi[:-shift], lo[shift:], hi[shift:])
+        lo[shift:], hi[shift:] = new_lo, new_hi
+        shift *= 2
+    y0 = x[0] - r
+    return np.clip(y0[None, :], lo, hi)
 
 
 class Hysteresis(Candidate):
@@ -61,7 +58,7 @@ class Hysteresis(Candidate):
         Param("loop_width_MPa", "MPa", 0.002, 0.6, "mean full width of the play operators",
               relative_to="pressure", log=True),
     )
-    starts = (0.3, 0.7)
+    starts = (0.1, 0.35, 0.6, 0.85)
 
     def apply(
         self, dt_s: float, x: np.ndarray, *, fraction: float, loop_width_MPa: float

@@ -20,7 +20,7 @@ class Lag(Candidate):
     params = (
         Param("tau_s", "s", 1e-3, 30.0, "time constant of the lag", log=True),
     )
-    starts = (0.3, 0.6)
+    starts = (0.1, 0.3, 0.5, 0.7, 0.9)
 
     def apply(self, dt_s: float, x: np.ndarray, *, tau_s: float) -> np.ndarray:
         return first_order(dt_s, x, tau_s)

@@ -6,8 +6,10 @@ lumen wall also strains the tube axially through Poisson's ratio, a
 curvature is linear in pressure, so against measured data it is
 indistinguishable from a gain error (calibration absorbs it); against the FEM,
 where the gain is not calibrated, it is a named effect. Its regressor is the
-extra curvature per MPa of the lumen load, ``lumen_gain_per_mm_MPa`` times p,
-with a free coefficient ``scale`` (1 when the analytic term is exactly right).
+difference between the lumen-load and cap-load curvature per MPa,
+``lumen_minus_cap_gain_per_mm_MPa`` times p (from ``analytic.gains``), with a
+free coefficient ``scale``: 1 when the reference behaves exactly as the
+lumen-load model, 0 when it behaves as the cap-load model.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ class LumenPoisson(Candidate):
     coefficient = "scale"
 
     def column(self, dt_s: float, p: np.ndarray, **context: float) -> np.ndarray:
-        g = context.get("lumen_gain_per_mm_MPa", 0.0)
+        g = context.get("lumen_minus_cap_gain_per_mm_MPa", 0.0)
         return g * p
 
 

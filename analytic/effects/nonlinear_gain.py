@@ -22,7 +22,7 @@ class NonlinearGain(Candidate):
               "relative change of incremental gain per MPa (bounds times 1/P)",
               relative_to="inverse_pressure"),
     )
-    starts = (0.35, 0.65)
+    starts = (0.2, 0.4, 0.5, 0.6, 0.8)
 
     def apply(self, dt_s: float, x: np.ndarray, *, beta_per_MPa: float) -> np.ndarray:
         return x + 0.5 * beta_per_MPa * x**2

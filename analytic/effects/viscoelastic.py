@@ -22,7 +22,7 @@ class Viscoelastic(Candidate):
         Param("tau_s", "s", 0.02, 1.0, "retardation time", relative_to="time", log=True,
               upper_cap=300.0),
     )
-    starts = (0.2, 0.6)
+    starts = (0.1, 0.35, 0.6, 0.85)
 
     def apply(
         self, dt_s: float, x: np.ndarray, *, creep_fraction: float, tau_s: float

@@ -164,3 +164,16 @@ def test_bad_input_names_parameter_value_and_bound():
         _plant(make_effect("lag"), make_effect("lag"))
     with pytest.raises(DataError, match="strictly increasing"):
         _plant().simulate(np.array([0.0, 0.0, 1.0]), np.zeros(3))
+
+
+def test_from_design_uses_the_analytic_gains():
+    import analytic
+    import design
+
+    d = design.preset("paper")
+    for load in ("cap", "lumen"):
+        plant = Plant.from_design(d, load=load)
+        k, e = analytic.gains(d, load)
+        assert plant.curvature_per_mpa == pytest.approx(k, rel=1e-12)
+        assert plant.elongation_per_mpa == pytest.approx(e, rel=1e-12)
+        assert plant.length_mm == d.tip.bending_length
