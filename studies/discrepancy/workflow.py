@@ -63,6 +63,12 @@ class Step:
 def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[Segment]]]:
     """(train, test) segment lists; masks select the samples of each side."""
     segs = prep.segments
+    if prep.static:
+        # interleaved: every third point held out, so no fold extrapolates in pressure
+        s = segs[0]
+        idx = np.arange(s.target.size)
+        return [([replace(s, mask=idx % 3 != k)], [replace(s, mask=idx % 3 == k)])
+                for k in range(3)]
     if len(segs) >= 2:
         out = []
         for i in range(len(segs)):
@@ -88,6 +94,8 @@ def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[
 def _n_eff(prep: Prepared, segments: Sequence[Segment]) -> float:
     # independent samples of a signal band-limited to B: about 2 B per second
     n = sum(int(s.mask.sum()) for s in segments)
+    if prep.static:
+        return float(n)
     return n * 2 * prep.data_filter.passband_hz / prep.fs_hz
 
 
@@ -134,6 +142,10 @@ def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
     rate = [e for e in (best, *others) if e in RATE_FAMILY]
     if len(rate) < 2:
         return ""
+    if set(rate) == {"lag", "delay"} and prep.distinct_frequencies() >= 2:
+        return ("excite faster than the filter's time resolution: a 1-2 Hz sine (with the "
+                "filter widened to keep it) or a sharp pressure step recorded and filtered "
+                "at >= 5 Hz bandwidth: a delay shifts the step, a lag rounds it")
     fs = [r.frequency_hz for r in prep.runs if r.kind == "sine"]
     f = fs[0] if fs else 0.1
     return (f"repeat the sine at {f / 4:.3g} Hz and {min(4 * f, 1.0):.3g} Hz and add a "
@@ -172,7 +184,7 @@ def name_effects(
     steps: list[Step] = []
     kw = dict(fixed_gain=fixed_gain, context=context)
     base = first = cross_validate(prep, named, **kw)
-    one_freq = prep.distinct_frequencies() < 2
+    one_freq = not prep.static and prep.distinct_frequencies() < 2
     bar = None
     if progress:
         from tqdm import tqdm
@@ -203,6 +215,14 @@ def name_effects(
                and scores[c].rmse_per_mm <= scores[best].rmse_per_mm / (1 - margin)]
         if one_freq and best in RATE_FAMILY:
             amb += [c for c in clears if c in RATE_FAMILY and c != best and c not in amb]
+        # a lag and a delay both shorter than the filter's time resolution differ only
+        # in second order (amplitude ~ (w tau)^2), below what filtered data resolve
+        if best in ("lag", "delay") and not prep.static:
+            other = "delay" if best == "lag" else "lag"
+            t_best = next(iter(scores[best].fit.params.get(best, {}).values()), 0.0)
+            if other in clears and other not in amb and \
+                    t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz):
+                amb.append(other)
         fit = scores[best].fit
         steps.append(Step(baseline=base, candidates=scores, named=best, ambiguous_with=tuple(amb),
                           separating_experiment=_experiment(best, amb, prep), fit=fit))
