@@ -45,6 +45,7 @@ class CVScore:
     nrmse: float
     fold_rmse: tuple[float, ...]
     fit: ChainFit  # fitted on all the data
+    pruned: bool = False
 
 
 @dataclass(frozen=True)
@@ -106,6 +107,7 @@ def cross_validate(
     fixed_gain: float | None = None,
     context: dict | None = None,
     start: dict | None = None,
+    prune_above: float | None = None,
 ) -> CVScore:
     """Held-out RMSE of baseline + ``effects`` over the folds of ``prep``.
 
@@ -113,13 +115,23 @@ def cross_validate(
     refinement); each fold's fit then starts from that estimate and is refined
     on the fold's training data only. Only the choice of basin sees the held-out
     data; every score is of a model whose parameters were fitted without it.
+
+    ``prune_above``: skip the folds when the all-data (in-sample) RMSE is above
+    this value: a candidate that does not even fit the data it was trained on
+    well enough cannot clear the margin held out (held-out errors are the larger).
+    The score is then NaN and ``pruned`` is set.
     """
     filt = prep.output_filter()
     full = fit_all(prep, effects, fixed_gain=fixed_gain, context=context, start=start)
+    if prune_above is not None and full.rmse > prune_above:
+        return CVScore(effects=tuple(effects), rmse_per_mm=float("nan"), nrmse=float("nan"),
+                       fold_rmse=(), fit=full, pruned=True)
     res, fold = [], []
     for train, test in _folds(prep):
+        # warm start: a short local refinement from the all-data estimate
         fit = fit_chain(effects, train, output_filter=filt, scales=prep.scales,
-                        fixed_gain=fixed_gain, context=context, start=full.params)
+                        fixed_gain=fixed_gain, context=context, start=full.params,
+                        max_nfev=20)
         r = []
         for s in test:
             r.append((s.target - predict_chain(fit, s, output_filter=filt))[s.mask])
@@ -195,16 +207,23 @@ def name_effects(
         for c in candidates:
             if c in named:
                 continue
-            scores[c] = cross_validate(prep, [*named, c], start=start, **kw)
+            # in-sample must already beat the current in-sample fit by half the margin
+            scores[c] = cross_validate(prep, [*named, c], start=start,
+                                       prune_above=(1 - margin / 2) * base.fit.rmse, **kw)
             if bar is not None:
                 bar.update(1)
         if not scores:
             break
-        best = min(scores, key=lambda c: scores[c].rmse_per_mm)
+        live = {c: s for c, s in scores.items() if not s.pruned}
+        if not live:
+            steps.append(Step(baseline=base, candidates=scores, named=None, ambiguous_with=(),
+                              separating_experiment=""))
+            break
+        best = min(live, key=lambda c: live[c].rmse_per_mm)
         threshold = (1 - margin) * base.rmse_per_mm
         excess0 = max(first.rmse_per_mm**2 - prep.noise_floor_per_mm**2, 1e-300)
-        share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in scores.items()}
-        clears = [c for c, s in scores.items()
+        share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in live.items()}
+        clears = [c for c, s in live.items()
                   if s.rmse_per_mm <= threshold and (not named or share[c] >= min_share)]
         if best not in clears:
             steps.append(Step(baseline=base, candidates=scores, named=None, ambiguous_with=(),
