@@ -223,8 +223,9 @@ def name_effects(
         threshold = (1 - margin) * base.rmse_per_mm
         excess0 = max(first.rmse_per_mm**2 - prep.noise_floor_per_mm**2, 1e-300)
         share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in live.items()}
+        # strictly below the current score too: exact reference data (RMSE 0) name nothing
         clears = [c for c, s in live.items()
-                  if s.rmse_per_mm <= threshold and (not named or share[c] >= min_share)]
+                  if s.rmse_per_mm <= threshold and s.rmse_per_mm < base.rmse_per_mm and (not named or share[c] >= min_share)]
         if best not in clears:
             steps.append(Step(baseline=base, candidates=scores, named=None, ambiguous_with=(),
                               separating_experiment=""))

@@ -167,7 +167,8 @@ def test_bad_arguments_name_the_parameter():
 def test_cli_writes_json_and_report(tmp_path):
     from studies.cli import main
 
-    case = make_case(("hysteresis",), seed=51, noise_fraction=0.01, effect_to_noise=4.0)
+    case = make_case(("hysteresis",), seed=51, noise_fraction=0.01, effect_to_noise=4.0,
+                     protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False))
     csv = write_measurement_csv(case.table, tmp_path / "bench.csv")
     out = tmp_path / "out"
     assert main(["discrepancy", str(csv), "--design", "paper", "--out", str(out)]) == 0
