@@ -122,7 +122,8 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
                 break
             width *= frac / 0.5
         if frac > 1.0:
-            raise DesignError("effect_to_noise", target_sig, "too large for a hysteresis loop")
+            raise DesignError("effect_to_noise * noise (signature, 1/mm)", target_sig,
+                              "too large for a hysteresis loop within the pressure range")
         return make_effect(name, loop_width_MPa=width, fraction=frac, range_MPa=p_max)
     if name == "viscoelastic":
         tau = float(np.exp(rng.uniform(np.log(1.0), np.log(5.0))))
@@ -137,14 +138,24 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
         "lag": (lambda v: make_effect("lag", tau_s=v), 1e-3, 30.0),
         "delay": (lambda v: make_effect("delay", delay_s=v), 1e-4, 2.0),
         "dead_zone": (lambda v: make_effect("dead_zone", threshold_MPa=v), 1e-4 * p_max,
-                      0.7 * p_max),
+                      0.9 * p_max),
         "nonlinear_gain": (lambda v: make_effect("nonlinear_gain", beta_per_MPa=sign * v),
                            1e-4 / p_max, 3.0 / p_max),
     }[name]
-    if _sig(plant_kw, build(hi), runs) < target_sig:
-        raise DesignError("effect_to_noise", target_sig, f"too large for {name}")
-    a, b = np.log(lo), np.log(hi)
-    for _ in range(30):
+    # the signature need not be monotone over the whole range (a dead zone near the
+    # peak pressure removes the response it would distort): bracket the first
+    # crossing on a log grid, then bisect inside the bracket
+    grid = np.exp(np.linspace(np.log(lo), np.log(hi), 24))
+    sig = [_sig(plant_kw, build(v), runs) for v in grid]
+    above = [i for i, v in enumerate(sig) if v >= target_sig]
+    if not above:
+        raise DesignError("effect_to_noise * noise (signature, 1/mm)", target_sig,
+                          f"must be <= {max(sig):.3g}, the most {name} can produce here")
+    i = above[0]
+    if i == 0:
+        return build(float(grid[0]))
+    a, b = np.log(grid[i - 1]), np.log(grid[i])
+    for _ in range(25):
         m = 0.5 * (a + b)
         if _sig(plant_kw, build(np.exp(m)), runs) < target_sig:
             a = m

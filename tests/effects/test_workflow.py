@@ -96,7 +96,7 @@ HIDDEN = [
     ("hysteresis", 0.005, 21),
     ("lag", 0.02, 22),
     ("delay", 0.01, 23),
-    ("dead_zone", 0.05, 24),
+    ("dead_zone", 0.03, 24),  # a dead zone cannot reach ENR 2 at 5 % noise (see generator)
     ("viscoelastic", 0.01, 25),
     ("offset", 0.05, 26),
     ("nonlinear_gain", 0.02, 27),
