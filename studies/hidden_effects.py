@@ -220,17 +220,21 @@ def make_case(
     plant = Plant(**plant_kw, effects=tuple(truth))
     enr = {e.name: _sig(plant_kw, e, runs) / sigma for e in truth}
     frames = []
+    t_start = 0.0
     for label, t, p in runs:
-        r = plant.simulate(t, p)
+        r = plant.simulate(t, p)  # every run starts from rest
         n = t.size
+        # one continuous recording: runs follow each other after a 1 s pause, so
+        # time_s increases through the file as the recorder writes it
         frames.append(pd.DataFrame({
-            "time_s": t,
+            "time_s": t + t_start,
             "pressure_MPa": p + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
             "curvature_per_mm": r.curvature_per_mm + rng.normal(0, sigma, n),
             "arc_length_mm": r.arc_length_mm,
             "bend_angle_rad": r.bend_angle_rad,
             "run": label,
         }))
+        t_start += t[-1] + 1.0
     log.info("hidden case %s seed %d: ENR %s", effects, seed, enr)
     return HiddenCase(
         effects=tuple(effects),

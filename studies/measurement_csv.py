@@ -1,4 +1,8 @@
-"""Read and write the measurement CSV of ``ARCHITECTURE.md`` with validation.
+"""Measurement tables (``ARCHITECTURE.md`` CSV schema) for the missing-effect workflow.
+
+Files are read by ``analytic.io.read_measurement_csv``; this module validates
+in-memory tables the same way and writes tables (for the hidden-effect
+generator).
 
 Required columns: ``time_s``, ``pressure_MPa``, ``curvature_per_mm``; optional
 ``arc_length_mm``, ``tip_x_mm``, ``tip_y_mm``, ``bend_angle_rad``, ``run``.
@@ -17,7 +21,14 @@ import pandas as pd
 
 from design.errors import DataError
 
-__all__ = ["REQUIRED", "OPTIONAL", "read_measurement_csv", "validate_table", "write_measurement_csv"]
+__all__ = [
+    "REQUIRED",
+    "OPTIONAL",
+    "measurement_to_table",
+    "read_measurement_csv",
+    "validate_table",
+    "write_measurement_csv",
+]
 
 log = logging.getLogger(__name__)
 
@@ -65,16 +76,26 @@ def validate_table(df: pd.DataFrame, *, source: str = "table") -> pd.DataFrame:
     return out
 
 
+def measurement_to_table(m) -> pd.DataFrame:
+    """An ``analytic.io.Measurement`` as a table (``run`` = "run1" when absent)."""
+    cols = {"time_s": m.time_s, "pressure_MPa": m.pressure_MPa,
+            "curvature_per_mm": m.curvature_per_mm, **m.optional}
+    df = pd.DataFrame(cols)
+    run = m.run if m.run is not None else np.full(len(m), "")
+    df["run"] = np.where(np.asarray(run, dtype=str) == "", "run1", run)
+    return validate_table(df, source=m.source)
+
+
 def read_measurement_csv(path: str | Path) -> pd.DataFrame:
-    """Read and validate a measurement CSV (see the module docstring)."""
-    path = Path(path)
-    if not path.is_file():
-        raise DataError(f"measurement file {str(path)!r} does not exist")
-    try:
-        df = pd.read_csv(path, dtype={"run": str}, keep_default_na=True)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: not a readable CSV ({exc})") from None
-    return validate_table(df, source=str(path))
+    """Read and validate a measurement CSV with the project's reader, as a table.
+
+    The file is read by ``analytic.io.read_measurement_csv`` (the one reader of
+    the project: missing required values are an error with count and first line;
+    time must increase through the file), then checked per run here.
+    """
+    from analytic.io import read_measurement_csv as _read
+
+    return measurement_to_table(_read(path))
 
 
 def write_measurement_csv(df: pd.DataFrame, path: str | Path) -> Path:

@@ -132,7 +132,7 @@ def _excitation(t: np.ndarray, p: np.ndarray) -> tuple[str, float]:
             return "step", 0.0
     x = (p - p.mean()) * np.hanning(p.size)
     spec = np.abs(np.fft.rfft(x))
-    f = np.fft.rfftfreq(p.size, t[1] - t[0])
+    f = np.fft.rfftfreq(p.size, 1 / fs)
     spec[0] = 0
     return "sine", float(f[np.argmax(spec)])
 
@@ -173,7 +173,8 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
             _, k = resample_uniform(t, k, fs_hz=PAPER_FS_HZ)
             t = tu
         raw.append((str(label), t, p, k))
-    fs_all = {round(1 / np.median(np.diff(t)), 6) for _, t, _, _ in raw}
+    # rounded to 1 mHz: time stamps like 107.985 carry 1e-12 s of binary noise
+    fs_all = {round(float(1 / np.median(np.diff(t))), 3) for _, t, _, _ in raw}
     if len(fs_all) != 1:
         raise DataError(f"runs have different sample rates {sorted(fs_all)} Hz")
     fs = fs_all.pop()
@@ -181,7 +182,7 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
     if filter_spec is None:
         fmax = max([f for kind, f in exc if kind == "sine"], default=0.0)
         spec = FilterSpec(fs_hz=fs) if fs != PAPER_FILTER.fs_hz else PAPER_FILTER
-        if 2.5 * fmax > spec.passband_hz:
+        if 2.5 * fmax > spec.passband_hz * (1 + 1e-6):  # FFT bins carry rounding noise
             spec = spec.scaled(2.5 * fmax / spec.passband_hz)
     else:
         spec = filter_spec
@@ -189,7 +190,7 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
         raise DataError(f"sample rate {fs} Hz is too low for a {spec.passband_hz:g} Hz "
                         f"data filter: need > {8 * spec.stopband_hz:g} Hz")
     aa = spec.scaled(4.0)
-    q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz))))
+    q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz) + 1e-6)))
     fs_d = fs / q
     fit_spec = FilterSpec(passband_hz=spec.passband_hz, stopband_hz=spec.stopband_hz,
                           ripple_db=spec.ripple_db, attenuation_db=spec.attenuation_db,

@@ -35,8 +35,14 @@ def test_csv_round_trip_and_missing_values_reported(tmp_path):
         lines[i] = ",".join(cells)
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
-    with pytest.raises(DataError, match=r"3 row\(s\) with a missing .* line\(s\) 6, 10, 13"):
+    # the file reader (analytic.io) reports count and first line
+    with pytest.raises(DataError, match=r"curvature_per_mm: 3 missing/NaN value\(s\), first at line 6"):
         read_measurement_csv(bad)
+    # an in-memory table reports count and the first line numbers it would have in a file
+    tab = case.table.copy()
+    tab.loc[[4, 8, 11], "curvature_per_mm"] = np.nan
+    with pytest.raises(DataError, match=r"3 row\(s\) with a missing .* line\(s\) 6, 10, 13"):
+        validate_table(tab)
 
 
 def test_csv_structural_errors():
@@ -46,7 +52,7 @@ def test_csv_structural_errors():
                        "curvature_per_mm": [0.0] * 3})
     with pytest.raises(DataError, match=r"time_s must increase within run 'run1'.*line 4"):
         validate_table(df)
-    with pytest.raises(DataError, match="does not exist"):
+    with pytest.raises(DataError, match="file not found"):
         read_measurement_csv("/nonexistent/file.csv")
 
 
@@ -197,7 +203,7 @@ def test_cli_bad_input_is_one_line_and_exit_2(tmp_path):
     assert p.returncode == 2
     err = p.stderr.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("softcath discrepancy: error:")
-    assert "does not exist" in err[0]
+    assert "file not found" in err[0]
 
 
 def test_write_report_from_api(tmp_path):
