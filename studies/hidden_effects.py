@@ -28,7 +28,14 @@ import pandas as pd
 from design.errors import DesignError
 from hardware.plant import EFFECT_NAMES, Plant, make_effect
 
-__all__ = ["Protocol", "HiddenCase", "make_case", "default_protocol", "signature_rms"]
+__all__ = [
+    "Protocol",
+    "HiddenCase",
+    "make_case",
+    "default_protocol",
+    "paper_demo_case",
+    "signature_rms",
+]
 
 log = logging.getLogger(__name__)
 
@@ -246,3 +253,18 @@ def make_case(
         table=pd.concat(frames, ignore_index=True),
         plant=plant,
     )
+
+
+def paper_demo_case(*, seed: int = 0, two_frequencies: bool = True) -> HiddenCase:
+    """The paper's data shape with its unexplained hysteresis, for the demo.
+
+    Fig. 4 of the paper: a sinusoidal pressure repeated for 10 cycles, a
+    hysteresis loop the linear model does not capture. Here: 10 cycles at
+    0.1 Hz (plus, with ``two_frequencies``, 10 cycles at 0.2 Hz so that the
+    workflow can tell rate-independent hysteresis from a lag), 0..2 MPa, 1 %
+    curvature noise, Preisach hysteresis at an effect-to-noise ratio of 5.
+    """
+    freqs = (0.1, 0.2) if two_frequencies else (0.1,)
+    proto = Protocol(p_max_MPa=2.0, frequencies_hz=freqs, cycles=10, step_hold=False)
+    return make_case(("hysteresis",), seed=seed, effect_to_noise=5.0, noise_fraction=0.01,
+                     protocol=proto)
