@@ -56,11 +56,43 @@ def one(cls: str, seed: int, enr: float) -> dict:
     r = run_workflow(case.table)
     dt = time.perf_counter() - t0
     return {
+        "recovery": recovery(cls, case, r),
         "truth": cls, "seed": seed, "noise": noise, "named": list(r.named),
         "first": r.named[0] if r.named else "none",
         "shrink": r.nrmse_before / r.nrmse_after, "ambiguous": r.ambiguous_with,
         "excess_removed": r.excess_removed, "seconds": dt, "samples": len(case.table),
     }
+
+
+def recovery(cls: str, case, result) -> float | None:
+    """Estimated / true value of the class's characteristic parameter (None if not named).
+
+    lag: time constant (truth: Elmore time of the RC ladder); delay: latency;
+    dead_zone: threshold; hysteresis: loop opening fraction * width (truth: fraction
+    * mean relay width); viscoelastic: creep fraction; offset: pre-curvature
+    (estimate over truth); nonlinear_gain: beta.
+    """
+    if not result.steps or result.steps[0]["effect"] != cls:
+        return None
+    est = result.steps[0]["params"]
+    tru = case.truth_params[cls]
+    if cls == "lag":
+        return est["tau_s"] / tru["tau_s"]
+    if cls == "delay":
+        return est["delay_s"] / tru["delay_s"]
+    if cls == "dead_zone":
+        return est["threshold_MPa"] / tru["threshold_MPa"]
+    if cls == "hysteresis":
+        eff = case.plant.effects[0]
+        a, b, _, _ = eff.relays()
+        return est["fraction"] * est["loop_width_MPa"] / (tru["fraction"] * float(np.mean(a - b)))
+    if cls == "viscoelastic":
+        return est["creep_fraction"] / tru["creep_fraction"]
+    if cls == "offset":
+        return result.steps[0]["coefficient"] / tru["curvature_per_mm"]
+    if cls == "nonlinear_gain":
+        return est["beta_per_MPa"] / tru["beta_per_MPa"]
+    return None
 
 
 def timing_60k() -> tuple[float, int]:
@@ -126,6 +158,15 @@ def main() -> int:
         print(f"  {cls:15s} shrink median {np.median([r['shrink'] for r in sub]):6.2f}  "
               f"min {np.min([r['shrink'] for r in sub]):6.2f}  excess removed median "
               f"{np.median([r['excess_removed'] for r in sub]):.3f}  flagged ambiguous {amb}")
+    print("\nparameter recovery (estimate / truth of the characteristic parameter), "
+          "median [10 %, 90 %] and share within 30 %:")
+    for cls in EFFECT_NAMES:
+        rec = np.array([r["recovery"] for r in rows
+                        if r["truth"] == cls and r["recovery"] is not None])
+        if rec.size:
+            q = np.quantile(rec, [0.5, 0.1, 0.9])
+            share = float(np.mean(np.abs(rec - 1) <= 0.3))
+            print(f"  {cls:15s} {q[0]:6.2f} [{q[1]:.2f}, {q[2]:.2f}]  within 30 %: {share:.2f}")
     secs = np.array([r["seconds"] for r in rows])
     print(f"\nper data set (~{rows[0]['samples']} samples): median {np.median(secs):.2f} s, "
           f"max {secs.max():.2f} s")
