@@ -34,15 +34,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from design.errors import DataError
     from studies.discrepancy import run_workflow, write_report
+    from studies.discrepancy.result import fem_reference
 
     data = args.measured
     fem_fn = None
     if args.reference == "fem" and data is None:
-        try:
-            import fem as fem_pkg
-        except ImportError:
-            fem_pkg = None
-        fem_fn = getattr(fem_pkg, "check", None)
+        fem_fn = fem_reference()
         if fem_fn is None:
             raise DataError("--reference fem: no FEM table given and fem.check is not "
                             "available; pass a CSV with pressure_MPa, curvature_per_mm")

@@ -19,7 +19,7 @@ from studies.discrepancy.prepare import Prepared, prepare, prepare_static
 from studies.discrepancy.workflow import name_effects
 from studies.measurement_csv import read_measurement_csv, validate_table
 
-__all__ = ["DiscrepancyResult", "run_workflow"]
+__all__ = ["DiscrepancyResult", "run_workflow", "fem_reference"]
 
 log = logging.getLogger(__name__)
 
@@ -97,6 +97,28 @@ def _clean(x):
     if isinstance(x, np.bool_):
         return bool(x)
     return x
+
+
+def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
+    """``fem(design, pressures) -> curvature`` from the fem package, or None if absent.
+
+    Uses ``fem.check(design, pressures=..., loads=("lumen",))``: the FEM with the
+    real load (lumen wall and cap), which the workflow compares with the analytic
+    cap-load model.
+    """
+    try:
+        import fem as fem_pkg
+    except ImportError:
+        return None
+    check = getattr(fem_pkg, "check", None)
+    if check is None:
+        return None
+
+    def run(design, pressures):
+        res = check(design, pressures=tuple(float(x) for x in pressures), loads=("lumen",))
+        return np.array([c.curvature_per_mm for c in res.cases if c.load == "lumen"])
+
+    return run
 
 
 def _resolve_design(design):

@@ -213,3 +213,15 @@ def test_write_report_from_api(tmp_path):
     assert path.name == "report.html" and "nothing named" in path.read_text()
     rec = json.loads((tmp_path / "discrepancy.json").read_text())
     assert rec["named"] == [] and rec["steps"] == [] and rec["ambiguous_with"] == []
+
+
+@pytest.mark.slow
+def test_fem_reference_through_fem_check_when_available(tmp_path):
+    from studies.discrepancy.result import fem_reference
+
+    fn = fem_reference()
+    if fn is None:
+        pytest.skip("fem.check is not available in this checkout")
+    r = run_workflow(None, "paper", reference="fem", fem=fn, pressures_MPa=np.linspace(0, 1, 7))
+    # the FEM's real load is lumen + cap; the analytic cap model misses the lumen term
+    assert r.named[:1] == ("lumen_poisson",)
