@@ -13,7 +13,9 @@ where the signature is the clean curvature with the effect minus its best
 pure-gain fit (what calibration cannot absorb), over all runs, and the noise
 s.d. is that of the raw curvature samples. The truth forms (Preisach, RC
 ladder, two Kelvin units, softplus threshold, exponential gain) differ from
-the candidates in ``analytic.effects``; the workflow is not told which.
+the candidates in ``analytic.effects``; the workflow is not told which. Both
+sensors have a 10 Hz causal response (the acquisition chain) before their
+noise; the CSV holds raw samples, and the workflow applies the paper's filter.
 """
 
 from __future__ import annotations
@@ -171,6 +173,23 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
     return build(float(np.exp(0.5 * (a + b))))
 
 
+def _sensor(bandwidth_hz: float | None, fs_hz: float):
+    """Causal 2nd-order Butterworth sensor response, started in steady state."""
+    if bandwidth_hz is None:
+        return lambda x: x
+    from scipy import signal
+
+    if not 0 < bandwidth_hz < fs_hz / 2:
+        raise DesignError("sensor_bandwidth_hz", bandwidth_hz, f"must be in (0, {fs_hz / 2:g})")
+    sos = signal.butter(2, bandwidth_hz, fs=fs_hz, output="sos")
+    zi = signal.sosfilt_zi(sos)
+
+    def f(x):
+        return signal.sosfilt(sos, x, zi=zi * x[0])[0]
+
+    return f
+
+
 def make_case(
     effects: Sequence[str] = (),
     *,
@@ -183,6 +202,7 @@ def make_case(
     elongation_per_MPa: float = 0.0103,
     length_mm: float = 5.0,
     gain_error: float = 0.2,
+    sensor_bandwidth_hz: float | None = 10.0,
 ) -> HiddenCase:
     """Data with ``effects`` hidden in them (empty: no effect), as a measurement table.
 
@@ -205,6 +225,11 @@ def make_case(
         Nominal model (defaults: the paper's design, cap load, from ``analytic.gains``).
     gain_error
         The true gain is the nominal one times ``U(1 - gain_error, 1 + gain_error)``.
+    sensor_bandwidth_hz
+        Both sensors (pressure transducer, camera + tip tracking) see the signal
+        through a causal 2nd-order Butterworth low-pass of this bandwidth before
+        their noise is added (None: ideal sensors). The same on both channels, as
+        when both are read through the same acquisition chain.
     """
     for e in effects:
         if e not in EFFECT_NAMES:
@@ -226,17 +251,19 @@ def make_case(
              for e in effects]
     plant = Plant(**plant_kw, effects=tuple(truth))
     enr = {e.name: _sig(plant_kw, e, runs) / sigma for e in truth}
+    sensor = _sensor(sensor_bandwidth_hz, proto.fs_hz)
     frames = []
     t_start = 0.0
     for label, t, p in runs:
         r = plant.simulate(t, p)  # every run starts from rest
         n = t.size
+        p_seen, k_seen = sensor(p), sensor(r.curvature_per_mm)
         # one continuous recording: runs follow each other after a 1 s pause, so
         # time_s increases through the file as the recorder writes it
         frames.append(pd.DataFrame({
             "time_s": t + t_start,
-            "pressure_MPa": p + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
-            "curvature_per_mm": r.curvature_per_mm + rng.normal(0, sigma, n),
+            "pressure_MPa": p_seen + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
+            "curvature_per_mm": k_seen + rng.normal(0, sigma, n),
             "arc_length_mm": r.arc_length_mm,
             "bend_angle_rad": r.bend_angle_rad,
             "run": label,
