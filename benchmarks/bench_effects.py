@@ -57,10 +57,16 @@ def one(cls: str, seed: int, enr: float) -> dict:
     dt = time.perf_counter() - t0
     return {
         "recovery": recovery(cls, case, r),
-        "truth": cls, "seed": seed, "noise": noise, "named": list(r.named),
+        "truth": cls,
+        "seed": seed,
+        "noise": noise,
+        "named": list(r.named),
         "first": r.named[0] if r.named else "none",
-        "shrink": r.nrmse_before / r.nrmse_after, "ambiguous": r.ambiguous_with,
-        "excess_removed": r.excess_removed, "seconds": dt, "samples": len(case.table),
+        "shrink": r.nrmse_before / r.nrmse_after,
+        "ambiguous": r.ambiguous_with,
+        "excess_removed": r.excess_removed,
+        "seconds": dt,
+        "samples": len(case.table),
     }
 
 
@@ -97,8 +103,7 @@ def recovery(cls: str, case, result) -> float | None:
 
 def timing_60k() -> tuple[float, int]:
     proto = Protocol(cycles=6, hold_s=30.0)  # ~300 s at 200 Hz
-    case = make_case(("hysteresis",), seed=7, noise_fraction=0.01, effect_to_noise=3.0,
-                     protocol=proto)
+    case = make_case(("hysteresis",), seed=7, noise_fraction=0.01, effect_to_noise=3.0, protocol=proto)
     t0 = time.perf_counter()
     run_workflow(case.table)
     return time.perf_counter() - t0, len(case.table)
@@ -137,45 +142,58 @@ def main() -> int:
         for seed in tqdm(range(args.seeds), desc=cls, leave=False):
             rows.append(one(cls, seed, args.enr))
     cols = ["none", *EFFECT_NAMES]
-    print(f"confusion matrix (rows: hidden effect, columns: first named), "
-          f"{args.seeds} seeds/class, ENR {args.enr:g}")
+    print(
+        f"confusion matrix (rows: hidden effect, columns: first named), "
+        f"{args.seeds} seeds/class, ENR {args.enr:g}"
+    )
     w = 15
     print(" " * w + "".join(c[:9].rjust(10) for c in cols) + "    recall  exact")
     for cls in CLASSES:
         sub = [r for r in rows if r["truth"] == cls]
         counts = [sum(r["first"] == c for r in sub) for c in cols]
         exact = sum(r["named"] == ([] if cls == "none" else [cls]) for r in sub) / len(sub)
-        print(cls.ljust(w) + "".join(str(n).rjust(10) for n in counts)
-              + f"{counts[cols.index(cls)] / len(sub):10.2f}{exact:7.2f}")
+        print(
+            cls.ljust(w)
+            + "".join(str(n).rjust(10) for n in counts)
+            + f"{counts[cols.index(cls)] / len(sub):10.2f}{exact:7.2f}"
+        )
     none = [r for r in rows if r["truth"] == "none"]
     k = sum(r["named"] != [] for r in none)
-    print(f"\nfalse alarms on no-effect data: {k}/{len(none)} = {k / len(none):.3f}, "
-          f"95 % Clopper-Pearson upper bound {clopper_pearson_upper(k, len(none)):.3f}")
+    print(
+        f"\nfalse alarms on no-effect data: {k}/{len(none)} = {k / len(none):.3f}, "
+        f"95 % Clopper-Pearson upper bound {clopper_pearson_upper(k, len(none)):.3f}"
+    )
     print("\nmedian held-out gap shrink (NRMSE before/after) and excess removed, per class:")
     for cls in EFFECT_NAMES:
         sub = [r for r in rows if r["truth"] == cls]
         amb = sum(any(a) for a in (r["ambiguous"] for r in sub))
-        print(f"  {cls:15s} shrink median {np.median([r['shrink'] for r in sub]):6.2f}  "
-              f"min {np.min([r['shrink'] for r in sub]):6.2f}  excess removed median "
-              f"{np.median([r['excess_removed'] for r in sub]):.3f}  flagged ambiguous {amb}")
-    print("\nparameter recovery (estimate / truth of the characteristic parameter), "
-          "median [10 %, 90 %] and share within 30 %:")
+        print(
+            f"  {cls:15s} shrink median {np.median([r['shrink'] for r in sub]):6.2f}  "
+            f"min {np.min([r['shrink'] for r in sub]):6.2f}  excess removed median "
+            f"{np.median([r['excess_removed'] for r in sub]):.3f}  flagged ambiguous {amb}"
+        )
+    print(
+        "\nparameter recovery (estimate / truth of the characteristic parameter), "
+        "median [10 %, 90 %] and share within 30 %:"
+    )
     for cls in EFFECT_NAMES:
-        rec = np.array([r["recovery"] for r in rows
-                        if r["truth"] == cls and r["recovery"] is not None])
+        rec = np.array([r["recovery"] for r in rows if r["truth"] == cls and r["recovery"] is not None])
         if rec.size:
             q = np.quantile(rec, [0.5, 0.1, 0.9])
             share = float(np.mean(np.abs(rec - 1) <= 0.3))
             print(f"  {cls:15s} {q[0]:6.2f} [{q[1]:.2f}, {q[2]:.2f}]  within 30 %: {share:.2f}")
     secs = np.array([r["seconds"] for r in rows])
-    print(f"\nper data set (~{rows[0]['samples']} samples): median {np.median(secs):.2f} s, "
-          f"max {secs.max():.2f} s")
+    print(
+        f"\nper data set (~{rows[0]['samples']} samples): median {np.median(secs):.2f} s, "
+        f"max {secs.max():.2f} s"
+    )
     t60, n60 = timing_60k()
-    print(f"workflow on a {n60}-sample set: {t60:.1f} s (target <= 30 s): ratio to target "
-          f"{t60 / 30:.2f}")
+    print(f"workflow on a {n60}-sample set: {t60:.1f} s (target <= 30 s): ratio to target {t60 / 30:.2f}")
     fast, slow = timing_play()
-    print(f"play operator, 6000 samples x 6 radii: scan {fast * 1e3:.2f} ms vs plain recursion "
-          f"{slow * 1e3:.1f} ms: {slow / fast:.0f}x faster")
+    print(
+        f"play operator, 6000 samples x 6 radii: scan {fast * 1e3:.2f} ms vs plain recursion "
+        f"{slow * 1e3:.1f} ms: {slow / fast:.0f}x faster"
+    )
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     return 0

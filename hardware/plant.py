@@ -501,9 +501,7 @@ class Plant:
         object.__setattr__(self, "effects", ordered)
 
     @classmethod
-    def from_design(
-        cls, design: Any, *, effects: tuple[_TruthEffect, ...] = (), load: str = "cap"
-    ) -> Plant:
+    def from_design(cls, design: Any, *, effects: tuple[_TruthEffect, ...] = (), load: str = "cap") -> Plant:
         """Plant whose gains are the analytic model's response of ``design`` at 1 MPa.
 
         The analytic model is linear in pressure, so its response at 1 MPa is the gain.
@@ -534,8 +532,9 @@ class Plant:
         t = np.asarray(t_s, dtype=float)
         p = np.asarray(pressure_MPa, dtype=float)
         if t.ndim != 1 or t.shape != p.shape or t.size < 2:
-            raise DataError(f"plant.simulate: t_s and pressure_MPa must be equal 1-D, got "
-                            f"{t.shape} and {p.shape}")
+            raise DataError(
+                f"plant.simulate: t_s and pressure_MPa must be equal 1-D, got {t.shape} and {p.shape}"
+            )
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(p))):
             raise DataError("plant.simulate: t_s and pressure_MPa must be finite")
         if np.any(np.diff(t) <= 0):

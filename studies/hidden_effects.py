@@ -124,15 +124,17 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
     if name == "hysteresis":
         width = p_max * rng.uniform(0.08, 0.2)
         for _ in range(4):
-            s1 = _sig(plant_kw, make_effect(name, loop_width_MPa=width, fraction=1.0,
-                                            range_MPa=p_max), runs)
+            s1 = _sig(plant_kw, make_effect(name, loop_width_MPa=width, fraction=1.0, range_MPa=p_max), runs)
             frac = target_sig / s1  # the signature is exactly linear in the fraction
             if frac <= 0.8:
                 break
             width *= frac / 0.5
         if frac > 1.0:
-            raise DesignError("effect_to_noise * noise (signature, 1/mm)", target_sig,
-                              "too large for a hysteresis loop within the pressure range")
+            raise DesignError(
+                "effect_to_noise * noise (signature, 1/mm)",
+                target_sig,
+                "too large for a hysteresis loop within the pressure range",
+            )
         return make_effect(name, loop_width_MPa=width, fraction=frac, range_MPa=p_max)
     if name == "viscoelastic":
         tau = float(np.exp(rng.uniform(np.log(1.0), np.log(5.0))))
@@ -146,10 +148,12 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
     build, lo, hi = {
         "lag": (lambda v: make_effect("lag", tau_s=v), 1e-3, 30.0),
         "delay": (lambda v: make_effect("delay", delay_s=v), 1e-4, 2.0),
-        "dead_zone": (lambda v: make_effect("dead_zone", threshold_MPa=v), 1e-4 * p_max,
-                      0.9 * p_max),
-        "nonlinear_gain": (lambda v: make_effect("nonlinear_gain", beta_per_MPa=sign * v),
-                           1e-4 / p_max, 3.0 / p_max),
+        "dead_zone": (lambda v: make_effect("dead_zone", threshold_MPa=v), 1e-4 * p_max, 0.9 * p_max),
+        "nonlinear_gain": (
+            lambda v: make_effect("nonlinear_gain", beta_per_MPa=sign * v),
+            1e-4 / p_max,
+            3.0 / p_max,
+        ),
     }[name]
     # the signature need not be monotone over the whole range (a dead zone near the
     # peak pressure removes the response it would distort): bracket the first
@@ -158,8 +162,11 @@ def _scaled_effect(name, target_sig, rng, plant_kw, runs, p_max):
     sig = [_sig(plant_kw, build(v), runs) for v in grid]
     above = [i for i, v in enumerate(sig) if v >= target_sig]
     if not above:
-        raise DesignError("effect_to_noise * noise (signature, 1/mm)", target_sig,
-                          f"must be <= {max(sig):.3g}, the most {name} can produce here")
+        raise DesignError(
+            "effect_to_noise * noise (signature, 1/mm)",
+            target_sig,
+            f"must be <= {max(sig):.3g}, the most {name} can produce here",
+        )
     i = above[0]
     if i == 0:
         return build(float(grid[0]))
@@ -242,13 +249,13 @@ def make_case(
     rng = np.random.default_rng(seed)
     runs = proto.runs()
     gain = gain_per_mm_MPa * rng.uniform(1 - gain_error, 1 + gain_error)
-    plant_kw = dict(curvature_per_mpa=gain, elongation_per_mpa=elongation_per_MPa,
-                    length_mm=length_mm)
+    plant_kw = dict(curvature_per_mpa=gain, elongation_per_mpa=elongation_per_MPa, length_mm=length_mm)
     clean = Plant(**plant_kw)
     fs = np.ptp(np.concatenate([clean.simulate(t, p).curvature_per_mm for _, t, p in runs]))
     sigma = noise_fraction * fs
-    truth = [_scaled_effect(e, effect_to_noise * sigma, rng, plant_kw, runs, proto.p_max_MPa)
-             for e in effects]
+    truth = [
+        _scaled_effect(e, effect_to_noise * sigma, rng, plant_kw, runs, proto.p_max_MPa) for e in effects
+    ]
     plant = Plant(**plant_kw, effects=tuple(truth))
     enr = {e.name: _sig(plant_kw, e, runs) / sigma for e in truth}
     sensor = _sensor(sensor_bandwidth_hz, proto.fs_hz)
@@ -260,14 +267,18 @@ def make_case(
         p_seen, k_seen = sensor(p), sensor(r.curvature_per_mm)
         # one continuous recording: runs follow each other after a 1 s pause, so
         # time_s increases through the file as the recorder writes it
-        frames.append(pd.DataFrame({
-            "time_s": t + t_start,
-            "pressure_MPa": p_seen + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
-            "curvature_per_mm": k_seen + rng.normal(0, sigma, n),
-            "arc_length_mm": r.arc_length_mm,
-            "bend_angle_rad": r.bend_angle_rad,
-            "run": label,
-        }))
+        frames.append(
+            pd.DataFrame(
+                {
+                    "time_s": t + t_start,
+                    "pressure_MPa": p_seen + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
+                    "curvature_per_mm": k_seen + rng.normal(0, sigma, n),
+                    "arc_length_mm": r.arc_length_mm,
+                    "bend_angle_rad": r.bend_angle_rad,
+                    "run": label,
+                }
+            )
+        )
         t_start += t[-1] + 1.0
     log.info("hidden case %s seed %d: ENR %s", effects, seed, enr)
     return HiddenCase(
@@ -293,5 +304,4 @@ def paper_demo_case(*, seed: int = 0, two_frequencies: bool = True) -> HiddenCas
     """
     freqs = (0.1, 0.2) if two_frequencies else (0.1,)
     proto = Protocol(p_max_MPa=2.0, frequencies_hz=freqs, cycles=10, step_hold=False)
-    return make_case(("hysteresis",), seed=seed, effect_to_noise=5.0, noise_fraction=0.01,
-                     protocol=proto)
+    return make_case(("hysteresis",), seed=seed, effect_to_noise=5.0, noise_fraction=0.01, protocol=proto)

@@ -48,8 +48,7 @@ def validate_table(df: pd.DataFrame, *, source: str = "table") -> pd.DataFrame:
     """
     missing_cols = [c for c in REQUIRED if c not in df.columns]
     if missing_cols:
-        raise DataError(f"{source}: missing required column(s) {missing_cols}; "
-                        f"required are {list(REQUIRED)}")
+        raise DataError(f"{source}: missing required column(s) {missing_cols}; required are {list(REQUIRED)}")
     if len(df) == 0:
         raise DataError(f"{source}: no data rows")
     out = df.copy()
@@ -71,15 +70,18 @@ def validate_table(df: pd.DataFrame, *, source: str = "table") -> pd.DataFrame:
         dt = np.diff(g["time_s"].to_numpy())
         if np.any(dt <= 0):
             first = int(g.index[np.flatnonzero(dt <= 0)[0] + 1]) + 2
-            raise DataError(f"{source}: time_s must increase within run {run!r}; "
-                            f"it does not at line {first}")
+            raise DataError(f"{source}: time_s must increase within run {run!r}; it does not at line {first}")
     return out
 
 
 def measurement_to_table(m) -> pd.DataFrame:
     """An ``analytic.io.Measurement`` as a table (``run`` = "run1" when absent)."""
-    cols = {"time_s": m.time_s, "pressure_MPa": m.pressure_MPa,
-            "curvature_per_mm": m.curvature_per_mm, **m.optional}
+    cols = {
+        "time_s": m.time_s,
+        "pressure_MPa": m.pressure_MPa,
+        "curvature_per_mm": m.curvature_per_mm,
+        **m.optional,
+    }
     df = pd.DataFrame(cols)
     run = m.run if m.run is not None else np.full(len(m), "")
     df["run"] = np.where(np.asarray(run, dtype=str) == "", "run1", run)

@@ -43,7 +43,13 @@ _REGISTRY: dict[str, Candidate] = {}
 
 #: candidates tried against measured data (time series)
 MEASURED_CANDIDATES: tuple[str, ...] = (
-    "hysteresis", "lag", "delay", "dead_zone", "viscoelastic", "offset", "nonlinear_gain",
+    "hysteresis",
+    "lag",
+    "delay",
+    "dead_zone",
+    "viscoelastic",
+    "offset",
+    "nonlinear_gain",
 )
 #: candidates tried against a quasi-static FEM reference (no time, gain not calibrated)
 FEM_CANDIDATES: tuple[str, ...] = ("lumen_poisson", "nonlinear_gain", "offset", "dead_zone")

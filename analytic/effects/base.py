@@ -141,8 +141,14 @@ class Candidate:
             "name": self.name,
             "meaning": self.meaning,
             "params": [
-                {"name": q.name, "unit": q.unit, "doc": q.doc, "lower": q.lower,
-                 "upper": q.upper, "relative_to": q.relative_to}
+                {
+                    "name": q.name,
+                    "unit": q.unit,
+                    "doc": q.doc,
+                    "lower": q.lower,
+                    "upper": q.upper,
+                    "relative_to": q.relative_to,
+                }
                 for q in self.params
             ],
         }

@@ -14,8 +14,9 @@ class DeadZone(Candidate):
     kind = "pressure"
     meaning = "threshold pressure below which the tip does not bend (pre-stress, friction)"
     params = (
-        Param("threshold_MPa", "MPa", 0.0, 0.5, "pressure needed before bending starts",
-              relative_to="pressure"),
+        Param(
+            "threshold_MPa", "MPa", 0.0, 0.5, "pressure needed before bending starts", relative_to="pressure"
+        ),
     )
     starts = (0.02, 0.1, 0.25, 0.5, 0.8)
 

@@ -225,10 +225,13 @@ def fit_chain(
         # scan the start grid with one evaluation each, then refine the best start:
         # far cheaper than a full local search from every start, and the grid is
         # dense enough (4-5 points per parameter) to land in the right basin
-        z0 = min((np.array(z, dtype=float) for z in itertools.product(*grids)),
-                 key=lambda z: float(np.sum(resid(z) ** 2)))
-        best = least_squares(resid, z0, bounds=(0.0, 1.0), diff_step=1e-4, x_scale=1.0,
-                             max_nfev=max_nfev, xtol=1e-6, ftol=1e-8)
+        z0 = min(
+            (np.array(z, dtype=float) for z in itertools.product(*grids)),
+            key=lambda z: float(np.sum(resid(z) ** 2)),
+        )
+        best = least_squares(
+            resid, z0, bounds=(0.0, 1.0), diff_step=1e-4, x_scale=1.0, max_nfev=max_nfev, xtol=1e-6, ftol=1e-8
+        )
         z = best.x
     else:
         z = np.zeros(0)
@@ -274,8 +277,6 @@ def fit_chain(
 
 def predict_chain(fit: ChainFit, segment: Segment, *, output_filter: Filter) -> np.ndarray:
     """Filtered model curvature (1/mm) of a fitted chain on one segment (all samples)."""
-    cols, names = simulate_columns(
-        fit.effects, fit.params, segment.dt_s, segment.pressure_MPa, fit.context
-    )
+    cols, names = simulate_columns(fit.effects, fit.params, segment.dt_s, segment.pressure_MPa, fit.context)
     coef = np.array([fit.gain] + [fit.coefficients[n] for n in names[1:]])
     return output_filter(cols @ coef)

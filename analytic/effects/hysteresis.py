@@ -58,14 +58,19 @@ class Hysteresis(Candidate):
     meaning = "rate-independent hysteresis (friction, material losses): Prandtl-Ishlinskii"
     params = (
         Param("fraction", "-", 0.0, 1.0, "share of the response passing through the plays"),
-        Param("loop_width_MPa", "MPa", 0.002, 0.6, "mean full width of the play operators",
-              relative_to="pressure", log=True),
+        Param(
+            "loop_width_MPa",
+            "MPa",
+            0.002,
+            0.6,
+            "mean full width of the play operators",
+            relative_to="pressure",
+            log=True,
+        ),
     )
     starts = (0.1, 0.35, 0.6, 0.85)
 
-    def apply(
-        self, dt_s: float, x: np.ndarray, *, fraction: float, loop_width_MPa: float
-    ) -> np.ndarray:
+    def apply(self, dt_s: float, x: np.ndarray, *, fraction: float, loop_width_MPa: float) -> np.ndarray:
         # radii (i + 1/2)/n of w, so the mean full width 2*mean(r) is w
         radii = loop_width_MPa * (np.arange(N_PLAYS) + 0.5) / N_PLAYS
         return (1 - fraction) * x + fraction * play(x, radii).mean(axis=1)

@@ -17,9 +17,7 @@ class Lag(Candidate):
     name = "lag"
     kind = "pressure"
     meaning = "first-order lag of the pressure reaching the tip (supply line R_hyd*C)"
-    params = (
-        Param("tau_s", "s", 1e-3, 30.0, "time constant of the lag", log=True),
-    )
+    params = (Param("tau_s", "s", 1e-3, 30.0, "time constant of the lag", log=True),)
     starts = (0.1, 0.3, 0.5, 0.7, 0.9)
 
     def apply(self, dt_s: float, x: np.ndarray, *, tau_s: float) -> np.ndarray:

@@ -18,9 +18,14 @@ class NonlinearGain(Candidate):
     kind = "pressure"
     meaning = "pressure-dependent gain: stiffening (beta < 0) or softening (beta > 0)"
     params = (
-        Param("beta_per_MPa", "1/MPa", -3.0, 3.0,
-              "relative change of incremental gain per MPa (bounds times 1/P)",
-              relative_to="inverse_pressure"),
+        Param(
+            "beta_per_MPa",
+            "1/MPa",
+            -3.0,
+            3.0,
+            "relative change of incremental gain per MPa (bounds times 1/P)",
+            relative_to="inverse_pressure",
+        ),
     )
     starts = (0.2, 0.4, 0.5, 0.6, 0.8)
 

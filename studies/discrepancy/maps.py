@@ -28,8 +28,10 @@ class Residuals:
     frequency_hz: tuple[float, ...]
 
     def rms_by_run(self) -> dict[str, float]:
-        return {lab: float(np.sqrt(np.mean(self.residual[self.run == i] ** 2)))
-                for i, lab in enumerate(self.labels)}
+        return {
+            lab: float(np.sqrt(np.mean(self.residual[self.run == i] ** 2)))
+            for i, lab in enumerate(self.labels)
+        }
 
     def loading_minus_unloading(self) -> float:
         """Mean residual while loading minus while unloading (1/mm): a loop the model misses."""
@@ -55,8 +57,14 @@ def residuals(prep: Prepared, fit: ChainFit) -> Residuals:
         cols["run"].append(np.full(int(sel.sum()), i))
     c = {k: np.concatenate(v) for k, v in cols.items()}
     return Residuals(
-        residual=c["r"], model=c["m"], data=c["d"], pressure_MPa=c["p"], rate_MPa_per_s=c["dp"],
-        loading=c["dp"] > 0, time_s=c["t"], run=c["run"],
+        residual=c["r"],
+        model=c["m"],
+        data=c["d"],
+        pressure_MPa=c["p"],
+        rate_MPa_per_s=c["dp"],
+        loading=c["dp"] > 0,
+        time_s=c["t"],
+        run=c["run"],
         labels=tuple(r.label for r in prep.runs),
         frequency_hz=tuple(r.frequency_hz for r in prep.runs),
     )

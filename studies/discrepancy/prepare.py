@@ -108,11 +108,11 @@ def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
         x = np.asarray(x, dtype=float)
         n = x.shape[0]
         m = int(min(n - 1, round(pad)))
-        ext = np.concatenate([2 * x[:1] - x[m:0:-1], x, 2 * x[-1:] - x[-2: -(m + 2): -1]])
+        ext = np.concatenate([2 * x[:1] - x[m:0:-1], x, 2 * x[-1:] - x[-2 : -(m + 2) : -1]])
         zi = zi0.reshape(zi0.shape + (1,) * (x.ndim - 1))
         y, _ = signal.sosfilt(sos, ext, axis=0, zi=zi * ext[:1])
         y, _ = signal.sosfilt(sos, y[::-1], axis=0, zi=zi * y[-1:])
-        return y[::-1][m: m + n]
+        return y[::-1][m : m + n]
 
     return f
 
@@ -187,14 +187,21 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
     else:
         spec = filter_spec
     if spec.stopband_hz * 4 >= fs / 2:
-        raise DataError(f"sample rate {fs} Hz is too low for a {spec.passband_hz:g} Hz "
-                        f"data filter: need > {8 * spec.stopband_hz:g} Hz")
+        raise DataError(
+            f"sample rate {fs} Hz is too low for a {spec.passband_hz:g} Hz "
+            f"data filter: need > {8 * spec.stopband_hz:g} Hz"
+        )
     aa = spec.scaled(4.0)
     q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz) + 1e-6)))
     fs_d = fs / q
-    fit_spec = FilterSpec(passband_hz=spec.passband_hz, stopband_hz=spec.stopband_hz,
-                          ripple_db=spec.ripple_db, attenuation_db=spec.attenuation_db,
-                          fs_hz=fs_d, family=spec.family)
+    fit_spec = FilterSpec(
+        passband_hz=spec.passband_hz,
+        stopband_hz=spec.stopband_hz,
+        ripple_db=spec.ripple_db,
+        attenuation_db=spec.attenuation_db,
+        fs_hz=fs_d,
+        family=spec.family,
+    )
     gain = _noise_gain(aa, fit_spec, fs)
     data_filter = _zero_phase(fit_spec)
     trim = int(round(TRIM_OVER_PASSBAND / spec.passband_hz * fs_d))
@@ -207,14 +214,17 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
         pd_, kd, td = pa[::q], ka[::q], t[::q]
         target = data_filter(kd)
         mask = np.zeros(td.size, dtype=bool)
-        mask[trim: td.size - trim] = True
+        mask[trim : td.size - trim] = True
         if mask.sum() < 20:
-            raise DataError(f"run {label!r} is too short ({t[-1] - t[0]:.3g} s) for a "
-                            f"{spec.passband_hz:g} Hz filter")
-        segments.append(Segment(dt_s=1 / fs_d, pressure_MPa=pd_, target=target, mask=mask,
-                                label=label))
-        infos.append(RunInfo(label=label, kind=kind, frequency_hz=f,
-                             duration_s=float(t[-1] - t[0]), noise_sd_per_mm=sd))
+            raise DataError(
+                f"run {label!r} is too short ({t[-1] - t[0]:.3g} s) for a {spec.passband_hz:g} Hz filter"
+            )
+        segments.append(Segment(dt_s=1 / fs_d, pressure_MPa=pd_, target=target, mask=mask, label=label))
+        infos.append(
+            RunInfo(
+                label=label, kind=kind, frequency_hz=f, duration_s=float(t[-1] - t[0]), noise_sd_per_mm=sd
+            )
+        )
         times.append(td)
         noise.append(sd)
     targets = np.concatenate([s.target[s.mask] for s in segments])
@@ -228,8 +238,7 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
         decimation=q,
         noise_floor_per_mm=float(np.sqrt(np.mean(np.square(noise))) * gain),
         full_scale_per_mm=float(np.ptp(targets)),
-        scales=Scales(pressure_MPa=float(np.ptp(pressures)),
-                      duration_s=max(r.duration_s for r in infos)),
+        scales=Scales(pressure_MPa=float(np.ptp(pressures)), duration_s=max(r.duration_s for r in infos)),
         times=tuple(times),
     )
 
@@ -243,19 +252,27 @@ def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Pr
     p = np.asarray(pressure_MPa, dtype=float)
     k = np.asarray(curvature_per_mm, dtype=float)
     if p.shape != k.shape or p.ndim != 1 or p.size < 6:
-        raise DataError(f"reference: need >= 6 (pressure, curvature) points of equal length, "
-                        f"got {p.shape} and {k.shape}")
+        raise DataError(
+            f"reference: need >= 6 (pressure, curvature) points of equal length, got {p.shape} and {k.shape}"
+        )
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(k))):
         raise DataError("reference: pressures and curvatures must be finite")
     order = np.argsort(p)
     p, k = p[order], k[order]
-    seg = Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool),
-                  label="reference")
-    info = RunInfo(label="reference", kind="static", frequency_hz=0.0, duration_s=float(p.size),
-                   noise_sd_per_mm=0.0)
+    seg = Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool), label="reference")
+    info = RunInfo(
+        label="reference", kind="static", frequency_hz=0.0, duration_s=float(p.size), noise_sd_per_mm=0.0
+    )
     return Prepared(
-        segments=(seg,), runs=(info,), data_filter=PAPER_FILTER, fit_filter=PAPER_FILTER,
-        fs_hz=1.0, decimation=1, noise_floor_per_mm=0.0, full_scale_per_mm=float(np.ptp(k)),
+        segments=(seg,),
+        runs=(info,),
+        data_filter=PAPER_FILTER,
+        fit_filter=PAPER_FILTER,
+        fs_hz=1.0,
+        decimation=1,
+        noise_floor_per_mm=0.0,
+        full_scale_per_mm=float(np.ptp(k)),
         scales=Scales(pressure_MPa=float(np.ptp(p)), duration_s=float(p.size)),
-        times=(np.arange(p.size, dtype=float),), static=True,
+        times=(np.arange(p.size, dtype=float),),
+        static=True,
     )

@@ -30,27 +30,40 @@ def _plot_maps(res: Residuals, title: str, path: Path, static: bool) -> None:
     if static:
         a.plot(res.pressure_MPa, r, "o-", color="k")
     else:
-        a.scatter(res.pressure_MPa[res.loading][::step], r[res.loading][::step], s=3,
-                  color="tab:red", label="loading")
-        a.scatter(res.pressure_MPa[~res.loading][::step], r[~res.loading][::step], s=3,
-                  color="tab:blue", label="unloading")
+        a.scatter(
+            res.pressure_MPa[res.loading][::step],
+            r[res.loading][::step],
+            s=3,
+            color="tab:red",
+            label="loading",
+        )
+        a.scatter(
+            res.pressure_MPa[~res.loading][::step],
+            r[~res.loading][::step],
+            s=3,
+            color="tab:blue",
+            label="unloading",
+        )
         a.legend(loc="best", fontsize=8)
     a.axhline(0, color="grey", lw=0.8)
-    a.set(xlabel="pressure [MPa]", ylabel="residual data - model [1e-3/mm]",
-          title="over pressure (loading vs unloading)")
+    a.set(
+        xlabel="pressure [MPa]",
+        ylabel="residual data - model [1e-3/mm]",
+        title="over pressure (loading vs unloading)",
+    )
     a = ax[0, 1]
     if not static:
         c, m = binned(res.rate_MPa_per_s, r)
         a.plot(c, m, "o-", color="k")
-        a.set(xlabel="pressure rate [MPa/s]", ylabel="mean residual [1e-3/mm]",
-              title="over pressure rate")
+        a.set(xlabel="pressure rate [MPa/s]", ylabel="mean residual [1e-3/mm]", title="over pressure rate")
     else:
         a.text(0.5, 0.5, "quasi-static reference: no rate", ha="center", transform=a.transAxes)
     a.axhline(0, color="grey", lw=0.8)
     a = ax[1, 0]
     rms = res.rms_by_run()
-    labels = [f"{lab}\n{f:.3g} Hz" if f > 0 else lab
-              for lab, f in zip(res.labels, res.frequency_hz, strict=True)]
+    labels = [
+        f"{lab}\n{f:.3g} Hz" if f > 0 else lab for lab, f in zip(res.labels, res.frequency_hz, strict=True)
+    ]
     a.bar(range(len(rms)), [v * 1e3 for v in rms.values()], color="tab:gray")
     a.set_xticks(range(len(rms)), labels, fontsize=8)
     a.set(ylabel="RMS residual [1e-3/mm]", title="by run / excitation frequency")
@@ -86,13 +99,27 @@ def _plot_loops(before: Residuals, after: Residuals, named: str, path: Path) -> 
         a = ax.flat[i]
         sel = before.run == i
         a.plot(before.pressure_MPa[sel], before.data[sel], color="k", lw=1.6, label="data")
-        a.plot(before.pressure_MPa[sel], before.model[sel], color="tab:blue", lw=1,
-               ls="--", label="model (calibrated)")
-        a.plot(after.pressure_MPa[sel], after.model[sel], color="tab:red", lw=1,
-               label=f"model + {named}" if named else "model (final)")
+        a.plot(
+            before.pressure_MPa[sel],
+            before.model[sel],
+            color="tab:blue",
+            lw=1,
+            ls="--",
+            label="model (calibrated)",
+        )
+        a.plot(
+            after.pressure_MPa[sel],
+            after.model[sel],
+            color="tab:red",
+            lw=1,
+            label=f"model + {named}" if named else "model (final)",
+        )
         f = before.frequency_hz[i]
-        a.set(title=f"{lab}" + (f" ({f:.3g} Hz)" if f > 0 else ""), xlabel="pressure [MPa]",
-              ylabel="curvature [1/mm]")
+        a.set(
+            title=f"{lab}" + (f" ({f:.3g} Hz)" if f > 0 else ""),
+            xlabel="pressure [MPa]",
+            ylabel="curvature [1/mm]",
+        )
         if i == 0:
             a.legend(fontsize=7, loc="upper left")
     for j in range(n, rows * cols):
@@ -116,8 +143,7 @@ def _plot_candidates(result: DiscrepancyResult, path: Path) -> None:
         cur = table["(current)"]
         names = [c for c in table if c != "(current)"]
         vals = [table[c] for c in names]
-        colors = ["tab:red" if i < len(result.named) and c == result.named[i] else "tab:gray"
-                  for c in names]
+        colors = ["tab:red" if i < len(result.named) and c == result.named[i] else "tab:gray" for c in names]
         a.barh(names, vals, color=colors)
         a.axvline(cur, color="k", lw=1, label="current model")
         a.axvline(cur * (1 - result.margin), color="k", ls="--", lw=1, label="margin")
@@ -145,36 +171,52 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
     prep = result.prepared
     before = residuals(prep, result.baseline_fit)
     after = residuals(prep, result.final_fit)
-    _plot_maps(before, "where the calibrated model is wrong (residual maps, before)",
-               out / "residual_maps_before.png", prep.static)
-    _plot_maps(after, "residual maps after adding " + (", ".join(result.named) or "nothing"),
-               out / "residual_maps_after.png", prep.static)
+    _plot_maps(
+        before,
+        "where the calibrated model is wrong (residual maps, before)",
+        out / "residual_maps_before.png",
+        prep.static,
+    )
+    _plot_maps(
+        after,
+        "residual maps after adding " + (", ".join(result.named) or "nothing"),
+        out / "residual_maps_after.png",
+        prep.static,
+    )
     _plot_loops(before, after, " + ".join(result.named), out / "loops.png")
     _plot_candidates(result, out / "candidates.png")
     shrink = record["gap_shrink"]
     rows = "".join(
         f"<tr><td>{i + 1}</td><td><b>{html.escape(s['effect'])}</b><br><small>"
         f"{html.escape(s['meaning'])}</small></td><td>"
-        + "<br>".join(f"{k} = {_fmt(v)} &plusmn; {_fmt(s['params_stderr'].get(k))}"
-                      for k, v in s["params"].items())
-        + (f"coefficient = {_fmt(s['coefficient'])} &plusmn; {_fmt(s['coefficient_stderr'])}"
-           if s["coefficient"] is not None else "")
+        + "<br>".join(
+            f"{k} = {_fmt(v)} &plusmn; {_fmt(s['params_stderr'].get(k))}" for k, v in s["params"].items()
+        )
+        + (
+            f"coefficient = {_fmt(s['coefficient'])} &plusmn; {_fmt(s['coefficient_stderr'])}"
+            if s["coefficient"] is not None
+            else ""
+        )
         + f"</td><td>{_fmt(s['nrmse_before'])}</td><td>{_fmt(s['nrmse_after'])}</td>"
         f"<td>{s['excess_removed']:.1%}</td><td>{_fmt(', '.join(s['ambiguous_with']) or 'none')}"
         f"</td></tr>"
         for i, s in enumerate(result.steps)
     )
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)
-    runs = "".join(f"<tr><td>{html.escape(r['run'])}</td><td>{r['kind']}</td>"
-                   f"<td>{_fmt(r['frequency_hz'])}</td><td>{_fmt(r['duration_s'])}</td></tr>"
-                   for r in record["runs"])
-    cal = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>"
-                  for k, v in result.calibration.items())
-    filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>"
-                   for k, v in result.filter.items())
-    verdict = (f"named: <b>{html.escape(' + '.join(result.named))}</b>" if result.named
-               else "<b>nothing named</b>: the calibrated model explains the data to within the "
-                    "margin")
+    runs = "".join(
+        f"<tr><td>{html.escape(r['run'])}</td><td>{r['kind']}</td>"
+        f"<td>{_fmt(r['frequency_hz'])}</td><td>{_fmt(r['duration_s'])}</td></tr>"
+        for r in record["runs"]
+    )
+    cal = "".join(
+        f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.calibration.items()
+    )
+    filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.filter.items())
+    verdict = (
+        f"named: <b>{html.escape(' + '.join(result.named))}</b>"
+        if result.named
+        else "<b>nothing named</b>: the calibrated model explains the data to within the margin"
+    )
     page = f"""<!doctype html><html><head><meta charset="utf-8">
 <title>softcath discrepancy report</title>
 <style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
@@ -184,7 +226,7 @@ vertical-align:top}}img{{max-width:100%}}</style></head><body>
 <p>{verdict}. Held-out NRMSE {result.nrmse_before:.4g} &rarr; {result.nrmse_after:.4g}
 (gap shrink {_fmt(shrink)}&times;; noise floor {result.noise_floor_nrmse:.3g};
 {result.excess_removed:.1%} of the excess error power above the floor removed).</p>
-<p><small>Rule: {html.escape(record['decision_rule']['text'])}. Scores are held-out
+<p><small>Rule: {html.escape(record["decision_rule"]["text"])}. Scores are held-out
 (leave-one-run-out, or blocks of cycles for a single run); model output is filtered exactly
 as the data.</small></p>
 <h2>Steps</h2><table><tr><th>#</th><th>effect</th><th>estimate &plusmn; 1&sigma;</th>

@@ -57,31 +57,33 @@ class DiscrepancyResult:
 
     def as_dict(self) -> dict[str, Any]:
         """The ``discrepancy.json`` record."""
-        return _clean({
-            "reference": self.reference,
-            "named": list(self.named),
-            "steps": list(self.steps),
-            "nrmse_before": self.nrmse_before,
-            "nrmse_after": self.nrmse_after,
-            "ambiguous_with": self.ambiguous_with,
-            "noise_floor_nrmse": self.noise_floor_nrmse,
-            "excess_removed": self.excess_removed,
-            "gap_shrink": self.nrmse_before / self.nrmse_after if self.nrmse_after > 0 else None,
-            "calibration": self.calibration,
-            "filter": self.filter,
-            "runs": list(self.runs),
-            "candidate_nrmse": list(self.candidates),
-            "decision_rule": {
-                "margin": self.margin,
-                "min_share": self.min_share,
-                "text": "name the best candidate only if its held-out RMSE is at least "
-                        f"{self.margin:.0%} below the current model's; a further effect must "
-                        f"also remove >= {self.min_share:.0%} of the original excess error "
-                        "power above the noise floor",
-            },
-            "final_model": self.final_fit.as_dict(),
-            "notes": list(self.notes),
-        })
+        return _clean(
+            {
+                "reference": self.reference,
+                "named": list(self.named),
+                "steps": list(self.steps),
+                "nrmse_before": self.nrmse_before,
+                "nrmse_after": self.nrmse_after,
+                "ambiguous_with": self.ambiguous_with,
+                "noise_floor_nrmse": self.noise_floor_nrmse,
+                "excess_removed": self.excess_removed,
+                "gap_shrink": self.nrmse_before / self.nrmse_after if self.nrmse_after > 0 else None,
+                "calibration": self.calibration,
+                "filter": self.filter,
+                "runs": list(self.runs),
+                "candidate_nrmse": list(self.candidates),
+                "decision_rule": {
+                    "margin": self.margin,
+                    "min_share": self.min_share,
+                    "text": "name the best candidate only if its held-out RMSE is at least "
+                    f"{self.margin:.0%} below the current model's; a further effect must "
+                    f"also remove >= {self.min_share:.0%} of the original excess error "
+                    "power above the noise floor",
+                },
+                "final_model": self.final_fit.as_dict(),
+                "notes": list(self.notes),
+            }
+        )
 
 
 def _clean(x):
@@ -145,16 +147,29 @@ def _shape_calibration(prep: Prepared, design) -> dict:
     u = np.concatenate([s.pressure_MPa[s.mask] for s in prep.segments])
     y = np.concatenate([s.target[s.mask] for s in prep.segments])
     try:
-        m = Measurement.from_arrays(time_s=np.arange(u.size) / prep.fs_hz, pressure_MPa=u,
-                                    curvature_per_mm=y, source="filtered series")
+        m = Measurement.from_arrays(
+            time_s=np.arange(u.size) / prep.fs_hz,
+            pressure_MPa=u,
+            curvature_per_mm=y,
+            source="filtered series",
+        )
         r = calibrate(m, design, use_elongation=False)
     except SoftcathError as exc:
         return {"used": False, "error": str(exc)}
-    keep = ("x_opt", "x_nominal", "nrmse_nominal", "nrmse_optimized", "gains_model",
-            "reachable", "identifiable", "message")
-    return {"used": "analytic.calibration.calibrate (eq. 8), curvature only, on the "
-                    "filtered series; reported, not relied on"} | \
-        {k: v for k, v in r.to_json().items() if k in keep}
+    keep = (
+        "x_opt",
+        "x_nominal",
+        "nrmse_nominal",
+        "nrmse_optimized",
+        "gains_model",
+        "reachable",
+        "identifiable",
+        "message",
+    )
+    return {
+        "used": "analytic.calibration.calibrate (eq. 8), curvature only, on the "
+        "filtered series; reported, not relied on"
+    } | {k: v for k, v in r.to_json().items() if k in keep}
 
 
 def _excess(before: float, after: float, floor: float) -> float:
@@ -223,8 +238,7 @@ def run_workflow(
     if reference == "measured":
         if data is None:
             raise DataError("reference 'measured' needs a measurement table or CSV")
-        table = validate_table(data) if isinstance(data, pd.DataFrame) else \
-            read_measurement_csv(data)
+        table = validate_table(data) if isinstance(data, pd.DataFrame) else read_measurement_csv(data)
         prep = prepare(table)
         cands = candidates or MEASURED_CANDIDATES
         shape_cal = _shape_calibration(prep, d) if d is not None else None
@@ -253,18 +267,26 @@ def run_workflow(
         prep = prepare_static(p, k)
         shape_cal = None
         cands = candidates or FEM_CANDIDATES
-        notes.append("reference = FEM: the model's gain is the design's (not calibrated), "
-                     "so a lumen-wall term is distinguishable from a gain error")
+        notes.append(
+            "reference = FEM: the model's gain is the design's (not calibrated), "
+            "so a lumen-wall term is distinguishable from a gain error"
+        )
     for c in cands:
         get(c)
-    steps = name_effects(prep, candidates=cands, margin=margin, min_share=min_share,
-                         max_effects=max_effects, fixed_gain=fixed_gain, context=context,
-                         progress=progress)
+    steps = name_effects(
+        prep,
+        candidates=cands,
+        margin=margin,
+        min_share=min_share,
+        max_effects=max_effects,
+        fixed_gain=fixed_gain,
+        context=context,
+        progress=progress,
+    )
     first = steps[0].baseline
     baseline_fit = first.fit
     named = tuple(s.named for s in steps if s.named)
-    after = steps[-1].baseline if steps[-1].named is None else \
-        steps[-1].candidates[steps[-1].named]
+    after = steps[-1].baseline if steps[-1].named is None else steps[-1].candidates[steps[-1].named]
     final_fit = after.fit
     floor = prep.noise_floor_per_mm
     fs = prep.full_scale_per_mm
@@ -273,30 +295,36 @@ def run_workflow(
         if s.named is None:
             continue
         sc = s.candidates[s.named]
-        step_records.append({
-            "effect": s.named,
-            "meaning": get(s.named).meaning,
-            "params": s.fit.params.get(s.named, {}),
-            "params_stderr": s.fit.stderr.get(s.named, {}),
-            "coefficient": s.fit.coefficients.get(s.named),
-            "coefficient_stderr": s.fit.coefficient_stderr.get(s.named),
-            "nrmse_before": s.baseline.nrmse,
-            "nrmse_after": sc.nrmse,
-            "excess_removed": _excess(s.baseline.rmse_per_mm, sc.rmse_per_mm, floor),
-            "ambiguous_with": list(s.ambiguous_with),
-            "separating_experiment": s.separating_experiment,
-        })
+        step_records.append(
+            {
+                "effect": s.named,
+                "meaning": get(s.named).meaning,
+                "params": s.fit.params.get(s.named, {}),
+                "params_stderr": s.fit.stderr.get(s.named, {}),
+                "coefficient": s.fit.coefficients.get(s.named),
+                "coefficient_stderr": s.fit.coefficient_stderr.get(s.named),
+                "nrmse_before": s.baseline.nrmse,
+                "nrmse_after": sc.nrmse,
+                "excess_removed": _excess(s.baseline.rmse_per_mm, sc.rmse_per_mm, floor),
+                "ambiguous_with": list(s.ambiguous_with),
+                "separating_experiment": s.separating_experiment,
+            }
+        )
         if s.ambiguous_with:
-            notes.append(f"step {len(step_records)}: the data cannot tell {s.named} from "
-                         f"{', '.join(s.ambiguous_with)}" +
-                         (f"; to separate them, {s.separating_experiment}"
-                          if s.separating_experiment else ""))
+            notes.append(
+                f"step {len(step_records)}: the data cannot tell {s.named} from "
+                f"{', '.join(s.ambiguous_with)}"
+                + (f"; to separate them, {s.separating_experiment}" if s.separating_experiment else "")
+            )
     if not named:
-        notes.append("no candidate beat the calibrated model by the margin on held-out data: "
-                     "nothing is missing at this noise level")
+        notes.append(
+            "no candidate beat the calibrated model by the margin on held-out data: "
+            "nothing is missing at this noise level"
+        )
     calib = {
         "used": "explicit gain: least squares on the filtered series (refitted in every model)"
-        if fixed_gain is None else "none: gain fixed to the design's analytic cap-load gain",
+        if fixed_gain is None
+        else "none: gain fixed to the design's analytic cap-load gain",
         "gain_per_mm_MPa": baseline_fit.gain,
         "gain_stderr": baseline_fit.gain_stderr,
         "final_gain_per_mm_MPa": final_fit.gain,
@@ -313,23 +341,37 @@ def run_workflow(
             calib["explicit_gain_over_shape_gain"] = baseline_fit.gain / g_shape
     elif fixed_gain is None:
         calib["shape_optimisation"] = "not run (no design given)"
-    filt = {
-        "family": prep.data_filter.family,
-        "passband_hz": prep.data_filter.passband_hz,
-        "stopband_hz": prep.data_filter.stopband_hz,
-        "ripple_db": prep.data_filter.ripple_db,
-        "attenuation_db": prep.data_filter.attenuation_db,
-        "decimated_rate_hz": prep.fs_hz,
-        "applied_to": "data and model output alike (zero-phase)",
-    } if not prep.static else {"family": "none (quasi-static reference)"}
-    runs = tuple({"run": r.label, "kind": r.kind, "frequency_hz": r.frequency_hz,
-                  "duration_s": r.duration_s, "noise_sd_per_mm": r.noise_sd_per_mm}
-                 for r in prep.runs)
-    cand_table = tuple({c: sc.nrmse for c, sc in s.candidates.items()} | {"(current)":
-                       s.baseline.nrmse} for s in steps)
+    filt = (
+        {
+            "family": prep.data_filter.family,
+            "passband_hz": prep.data_filter.passband_hz,
+            "stopband_hz": prep.data_filter.stopband_hz,
+            "ripple_db": prep.data_filter.ripple_db,
+            "attenuation_db": prep.data_filter.attenuation_db,
+            "decimated_rate_hz": prep.fs_hz,
+            "applied_to": "data and model output alike (zero-phase)",
+        }
+        if not prep.static
+        else {"family": "none (quasi-static reference)"}
+    )
+    runs = tuple(
+        {
+            "run": r.label,
+            "kind": r.kind,
+            "frequency_hz": r.frequency_hz,
+            "duration_s": r.duration_s,
+            "noise_sd_per_mm": r.noise_sd_per_mm,
+        }
+        for r in prep.runs
+    )
+    cand_table = tuple(
+        {c: sc.nrmse for c, sc in s.candidates.items()} | {"(current)": s.baseline.nrmse} for s in steps
+    )
     if prep.distinct_frequencies() < 2 and not prep.static:
-        notes.append("one excitation only: rate-independent hysteresis, lag, delay and creep "
-                     "are not separable (see the separating experiment)")
+        notes.append(
+            "one excitation only: rate-independent hysteresis, lag, delay and creep "
+            "are not separable (see the separating experiment)"
+        )
     return DiscrepancyResult(
         reference=reference,
         named=named,
@@ -349,4 +391,3 @@ def run_workflow(
         baseline_fit=baseline_fit,
         final_fit=final_fit,
     )
-

@@ -68,8 +68,7 @@ def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[
         # interleaved: every third point held out, so no fold extrapolates in pressure
         s = segs[0]
         idx = np.arange(s.target.size)
-        return [([replace(s, mask=idx % 3 != k)], [replace(s, mask=idx % 3 == k)])
-                for k in range(3)]
+        return [([replace(s, mask=idx % 3 != k)], [replace(s, mask=idx % 3 == k)]) for k in range(3)]
     if len(segs) >= 2:
         out = []
         for i in range(len(segs)):
@@ -87,7 +86,7 @@ def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[
         # training samples from seeing it through the zero-phase filter
         guard = int(round(prep.fs_hz / prep.data_filter.passband_hz))
         train_mask = s.mask.copy()
-        train_mask[max(b[0] - guard, 0): b[-1] + guard + 1] = False
+        train_mask[max(b[0] - guard, 0) : b[-1] + guard + 1] = False
         out.append(([replace(s, mask=train_mask)], [replace(s, mask=test_mask)]))
     return out
 
@@ -124,14 +123,27 @@ def cross_validate(
     filt = prep.output_filter()
     full = fit_all(prep, effects, fixed_gain=fixed_gain, context=context, start=start)
     if prune_above is not None and full.rmse > prune_above:
-        return CVScore(effects=tuple(effects), rmse_per_mm=float("nan"), nrmse=float("nan"),
-                       fold_rmse=(), fit=full, pruned=True)
+        return CVScore(
+            effects=tuple(effects),
+            rmse_per_mm=float("nan"),
+            nrmse=float("nan"),
+            fold_rmse=(),
+            fit=full,
+            pruned=True,
+        )
     res, fold = [], []
     for train, test in _folds(prep):
         # warm start: a short local refinement from the all-data estimate
-        fit = fit_chain(effects, train, output_filter=filt, scales=prep.scales,
-                        fixed_gain=fixed_gain, context=context, start=full.params,
-                        max_nfev=20)
+        fit = fit_chain(
+            effects,
+            train,
+            output_filter=filt,
+            scales=prep.scales,
+            fixed_gain=fixed_gain,
+            context=context,
+            start=full.params,
+            max_nfev=20,
+        )
         r = []
         for s in test:
             r.append((s.target - predict_chain(fit, s, output_filter=filt))[s.mask])
@@ -140,14 +152,25 @@ def cross_validate(
         fold.append(float(np.sqrt(np.mean(r**2))))
     allr = np.concatenate(res)
     rmse = float(np.sqrt(np.mean(allr**2)))
-    return CVScore(effects=tuple(effects), rmse_per_mm=rmse, nrmse=rmse / prep.full_scale_per_mm,
-                   fold_rmse=tuple(fold), fit=full)
+    return CVScore(
+        effects=tuple(effects),
+        rmse_per_mm=rmse,
+        nrmse=rmse / prep.full_scale_per_mm,
+        fold_rmse=tuple(fold),
+        fit=full,
+    )
 
 
 def fit_all(prep: Prepared, effects: Sequence[str], **kw) -> ChainFit:
     """Fit baseline + ``effects`` on all the data (for the reported estimates)."""
-    return fit_chain(effects, prep.segments, output_filter=prep.output_filter(),
-                     scales=prep.scales, n_eff=_n_eff(prep, prep.segments), **kw)
+    return fit_chain(
+        effects,
+        prep.segments,
+        output_filter=prep.output_filter(),
+        scales=prep.scales,
+        n_eff=_n_eff(prep, prep.segments),
+        **kw,
+    )
 
 
 def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
@@ -155,15 +178,19 @@ def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
     if len(rate) < 2:
         return ""
     if set(rate) == {"lag", "delay"} and prep.distinct_frequencies() >= 2:
-        return ("excite faster than the filter's time resolution: a 1-2 Hz sine (with the "
-                "filter widened to keep it) or a sharp pressure step recorded and filtered "
-                "at >= 5 Hz bandwidth: a delay shifts the step, a lag rounds it")
+        return (
+            "excite faster than the filter's time resolution: a 1-2 Hz sine (with the "
+            "filter widened to keep it) or a sharp pressure step recorded and filtered "
+            "at >= 5 Hz bandwidth: a delay shifts the step, a lag rounds it"
+        )
     fs = [r.frequency_hz for r in prep.runs if r.kind == "sine"]
     f = fs[0] if fs else 0.1
-    return (f"repeat the sine at {f / 4:.3g} Hz and {min(4 * f, 1.0):.3g} Hz and add a "
-            f"step-and-hold (hold >= 15 s): the loop of rate-independent hysteresis keeps "
-            f"its area across frequency, a lag's grows with frequency, a delay shifts the "
-            f"step, creep keeps moving during the hold")
+    return (
+        f"repeat the sine at {f / 4:.3g} Hz and {min(4 * f, 1.0):.3g} Hz and add a "
+        f"step-and-hold (hold >= 15 s): the loop of rate-independent hysteresis keeps "
+        f"its area across frequency, a lag's grows with frequency, a delay shifts the "
+        f"step, creep keeps moving during the hold"
+    )
 
 
 def name_effects(
@@ -208,31 +235,46 @@ def name_effects(
             if c in named:
                 continue
             # in-sample must already beat the current in-sample fit by half the margin
-            scores[c] = cross_validate(prep, [*named, c], start=start,
-                                       prune_above=(1 - margin / 2) * base.fit.rmse, **kw)
+            scores[c] = cross_validate(
+                prep, [*named, c], start=start, prune_above=(1 - margin / 2) * base.fit.rmse, **kw
+            )
             if bar is not None:
                 bar.update(1)
         if not scores:
             break
         live = {c: s for c, s in scores.items() if not s.pruned}
         if not live:
-            steps.append(Step(baseline=base, candidates=scores, named=None, ambiguous_with=(),
-                              separating_experiment=""))
+            steps.append(
+                Step(
+                    baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment=""
+                )
+            )
             break
         best = min(live, key=lambda c: live[c].rmse_per_mm)
         threshold = (1 - margin) * base.rmse_per_mm
         excess0 = max(first.rmse_per_mm**2 - prep.noise_floor_per_mm**2, 1e-300)
         share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in live.items()}
         # strictly below the current score too: exact reference data (RMSE 0) name nothing
-        clears = [c for c, s in live.items()
-                  if s.rmse_per_mm <= threshold and s.rmse_per_mm < base.rmse_per_mm and (not named or share[c] >= min_share)]
+        clears = [
+            c
+            for c, s in live.items()
+            if s.rmse_per_mm <= threshold
+            and s.rmse_per_mm < base.rmse_per_mm
+            and (not named or share[c] >= min_share)
+        ]
         if best not in clears:
-            steps.append(Step(baseline=base, candidates=scores, named=None, ambiguous_with=(),
-                              separating_experiment=""))
+            steps.append(
+                Step(
+                    baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment=""
+                )
+            )
             break
         # within the margin of the best: the data do not prefer the best over these
-        amb = [c for c in clears if c != best
-               and scores[c].rmse_per_mm <= scores[best].rmse_per_mm / (1 - margin)]
+        amb = [
+            c
+            for c in clears
+            if c != best and scores[c].rmse_per_mm <= scores[best].rmse_per_mm / (1 - margin)
+        ]
         if one_freq and best in RATE_FAMILY:
             amb += [c for c in clears if c in RATE_FAMILY and c != best and c not in amb]
         # a lag and a delay both shorter than the filter's time resolution differ only
@@ -240,14 +282,24 @@ def name_effects(
         if best in ("lag", "delay") and not prep.static:
             other = "delay" if best == "lag" else "lag"
             t_best = next(iter(scores[best].fit.params.get(best, {}).values()), 0.0)
-            if other in clears and other not in amb and \
-                    t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz):
+            if (
+                other in clears
+                and other not in amb
+                and t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz)
+            ):
                 amb.append(other)
         fit = scores[best].fit
-        steps.append(Step(baseline=base, candidates=scores, named=best, ambiguous_with=tuple(amb),
-                          separating_experiment=_experiment(best, amb, prep), fit=fit))
-        log.info("named %s: held-out RMSE %.4g -> %.4g", best, base.rmse_per_mm,
-                 scores[best].rmse_per_mm)
+        steps.append(
+            Step(
+                baseline=base,
+                candidates=scores,
+                named=best,
+                ambiguous_with=tuple(amb),
+                separating_experiment=_experiment(best, amb, prep),
+                fit=fit,
+            )
+        )
+        log.info("named %s: held-out RMSE %.4g -> %.4g", best, base.rmse_per_mm, scores[best].rmse_per_mm)
         named.append(best)
         start = fit.params
         base = scores[best]

@@ -14,8 +14,9 @@ SHORT = Protocol(frequencies_hz=(0.1, 0.2), cycles=2, step_hold=True, hold_s=5.0
 
 @pytest.mark.parametrize("effect", ["lag", "offset", "viscoelastic", "nonlinear_gain"])
 def test_effect_to_noise_ratio_is_as_requested(effect):
-    case = make_case((effect,), seed=3, noise_fraction=0.02, effect_to_noise=2.5, protocol=SHORT,
-                     sensor_bandwidth_hz=None)
+    case = make_case(
+        (effect,), seed=3, noise_fraction=0.02, effect_to_noise=2.5, protocol=SHORT, sensor_bandwidth_hz=None
+    )
     # recompute the ratio independently from the noise-free plant output
     k_all, p_all = [], []
     for _, t, p in SHORT.runs():
@@ -34,8 +35,7 @@ def test_effect_to_noise_ratio_is_as_requested(effect):
 def test_no_effect_case_is_the_linear_model_plus_noise():
     # the same sensor response on both channels keeps measured curvature = g * measured
     # pressure + noise, so a correct model has nothing to explain
-    case = make_case((), seed=5, noise_fraction=0.01, pressure_noise_fraction=1e-12,
-                     protocol=SHORT)
+    case = make_case((), seed=5, noise_fraction=0.01, pressure_noise_fraction=1e-12, protocol=SHORT)
     assert case.effects == () and case.truth_params == {}
     resid = case.table["curvature_per_mm"] - case.gain_per_mm_MPa * case.table["pressure_MPa"]
     sigma = 0.01 * case.gain_per_mm_MPa * 2.0  # 1 % of the clean full scale (0..2 MPa)

@@ -26,8 +26,7 @@ def test_csv_round_trip_and_missing_values_reported(tmp_path):
     case = make_case((), seed=0, protocol=Protocol(frequencies_hz=(0.2,), step_hold=False))
     path = write_measurement_csv(case.table, tmp_path / "m.csv")
     back = read_measurement_csv(path)
-    np.testing.assert_allclose(back["curvature_per_mm"], case.table["curvature_per_mm"],
-                               rtol=1e-8)
+    np.testing.assert_allclose(back["curvature_per_mm"], case.table["curvature_per_mm"], rtol=1e-8)
     lines = path.read_text().splitlines()
     for i in (5, 9, 12):  # file lines 6, 10, 13 (header is line 1)
         cells = lines[i].split(",")
@@ -48,8 +47,7 @@ def test_csv_round_trip_and_missing_values_reported(tmp_path):
 def test_csv_structural_errors():
     with pytest.raises(DataError, match=r"missing required column\(s\) \['curvature_per_mm'\]"):
         validate_table(pd.DataFrame({"time_s": [0.0], "pressure_MPa": [0.0]}))
-    df = pd.DataFrame({"time_s": [0.0, 1.0, 1.0], "pressure_MPa": [0.0] * 3,
-                       "curvature_per_mm": [0.0] * 3})
+    df = pd.DataFrame({"time_s": [0.0, 1.0, 1.0], "pressure_MPa": [0.0] * 3, "curvature_per_mm": [0.0] * 3})
     with pytest.raises(DataError, match=r"time_s must increase within run 'run1'.*line 4"):
         validate_table(df)
     with pytest.raises(DataError, match="file not found"):
@@ -66,8 +64,7 @@ def test_filter_keeps_the_excitation_band_and_steps_are_recognised():
     assert kinds["step_hold"] == "step" and kinds["sine_0.1Hz"] == "sine"
     assert [r.frequency_hz for r in slow.runs][:3] == pytest.approx([0.05, 0.1, 0.2], rel=0.02)
     assert slow.distinct_frequencies() == 4
-    fast = prepare(make_case((), seed=1, protocol=Protocol(frequencies_hz=(0.5, 1.0),
-                                                           step_hold=False)).table)
+    fast = prepare(make_case((), seed=1, protocol=Protocol(frequencies_hz=(0.5, 1.0), step_hold=False)).table)
     # 2.5x the fastest sine: the passband moves up to keep the excitation
     assert fast.data_filter.passband_hz == pytest.approx(2.5, rel=0.02)
 
@@ -130,8 +127,7 @@ def test_two_hidden_effects_are_both_named(pair):
 
 def test_one_frequency_hysteresis_is_flagged_as_ambiguous():
     proto = Protocol(frequencies_hz=(0.1,), cycles=6, step_hold=False)
-    case = make_case(("hysteresis",), seed=41, noise_fraction=0.01, effect_to_noise=3.0,
-                     protocol=proto)
+    case = make_case(("hysteresis",), seed=41, noise_fraction=0.01, effect_to_noise=3.0, protocol=proto)
     r = run_workflow(case.table, "paper", max_effects=1)
     assert r.named == ("hysteresis",)
     amb = r.ambiguous_with[0]
@@ -174,8 +170,13 @@ def test_bad_arguments_name_the_parameter():
 def test_cli_writes_json_and_report(tmp_path):
     from studies.cli import main
 
-    case = make_case(("hysteresis",), seed=51, noise_fraction=0.01, effect_to_noise=4.0,
-                     protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False))
+    case = make_case(
+        ("hysteresis",),
+        seed=51,
+        noise_fraction=0.01,
+        effect_to_noise=4.0,
+        protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False),
+    )
     csv = write_measurement_csv(case.table, tmp_path / "bench.csv")
     out = tmp_path / "out"
     assert main(["discrepancy", str(csv), "--design", "paper", "--out", str(out)]) == 0
@@ -189,17 +190,27 @@ def test_cli_writes_json_and_report(tmp_path):
     assert step["nrmse_after"] < step["nrmse_before"]
     html = (out / "report.html").read_text()
     assert "loops.png" in html and "residual_maps_before.png" in html
-    for png in ("loops.png", "residual_maps_before.png", "residual_maps_after.png",
-                "candidates.png"):
+    for png in ("loops.png", "residual_maps_before.png", "residual_maps_after.png", "candidates.png"):
         assert (out / png).stat().st_size > 5000
 
 
 def test_cli_bad_input_is_one_line_and_exit_2(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     p = subprocess.run(
-        [sys.executable, "-m", "studies", "discrepancy", str(tmp_path / "missing.csv"),
-         "--out", str(tmp_path / "o")],
-        cwd=ROOT, env=env, capture_output=True, text=True, timeout=120,
+        [
+            sys.executable,
+            "-m",
+            "studies",
+            "discrepancy",
+            str(tmp_path / "missing.csv"),
+            "--out",
+            str(tmp_path / "o"),
+        ],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert p.returncode == 2
     err = p.stderr.strip().splitlines()
