@@ -174,9 +174,16 @@ def fit_all(prep: Prepared, effects: Sequence[str], **kw) -> ChainFit:
 
 
 def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
+    """The experiment that would separate ``best`` from ``others`` ("" if none needed)."""
+    if not others:
+        return ""
     rate = [e for e in (best, *others) if e in RATE_FAMILY]
     if len(rate) < 2:
-        return ""
+        return (
+            "a slow staircase of pressure holds over the full range, including the first "
+            "few per cent above zero: a threshold, a pre-curvature and a pressure-dependent "
+            "gain bend the static curve differently"
+        )
     if set(rate) == {"lag", "delay"} and prep.distinct_frequencies() >= 2:
         return (
             "excite faster than the filter's time resolution: a 1-2 Hz sine (with the "
