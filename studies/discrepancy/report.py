@@ -135,19 +135,26 @@ def _plot_candidates(result: DiscrepancyResult, path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     k = len(result.candidates)
-    fig, ax = plt.subplots(1, k, figsize=(4.2 * k, 3.4), squeeze=False)
+    fig, ax = plt.subplots(1, k, figsize=(4.4 * k, 3.4), squeeze=False)
     for i, table in enumerate(result.candidates):
         a = ax[0, i]
         cur = table["(current)"]
         names = [c for c in table if c != "(current)"]
         vals = [table[c] for c in names]
-        colors = ["tab:red" if i < len(result.named) and c == result.named[i] else "tab:gray" for c in names]
-        a.barh(names, vals, color=colors)
+        chosen = result.named[i] if i < len(result.named) else None
+        colors = ["tab:red" if c == chosen else "tab:gray" for c in names]
+        a.barh(names, [0.0 if not np.isfinite(v) else v for v in vals], color=colors)
+        for j, v in enumerate(vals):
+            if not np.isfinite(v):  # pruned: could not beat the model even in-sample
+                a.text(0, j, " pruned (in-sample)", va="center", fontsize=7, color="grey")
         a.axvline(cur, color="k", lw=1, label="current model")
         a.axvline(cur * (1 - result.margin), color="k", ls="--", lw=1, label="margin")
-        a.set(xlabel="held-out NRMSE", title=f"step {i + 1}")
+        a.xaxis.set_major_locator(MaxNLocator(4))
+        verdict = f"named {chosen}" if chosen else "nothing named (see notes)"
+        a.set(xlabel="held-out NRMSE", title=f"step {i + 1}: {verdict}")
         a.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(path, dpi=90)

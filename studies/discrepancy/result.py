@@ -316,6 +316,13 @@ def run_workflow(
                 f"{', '.join(s.ambiguous_with)}"
                 + (f"; to separate them, {s.separating_experiment}" if s.separating_experiment else "")
             )
+    for c, sh in steps[-1].extra.get("below_min_share", {}).items():
+        gain = 1 - steps[-1].candidates[c].rmse_per_mm / steps[-1].baseline.rmse_per_mm
+        notes.append(
+            f"{c} would lower the held-out RMSE by a further {gain:.0%} but removes only "
+            f"{sh:.2%} of the original excess error power (< {min_share:.0%}): read as the "
+            "named effects' form error, not as another missing effect"
+        )
     if not named:
         notes.append(
             "no candidate beat the calibrated model by the margin on held-out data: "

@@ -270,9 +270,20 @@ def name_effects(
             and (not named or share[c] >= min_share)
         ]
         if best not in clears:
+            # candidates that beat the margin but explain too little of the original gap
+            small = {
+                c: share[c]
+                for c, s in live.items()
+                if named and s.rmse_per_mm <= threshold and share[c] < min_share
+            }
             steps.append(
                 Step(
-                    baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment=""
+                    baseline=base,
+                    candidates=scores,
+                    named=None,
+                    ambiguous_with=(),
+                    separating_experiment="",
+                    extra={"below_min_share": small},
                 )
             )
             break
