@@ -161,6 +161,14 @@ def _plot_candidates(result: DiscrepancyResult, path: Path) -> None:
     plt.close(fig)
 
 
+def _cell(v) -> str:
+    """A table cell; nested records become nested tables."""
+    if isinstance(v, dict):
+        rows = "".join(f"<tr><td>{html.escape(str(k))}</td><td>{_cell(x)}</td></tr>" for k, x in v.items())
+        return f"<table>{rows}</table>"
+    return _fmt(v)
+
+
 def _fmt(v) -> str:
     if v is None:
         return "-"
@@ -216,7 +224,7 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
         for r in record["runs"]
     )
     cal = "".join(
-        f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.calibration.items()
+        f"<tr><td>{html.escape(k)}</td><td>{_cell(v)}</td></tr>" for k, v in result.calibration.items()
     )
     filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.filter.items())
     verdict = (
