@@ -134,11 +134,13 @@ def main() -> int:
     ap.add_argument("--seeds", type=int, default=60)
     ap.add_argument("--enr", type=float, default=2.0)
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--classes", nargs="+", choices=CLASSES, default=list(CLASSES))
     args = ap.parse_args()
     from tqdm import tqdm
 
     rows = []
-    for cls in CLASSES:
+    classes = [c for c in CLASSES if c in args.classes]
+    for cls in classes:
         for seed in tqdm(range(args.seeds), desc=cls, leave=False):
             rows.append(one(cls, seed, args.enr))
     cols = ["none", *EFFECT_NAMES]
@@ -148,7 +150,7 @@ def main() -> int:
     )
     w = 15
     print(" " * w + "".join(c[:9].rjust(10) for c in cols) + "    recall  exact")
-    for cls in CLASSES:
+    for cls in classes:
         sub = [r for r in rows if r["truth"] == cls]
         counts = [sum(r["first"] == c for r in sub) for c in cols]
         exact = sum(r["named"] == ([] if cls == "none" else [cls]) for r in sub) / len(sub)
@@ -159,12 +161,13 @@ def main() -> int:
         )
     none = [r for r in rows if r["truth"] == "none"]
     k = sum(r["named"] != [] for r in none)
-    print(
-        f"\nfalse alarms on no-effect data: {k}/{len(none)} = {k / len(none):.3f}, "
-        f"95 % Clopper-Pearson upper bound {clopper_pearson_upper(k, len(none)):.3f}"
-    )
+    if none:
+        print(
+            f"\nfalse alarms on no-effect data: {k}/{len(none)} = {k / len(none):.3f}, "
+            f"95 % Clopper-Pearson upper bound {clopper_pearson_upper(k, len(none)):.3f}"
+        )
     print("\nmedian held-out gap shrink (NRMSE before/after) and excess removed, per class:")
-    for cls in EFFECT_NAMES:
+    for cls in [c for c in EFFECT_NAMES if c in classes]:
         sub = [r for r in rows if r["truth"] == cls]
         amb = sum(any(a) for a in (r["ambiguous"] for r in sub))
         print(

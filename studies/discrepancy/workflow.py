@@ -32,6 +32,10 @@ __all__ = ["Step", "CVScore", "cross_validate", "name_effects", "RATE_FAMILY"]
 
 log = logging.getLogger(__name__)
 
+#: a lag and a delay below the filter's time resolution are flagged as each other's
+#: alternative when the other's held-out RMSE is within this factor of the best's
+LAG_DELAY_CLOSE = 1.25
+
 #: effects one excitation frequency cannot tell apart (notes, trap 5)
 RATE_FAMILY = ("hysteresis", "lag", "delay", "viscoelastic")
 
@@ -296,7 +300,8 @@ def name_effects(
         if one_freq and best in RATE_FAMILY:
             amb += [c for c in clears if c in RATE_FAMILY and c != best and c not in amb]
         # a lag and a delay both shorter than the filter's time resolution differ only
-        # in second order (amplitude ~ (w tau)^2), below what filtered data resolve
+        # in second order (amplitude ~ (w tau)^2): when their scores are also close,
+        # the data cannot tell them apart
         if best in ("lag", "delay") and not prep.static:
             other = "delay" if best == "lag" else "lag"
             t_best = next(iter(scores[best].fit.params.get(best, {}).values()), 0.0)
@@ -304,6 +309,7 @@ def name_effects(
                 other in clears
                 and other not in amb
                 and t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz)
+                and scores[other].rmse_per_mm <= LAG_DELAY_CLOSE * scores[best].rmse_per_mm
             ):
                 amb.append(other)
         fit = scores[best].fit
