@@ -16,7 +16,7 @@ from analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from analytic.effects.fit import ChainFit
 from design.errors import DataError, DesignError
 from studies.discrepancy.prepare import Prepared, prepare, prepare_static
-from studies.discrepancy.workflow import name_effects
+from studies.discrepancy.workflow import RATE_FAMILY, name_effects
 from studies.measurement_csv import read_measurement_csv, validate_table
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference"]
@@ -374,10 +374,10 @@ def run_workflow(
     cand_table = tuple(
         {c: sc.nrmse for c, sc in s.candidates.items()} | {"(current)": s.baseline.nrmse} for s in steps
     )
-    if prep.distinct_frequencies() < 2 and not prep.static:
+    if prep.distinct_frequencies() < 2 and not prep.static and set(named) & set(RATE_FAMILY):
         notes.append(
             "one excitation only: rate-independent hysteresis, lag, delay and creep "
-            "are not separable (see the separating experiment)"
+            "are not separable from these data (see the separating experiment)"
         )
     return DiscrepancyResult(
         reference=reference,
