@@ -451,6 +451,9 @@ def tip_pose(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Paper eq. 9: bend angle, lateral and axial tip position of a constant-curvature arc.
 
+    The twin of ``analytic.tip_pose`` (hardware does not import analytic: layering);
+    the tests hold the two equal.
+
     ``theta = kappa L``, ``x = L (1 - cos theta)/theta``, ``y = L sin theta / theta``;
     the small-angle limits are used below ``|theta| < 1e-6`` (no 0/0).
     """

@@ -177,3 +177,16 @@ def test_from_design_uses_the_analytic_gains():
         assert plant.curvature_per_mpa == pytest.approx(k, rel=1e-12)
         assert plant.elongation_per_mpa == pytest.approx(e, rel=1e-12)
         assert plant.length_mm == d.tip.bending_length
+
+
+def test_plant_pose_equals_the_analytic_pose():
+    import analytic
+
+    k = np.linspace(-0.4, 0.4, 81)
+    ell = np.full_like(k, 5.2)
+    th, x, y = tip_pose(k, ell)
+    ax, ay, ath = analytic.tip_pose(k, ell)
+    # two independent formulations (sin^2 half-angle vs numpy sinc): rounding only
+    np.testing.assert_allclose(th, ath, rtol=1e-14)
+    np.testing.assert_allclose(x, ax, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(y, ay, rtol=1e-12)
