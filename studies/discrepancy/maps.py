@@ -33,12 +33,6 @@ class Residuals:
             for i, lab in enumerate(self.labels)
         }
 
-    def loading_minus_unloading(self) -> float:
-        """Mean residual while loading minus while unloading (1/mm): a loop the model misses."""
-        if self.loading.all() or not self.loading.any():
-            return 0.0
-        return float(self.residual[self.loading].mean() - self.residual[~self.loading].mean())
-
 
 def residuals(prep: Prepared, fit: ChainFit) -> Residuals:
     """Residuals of ``fit`` on every segment of ``prep`` (in-sample, for locating)."""

@@ -227,6 +227,17 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
         f"<tr><td>{html.escape(k)}</td><td>{_cell(v)}</td></tr>" for k, v in result.calibration.items()
     )
     filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.filter.items())
+    from analytic.effects import get
+
+    library = "".join(
+        f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"
+        + "<br>".join(
+            f"{html.escape(q['name'])} [{html.escape(q['unit'])}]: {html.escape(q['doc'])}"
+            for q in d["params"]
+        )
+        + "</td></tr>"
+        for d in (get(c).describe() for c in result.candidates[0] if c != "(current)")
+    )
     verdict = (
         f"named: <b>{html.escape(' + '.join(result.named))}</b>"
         if result.named
@@ -251,6 +262,8 @@ as the data.</small></p>
 <h2>Before and after</h2><img src="loops.png" alt="loops"><img src="residual_maps_after.png"
 alt="residual maps after">
 <h2>Candidates (held-out)</h2><img src="candidates.png" alt="candidate scores">
+<table><tr><th>candidate</th><th>meaning</th><th>parameters (bounds relative to the data)</th></tr>
+{library}</table>
 <h2>Calibration</h2><table>{cal}</table>
 <h2>Filter</h2><table>{filt}</table>
 <h2>Runs</h2><table><tr><th>run</th><th>kind</th><th>frequency [Hz]</th><th>duration [s]</th>
