@@ -123,6 +123,9 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
     )
     effects = [parse_effect(e) for e in args.effect]
+    from hardware.bench import make_plant
+
+    make_plant(d, effects=effects, load=args.load)  # bad effect names or parameters fail here, first
     out = Path(args.out)
     print(
         f"virtual bench: {cfg.waveform} at {', '.join(f'{f:g}' for f in freqs)} Hz, "
