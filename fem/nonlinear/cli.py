@@ -47,7 +47,8 @@ def add_cli_arguments(parser: argparse.ArgumentParser) -> None:
     add("--load", choices=("lumen", "cap"), default="lumen",
                    help="pressure on lumen wall + cap (real load) or cap only (paper's formula)")
     add("--mesh-size", type=float, default=0.15, help="largest section triangle edge [mm]")
-    add("--layers", type=int, default=6, help="element layers along the bending length")
+    add("--layers", type=int, default=4, help="element layers along the bending length (default 4)")
+    add("--curvature-points", type=int, default=12, help="mesh segments per full circle (default 12)")
     add("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
     add("--compare-linear", action="store_true",
                    help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%")
@@ -85,7 +86,8 @@ def run_cli(args: argparse.Namespace, echo=None) -> int:
         pressures,
         load=_get(args, "load", "lumen"),
         size=float(_get(args, "mesh_size", 0.15)),
-        layers=int(_get(args, "layers", 6)),
+        layers=int(_get(args, "layers", 4)),
+        curvature_points=int(_get(args, "curvature_points", 12)),
         mixed=bool(_get(args, "mixed", False)),
         progress=True,
     )
