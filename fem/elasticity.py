@@ -16,7 +16,7 @@ one factorisation serves every pressure.
 from __future__ import annotations
 
 import logging
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,8 +60,11 @@ class ElasticProblem:
         Region label per tetrahedron (m,).
     laws
         Map label -> law with a ``tensor()`` method (``fem.materials``).
-    clamp_facets
-        Indices of the clamped boundary facets (all displacement components fixed).
+    fixed
+        Dirichlet conditions: ``[(facets, components), ...]`` fixes the listed
+        displacement components (0 = x, 1 = y, 2 = z) of every P2 node on those
+        boundary facets (to zero, or to values passed to :meth:`solve`). The
+        tip's clamp is ``[(base_facets, (0, 1, 2))]``.
     method
         Solver back-end (``fem.solver``).
     """
@@ -71,7 +74,7 @@ class ElasticProblem:
         mesh,
         labels: np.ndarray,
         laws: Mapping[int, object],
-        clamp_facets: np.ndarray,
+        fixed: Sequence[tuple[np.ndarray, Sequence[int]]],
         *,
         method: str | None = None,
         tol: float = DEFAULT_TOL,
@@ -85,19 +88,22 @@ class ElasticProblem:
         self.mesh = mesh
         self.element = ElementTetP2()
         # intorder 2 is exact for P2 stiffness with constant material on straight
-        # tets (notes/fem.md); curved (isoparametric) tets get order 4 (order 3 has a negative weight).
+        # tets (notes/fem.md); curved (isoparametric) tets get order 4 (the
+        # order-3 rule has a negative weight).
         self.intorder = 2 if mesh.affine else 4
         self.basis = CellBasis(self.mesh, self.element, intorder=self.intorder)
         self.labels = labels
         self.n_nodes = self.basis.N
         self.ndofs = 3 * self.n_nodes
         self.stiffness = self._assemble(laws)
-        dofs = self.basis.get_dofs(np.asarray(clamp_facets)).all()
         clamped = np.zeros(self.ndofs, bool)
-        for c in range(3):
-            clamped[3 * dofs + c] = True
+        for facets, comps in fixed:
+            dofs = self.basis.get_dofs(np.asarray(facets)).all()
+            for c in comps:
+                clamped[3 * dofs + int(c)] = True
         if not clamped.any():
-            raise FemError("clamp: no facets selected; the body would float")
+            raise FemError("fixed: no facets selected; the body would float")
+        self.fixed_mask = clamped
         self.free = np.flatnonzero(~clamped)
         self._factor: Factorized | None = None
         self._method = method
@@ -157,6 +163,17 @@ class ElasticProblem:
             f[c::3] = form.assemble(fb)
         return f
 
+    def traction_load(self, facets: np.ndarray, traction: Sequence[float]) -> np.ndarray:
+        """Load vector (N) of a uniform traction vector (MPa) on boundary ``facets``."""
+        from skfem import FacetBasis, LinearForm
+
+        f = np.zeros(self.ndofs)
+        fb = FacetBasis(self.mesh, self.element, facets=np.asarray(facets), intorder=4)
+        for c in range(3):
+            form = LinearForm(lambda v, w, t=float(traction[c]): t * v)
+            f[c::3] = form.assemble(fb)
+        return f
+
     def factorize(self) -> Factorized:
         """Factorise the clamped stiffness (once; reused by every solve)."""
         if self._factor is None:
@@ -164,10 +181,18 @@ class ElasticProblem:
             self._factor = Factorized(kff, method=self._method, tol=self._tol)
         return self._factor
 
-    def solve(self, load: np.ndarray) -> Solution:
-        """Displacements (mm) under a load vector (N) on the clamped body."""
+    def solve(self, load: np.ndarray, prescribed: np.ndarray | None = None) -> Solution:
+        """Displacements (mm) under a load vector (N).
+
+        ``prescribed`` (n_p2_nodes, 3) gives the values of the fixed components
+        (zero if omitted); its other entries are ignored.
+        """
         fac = self.factorize()
-        uf, res = fac.solve(load[self.free])
         u = np.zeros(self.ndofs)
+        rhs = load[self.free]
+        if prescribed is not None:
+            u[self.fixed_mask] = np.asarray(prescribed, float).ravel()[self.fixed_mask]
+            rhs = rhs - (self.stiffness @ u)[self.free]
+        uf, res = fac.solve(rhs)
         u[self.free] = uf
         return Solution(u=u.reshape(-1, 3), residual=res)

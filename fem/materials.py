@@ -58,9 +58,8 @@ class Isotropic:
         lam = e * nu / ((1 + nu) * (1 - 2 * nu))
         mu = e / (2 * (1 + nu))
         d = np.eye(3)
-        return (
-            lam * np.einsum("ij,kl->ijkl", d, d)
-            + mu * (np.einsum("ik,jl->ijkl", d, d) + np.einsum("il,jk->ijkl", d, d))
+        return lam * np.einsum("ij,kl->ijkl", d, d) + mu * (
+            np.einsum("ik,jl->ijkl", d, d) + np.einsum("il,jk->ijkl", d, d)
         )
 
 

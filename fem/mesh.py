@@ -28,7 +28,6 @@ import contextlib
 import logging
 import math
 import os
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -192,7 +191,9 @@ def mesh_tip(
     ok = (cedges >= 0).all(axis=1)
     cedges, cmid = cedges[ok], cmid[ok]
     seconds = time.perf_counter() - t0
-    arrays = dict(points=points, tets=tets, labels=labels, curved_edges=cedges, curved_midpoints=cmid)
+    arrays = dict(
+        points=points, tets=tets, labels=labels, curved_edges=cedges, curved_midpoints=cmid
+    )
     mesh = _finish(geometry, arrays, mesher, mesh_size, seconds, key)
     if use_cache:
         folder.mkdir(parents=True, exist_ok=True)
@@ -227,10 +228,20 @@ def _finish(geometry, arrays, mesher, mesh_size, seconds, key, cached=False):
         n_below_0_1=int((sj < 0.1).sum()),
     )
     mesh = TipMesh(
-        points=points, tets=tets, labels=labels, geometry=geometry, mesher=mesher,
-        mesh_size=mesh_size, region_volumes=region_volumes, exact_volumes=exact,
-        quality=quality, seconds=seconds, cached=cached, key=key,
-        curved_edges=arrays["curved_edges"], curved_midpoints=arrays["curved_midpoints"],
+        points=points,
+        tets=tets,
+        labels=labels,
+        geometry=geometry,
+        mesher=mesher,
+        mesh_size=mesh_size,
+        region_volumes=region_volumes,
+        exact_volumes=exact,
+        quality=quality,
+        seconds=seconds,
+        cached=cached,
+        key=key,
+        curved_edges=arrays["curved_edges"],
+        curved_midpoints=arrays["curved_midpoints"],
     )
     bad = {k: e for k, e in mesh.volume_errors().items() if abs(e) > VOLUME_TOL}
     if bad:
@@ -301,11 +312,13 @@ def _cap_areas(g: TipGeometry) -> dict[str, float]:
 def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     """Signed volumes (mm^3) of tetrahedra."""
     p = points[tets]
-    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
+    return (
+        np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
+    )
 
 
 def scaled_jacobian(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
-    """Minimum over the four corners of det[e1 e2 e3]/(|e1||e2||e3|), scaled so a regular tet is 1."""
+    """Min over the corners of det[e1 e2 e3] / (|e1| |e2| |e3|), scaled: regular tet = 1."""
     p = points[tets]
     out = np.full(tets.shape[0], np.inf)
     corners = ((0, 1, 2, 3), (1, 2, 0, 3), (2, 0, 1, 3), (3, 0, 2, 1))
@@ -397,7 +410,12 @@ def section_triangles(geometry: TipGeometry, mesh_size: float):
                 holes.append((2, _ellipse(occ, 0.0, g.tube_y, g.tube_a, g.tube_b)))
             if cut_channel:
                 holes.append(
-                    (2, occ.addDisk(0, g.channel_y, 0, g.channel_outer_radius, g.channel_outer_radius))
+                    (
+                        2,
+                        occ.addDisk(
+                            0, g.channel_y, 0, g.channel_outer_radius, g.channel_outer_radius
+                        ),
+                    )
                 )
             if holes:
                 piece, _ = occ.cut(piece, holes)
@@ -452,24 +470,48 @@ def _extruded_gmsh(g: TipGeometry, mesh_size: float, axial_ratio: float):
     n1 = max(2, math.ceil(lb / dz))
     n2 = max(1, math.ceil(g.cap_thickness / dz))
     z = np.concatenate([np.linspace(0, lb, n1 + 1), np.linspace(lb, g.length, n2 + 1)[1:]])
+    # Keep only triangles that hold material in each layer (the lumen is solid in the cap).
+    cen = xy[tri].mean(axis=1)
+    body = g.classify(cen[:, 0], cen[:, 1], np.zeros(len(cen))) != VOID
+    cap = g.classify(cen[:, 0], cen[:, 1], np.full(len(cen), g.length)) != VOID
+    keep = [cap if z[k] >= lb - 1e-12 else body for k in range(z.size - 1)]
+    return extrude(xy, tri, z, keep, ce2, cm2)
+
+
+def extrude(xy, tri, z, keep=None, curved_edges=None, curved_midpoints=None):
+    """Extrude a 2-D triangulation along z into a conforming tet mesh.
+
+    Parameters
+    ----------
+    xy, tri
+        Section vertices (n, 2) and triangles (m, 3).
+    z
+        Increasing layer levels (mm).
+    keep
+        Per layer, a boolean mask of the triangles to extrude (default: all).
+    curved_edges, curved_midpoints
+        2-D edges on curved boundaries (k, 2) and their exact midpoints (k, 2).
+
+    Returns
+    -------
+    points, tets, curved_edges_3d, curved_midpoints_3d
+    """
+    z = np.asarray(z, float)
     n2d = xy.shape[0]
-    points = np.column_stack(
-        [np.tile(xy, (z.size, 1)), np.repeat(z, n2d)]
-    )
+    points = np.column_stack([np.tile(xy, (z.size, 1)), np.repeat(z, n2d)])
+    if keep is None:
+        keep = [np.ones(len(tri), bool)] * (z.size - 1)
+    if curved_edges is None:
+        curved_edges, curved_midpoints = np.zeros((0, 2), np.int64), np.zeros((0, 2))
+    ce2, cm2 = np.sort(np.asarray(curved_edges), axis=1), np.asarray(curved_midpoints)
     # Global-index split: order each triangle's vertices ascending, then the
     # three tets below share quad diagonals with every neighbour.
     v = np.sort(tri, axis=1)
     v0, v1, v2 = v[:, 0], v[:, 1], v[:, 2]
-    # Keep only triangles that hold material somewhere along z.
-    cen = xy[tri].mean(axis=1)
-    lab_body = g.classify(cen[:, 0], cen[:, 1], np.zeros(len(cen)))
-    lab_cap = g.classify(cen[:, 0], cen[:, 1], np.full(len(cen), g.length))
     tets = []
     for k in range(z.size - 1):
-        in_cap = z[k] >= lb - 1e-12
-        keep = (lab_cap if in_cap else lab_body) != VOID
         b, t = k * n2d, (k + 1) * n2d
-        a0, a1, a2 = v0[keep], v1[keep], v2[keep]
+        a0, a1, a2 = v0[keep[k]], v1[keep[k]], v2[keep[k]]
         tets.append(np.column_stack([a0 + b, a1 + b, a2 + b, a0 + t]))
         tets.append(np.column_stack([a1 + b, a2 + b, a0 + t, a1 + t]))
         tets.append(np.column_stack([a2 + b, a0 + t, a1 + t, a2 + t]))

@@ -90,16 +90,20 @@ class TipGeometry:
         for name, value in asdict(self).items():
             if name == "filled":
                 continue
-            if not (math.isfinite(value) and (value > 0 or name in ("channel_y", "tube_y", "lumen_y"))):
+            if not (
+                math.isfinite(value) and (value > 0 or name in ("channel_y", "tube_y", "lumen_y"))
+            ):
                 raise DesignError(f"geometry.{name}", value, "must be finite and > 0")
         if self.coil_inner_radius >= self.coil_outer_radius:
             raise DesignError(
-                "geometry.coil_inner_radius", self.coil_inner_radius,
+                "geometry.coil_inner_radius",
+                self.coil_inner_radius,
                 f"must be < coil_outer_radius = {self.coil_outer_radius}",
             )
         if self.channel_inner_radius >= self.channel_outer_radius:
             raise DesignError(
-                "geometry.channel_inner_radius", self.channel_inner_radius,
+                "geometry.channel_inner_radius",
+                self.channel_inner_radius,
                 f"must be < channel_outer_radius = {self.channel_outer_radius}",
             )
         if self.cap_thickness >= self.length:
@@ -109,11 +113,14 @@ class TipGeometry:
         # The lumen must sit inside the tube with a wall left over.
         if self.min_lumen_wall() <= 0:
             raise DesignError(
-                "geometry.lumen", (self.lumen_a, self.lumen_b, self.lumen_y),
+                "geometry.lumen",
+                (self.lumen_a, self.lumen_b, self.lumen_y),
                 "lumen ellipse must lie strictly inside the tube ellipse",
             )
         if self.land_gap >= 0.5 * self.tube_b:
-            raise DesignError("geometry.land_gap", self.land_gap, f"must be < tube_b/2 = {self.tube_b / 2}")
+            raise DesignError(
+                "geometry.land_gap", self.land_gap, f"must be < tube_b/2 = {self.tube_b / 2}"
+            )
 
     # -- identity -----------------------------------------------------------
     def digest(self) -> str:
@@ -148,7 +155,9 @@ class TipGeometry:
         inside_tube = x < self.tube_a
         inside_chan = x < r_co
         gap_top = np.where(inside_tube, circ - (self.tube_y + ell), np.inf)
-        gap_tc = np.where(inside_tube & inside_chan, (self.tube_y - ell) - (self.channel_y + chan), np.inf)
+        gap_tc = np.where(
+            inside_tube & inside_chan, (self.tube_y - ell) - (self.channel_y + chan), np.inf
+        )
         gap_cc = np.where(inside_chan, (self.channel_y - chan) + circ, np.inf)
         return {
             "tube_coil": _first_at_least(x, gap_top, self.land_gap),
@@ -191,7 +200,9 @@ class TipGeometry:
 
     def in_lumen(self, x: np.ndarray, y: np.ndarray, margin: float) -> np.ndarray:
         """True inside the lumen ellipse grown by ``margin`` mm (facet tagging)."""
-        return (x / (self.lumen_a + margin)) ** 2 + ((y - self.lumen_y) / (self.lumen_b + margin)) ** 2 < 1
+        return (x / (self.lumen_a + margin)) ** 2 + (
+            (y - self.lumen_y) / (self.lumen_b + margin)
+        ) ** 2 < 1
 
     def exact_areas(self) -> dict[str, float]:
         """Section areas (mm^2) of each region in the lumen part, by fine sampling.
