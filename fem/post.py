@@ -72,7 +72,8 @@ def bending_fit(
         Axial-stiffness-weighted centroid y of the section (mm), where the
         elongation is read.
     n_windows
-        Windows along the middle for the local-curvature profile.
+        About how many (half-overlapping) windows the local-curvature profile
+        uses along the middle; each has at least 5 z levels.
     """
     z = nodes[:, 2]
     z0, z1 = margin, length - margin
@@ -88,13 +89,13 @@ def bending_fit(
     uz0, _, duz_dy = coef
     kappa_rot = duz_dy / length  # top fibres (y > ybar) stretch when bending toward -y
     elong = (uz0 + duz_dy * neutral_axis_y) / length
-    edges = np.linspace(z0, z1, n_windows + 1)
+    # Local curvature: quadratic fits over sliding windows of `window` levels.
+    window = max(5, zs.size // n_windows)
     kz, kk = [], []
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-        s = (zs >= lo) & (zs <= hi)
-        if s.sum() >= 3:
-            kz.append(0.5 * (lo + hi))
-            kk.append(-2.0 * np.polyfit(zs[s], v[s], 2)[0])
+    for start in range(0, zs.size - window + 1, max(1, window // 2)):
+        s = slice(start, start + window)
+        kz.append(zs[s].mean())
+        kk.append(-2.0 * np.polyfit(zs[s], v[s], 2)[0])
     kk_arr = np.asarray(kk)
     variation = float((kk_arr.max() - kk_arr.min()) / abs(kk_arr.mean())) if kk_arr.size else np.nan
     return BendingFit(
