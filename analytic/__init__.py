@@ -1,1 +1,31 @@
-"""softcath analytic package."""
+"""The composite Euler–Bernoulli model of the tip (paper eqs. 1–9) and its calibration (eq. 8).
+
+>>> import design, analytic
+>>> r = analytic.response(design.preset("paper"), [0.0, 1.0])
+>>> float(r.curvature[0])
+0.0
+"""
+
+from __future__ import annotations
+
+from analytic.beam import LOADS, BeamResponse, gains, gains_arrays, response, response_arrays
+from analytic.inverse import pressure_for_bend_angle, pressure_for_tip
+from analytic.pose import pose_matrix, tip_pose
+from analytic.section import CompositeSection, composite_section, design_inputs, section_arrays
+
+__all__ = [
+    "LOADS",
+    "BeamResponse",
+    "CompositeSection",
+    "composite_section",
+    "design_inputs",
+    "gains",
+    "gains_arrays",
+    "pose_matrix",
+    "pressure_for_bend_angle",
+    "pressure_for_tip",
+    "response",
+    "response_arrays",
+    "section_arrays",
+    "tip_pose",
+]

@@ -1,1 +1,69 @@
-"""softcath design package: the catheter tip as validated data (skeleton; API lands with issue 2)."""
+"""The catheter tip as validated, parametrised data (mm, MPa).
+
+>>> import design
+>>> d = design.preset("paper")
+>>> round(d.section.b, 3)
+0.15
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from design import presets as _presets
+from design.coil_mechanics import CoilStiffness, coil_stiffness
+from design.components import Coil, Tip, Tube
+from design.errors import DataError, DesignError, SoftcathError
+from design.io import dumps, from_dict, load, loads, save, to_dict
+from design.materials import Material
+from design.section import AssembledSection
+from design.tip import TipDesign
+
+__all__ = [
+    "AssembledSection",
+    "Coil",
+    "CoilStiffness",
+    "DataError",
+    "DesignError",
+    "Material",
+    "SoftcathError",
+    "Tip",
+    "TipDesign",
+    "Tube",
+    "coil_stiffness",
+    "dumps",
+    "from_dict",
+    "load",
+    "loads",
+    "preset",
+    "preset_names",
+    "resolve",
+    "save",
+    "to_dict",
+]
+
+
+def preset_names() -> list[str]:
+    """Names accepted by :func:`preset`."""
+    return _presets.names()
+
+
+def preset(name: str = "paper") -> TipDesign:
+    """A shipped design by name (``"paper"``: the paper's prototype)."""
+    if name not in _presets.names():
+        raise DesignError("preset", name, f"unknown; available: {', '.join(_presets.names())}")
+    return loads(_presets.text(name), source=f"preset {name}")
+
+
+def resolve(spec: str | Path | TipDesign) -> TipDesign:
+    """A design from a preset name, a TOML path, or a design (returned as is)."""
+    if isinstance(spec, TipDesign):
+        return spec
+    spec_s = str(spec)
+    if spec_s in _presets.names():
+        return preset(spec_s)
+    if spec_s.endswith(".toml") or Path(spec_s).exists():
+        return load(spec_s)
+    raise DesignError(
+        "design", spec_s, f"must be a preset ({', '.join(_presets.names())}) or a path to a .toml file"
+    )

@@ -1,0 +1,103 @@
+r"""Elongation, curvature and tip pose of the composite beam under pressure.
+
+Two load models, always both available:
+
+- ``load="cap"`` — the paper's model (eqs. 4 and 7): only the end-cap force
+  F = p·A_p acts, at the lumen centre y_p:
+  ε = p A_p / ΣEA,  κ = p A_p (y_p − ȳ) / ΣEI.
+- ``load="lumen"`` — the pressure also pushes on the lumen wall. For a bonded
+  section whose materials share one Poisson ratio ν, equilibrium of the
+  closed-end pressurised section (Lamé, generalised to an eccentric lumen)
+  multiplies both by (1 − 2ν): the wall pressure's Poisson contraction
+  cancels most of the cap force. We use the tube's ν. For ν = 0.49 only 2 %
+  of the paper's bending survives *in an unconfined tube*; the outer coil's
+  hoop stiffness confines the tube, and the FEM measures how much of the
+  formula survives then (``shared/notes/fem.md``). This is the first missing
+  effect softcath names: the paper's model omits the wall load.
+
+Both are linear in p, so a design is summarised by two gains (κ/p, ε/p).
+The arc length is L = L₀(1 + ε) and θ = κL (eq. 9 with L° = L(p)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.pose import tip_pose
+from analytic.section import design_inputs, section_arrays
+from design import TipDesign
+from design.errors import DesignError
+
+__all__ = ["LOADS", "BeamResponse", "gains", "gains_arrays", "response", "response_arrays"]
+
+LOADS = ("cap", "lumen")
+
+
+def _check_load(load: str) -> None:
+    if load not in LOADS:
+        raise DesignError("load", load, f"must be one of {', '.join(LOADS)}")
+
+
+def gains_arrays(inp: dict, load: str = "cap") -> tuple[np.ndarray, np.ndarray]:
+    """(κ/p [1/(mm MPa)], ε/p [1/MPa]) for arrays of design inputs."""
+    _check_load(load)
+    s = section_arrays(inp)
+    factor = 1.0 if load == "cap" else 1.0 - 2.0 * np.asarray(inp["tube_nu"], float)
+    k = factor * s["pressure_area"] * s["eccentricity"] / s["EI"]
+    e = factor * s["pressure_area"] / s["EA"]
+    return k, e
+
+
+def gains(design: TipDesign, load: str = "cap") -> tuple[float, float]:
+    """(κ/p [1/(mm MPa)], ε/p [1/MPa]) of one design."""
+    k, e = gains_arrays(design_inputs(design), load)
+    return float(k), float(e)
+
+
+@dataclass(frozen=True)
+class BeamResponse:
+    """Analytic response at each pressure (arrays of one shape).
+
+    Attributes
+    ----------
+    pressure
+        p [MPa].
+    curvature
+        κ [1/mm], positive toward the channel side.
+    elongation
+        ε [-].
+    arc_length
+        L = L₀(1 + ε) [mm].
+    bend_angle
+        θ = κL [rad].
+    tip_x, tip_y
+        Tip position in the bending plane [mm] (eq. 9).
+    """
+
+    pressure: np.ndarray
+    curvature: np.ndarray
+    elongation: np.ndarray
+    arc_length: np.ndarray
+    bend_angle: np.ndarray
+    tip_x: np.ndarray
+    tip_y: np.ndarray
+
+
+def response_arrays(inp: dict, pressure, load: str = "cap") -> BeamResponse:
+    """Vectorised response: design inputs and pressures broadcast together."""
+    p = np.asarray(pressure, dtype=float)
+    if not np.all(np.isfinite(p)):
+        raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
+    k_gain, e_gain = gains_arrays(inp, load)
+    kappa = k_gain * p
+    eps = e_gain * p
+    length = np.asarray(inp["length"], float) * (1 + eps)
+    tip_x, tip_y, theta = tip_pose(kappa, length)
+    return BeamResponse(p * np.ones_like(kappa), kappa, eps, length, theta, tip_x, tip_y)
+
+
+def response(design: TipDesign, pressure, load: str = "cap") -> BeamResponse:
+    """Curvature, elongation and tip pose of ``design`` at ``pressure`` [MPa] (scalar or array)."""
+    return response_arrays(design_inputs(design), pressure, load)
