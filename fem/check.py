@@ -19,7 +19,7 @@ from design.errors import DesignError
 from fem.elasticity import ElasticProblem
 from fem.mesh import TipMesh, mesh_tip
 from fem.post import BendingFit, bending_fit, principal_strain_max
-from fem.section import FILLER, LAND, REGIONS, TUBE, TipGeometry
+from fem.section import FILLER, REGIONS, TUBE, TipGeometry
 from fem.tags import tag_facets
 
 __all__ = ["LOADS", "TipSolution", "run_tip", "axial_modulus"]
@@ -29,7 +29,7 @@ log = logging.getLogger(__name__)
 #: ``cap``: pressure on the cap's inner face only (the paper's end-cap force);
 #: ``lumen``: pressure on the lumen wall and the cap (the real load).
 LOADS = ("cap", "lumen")
-SILICONE = (TUBE, FILLER, LAND)
+SILICONE = (TUBE, FILLER)
 
 
 @dataclass

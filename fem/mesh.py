@@ -380,47 +380,38 @@ def section_triangles(geometry: TipGeometry, mesh_size: float):
     with _gmsh_session() as gmsh:
         occ = gmsh.model.occ
         gmsh.model.add("section")
-        tools = []
-        outer = occ.addDisk(0, 0, 0, g.coil_outer_radius, g.coil_outer_radius)
-        tools.append(occ.addDisk(0, 0, 0, g.coil_inner_radius, g.coil_inner_radius))
-        tools.append(occ.addDisk(0, g.channel_y, 0, g.channel_outer_radius, g.channel_outer_radius))
-        tools.append(occ.addDisk(0, g.channel_y, 0, g.channel_inner_radius, g.channel_inner_radius))
-        tools.append(_ellipse(occ, 0.0, g.tube_y, g.tube_a, g.tube_b))
-        tools.append(_ellipse(occ, 0.0, g.lumen_y, g.lumen_a, g.lumen_b))
-        # Land strips, cut down to the gaps they fill: their vertical sides become
-        # the land edges (where the gap reaches land_gap).
-        ri = g.coil_inner_radius
-        strips = []
+        ro, ri = g.coil_outer_radius, g.coil_inner_radius
+        yc, rco, rci = g.channel_y, g.channel_outer_radius, g.channel_inner_radius
+
+        def disk(xc, yc_, r):
+            return [(2, occ.addDisk(xc, yc_, 0, r, r))]
+
+        # The regions are built as disjoint pieces (so no tangent curve survives
+        # inside a land) and fragmented together for a conforming partition.
+        # Tube with its lands: (ellipse U land strips) inside the coil ID, outside the channel.
+        tube = [(2, _ellipse(occ, 0.0, g.tube_y, g.tube_a, g.tube_b))]
         x = lands["tube_coil"]
-        if x > 0:
-            strips.append((occ.addRectangle(-x, g.tube_y, 0, 2 * x, ri - g.tube_y), True, False))
+        tools = [(2, occ.addRectangle(-x, g.tube_y, 0, 2 * x, ri + 0.5 * (ro - ri) - g.tube_y))]
         x = lands["tube_channel"]
-        if x > 0:
-            strips.append(
-                (occ.addRectangle(-x, g.channel_y, 0, 2 * x, g.tube_y - g.channel_y), True, True)
-            )
+        tools.append((2, occ.addRectangle(-x, yc, 0, 2 * x, g.tube_y - yc)))
+        tube, _ = occ.fuse(tube, tools)
+        tube, _ = occ.intersect(tube, disk(0, 0, ri))
+        tube, _ = occ.cut(tube, disk(0, yc, rco))
+        # Coil with the channel-coil land (the steel-bonded strip under the channel).
         x = lands["channel_coil"]
-        if x > 0:
-            strips.append((occ.addRectangle(-x, -ri, 0, 2 * x, ri + g.channel_y), False, True))
-        for rect, cut_tube, cut_channel in strips:
-            disk = occ.addDisk(0, 0, 0, ri, ri)
-            piece, _ = occ.intersect([(2, rect)], [(2, disk)])
-            holes = []
-            if cut_tube:
-                holes.append((2, _ellipse(occ, 0.0, g.tube_y, g.tube_a, g.tube_b)))
-            if cut_channel:
-                holes.append(
-                    (
-                        2,
-                        occ.addDisk(
-                            0, g.channel_y, 0, g.channel_outer_radius, g.channel_outer_radius
-                        ),
-                    )
-                )
-            if holes:
-                piece, _ = occ.cut(piece, holes)
-            tools.extend(t for _, t in piece)
-        occ.fragment([(2, outer)], [(2, t) for t in tools])
+        coil, _ = occ.cut(disk(0, 0, ro), disk(0, 0, ri))
+        strip, _ = occ.intersect(
+            [(2, occ.addRectangle(-x, -ro, 0, 2 * x, ro + yc))], disk(0, 0, ro)
+        )
+        coil, _ = occ.fuse(coil, strip)
+        coil, _ = occ.cut(coil, disk(0, yc, rco))
+        channel, _ = occ.cut(disk(0, yc, rco), disk(0, yc, rci))
+        channel_lumen = disk(0, yc, rci)
+        lumen = [(2, _ellipse(occ, 0.0, g.lumen_y, g.lumen_a, g.lumen_b))]
+        rest, _ = occ.cut(disk(0, 0, ro), occ.copy(coil) + disk(0, yc, rco) + occ.copy(tube))
+        tube, _ = occ.cut(tube, occ.copy(lumen))
+        pieces = coil + channel + channel_lumen + tube + lumen + rest
+        occ.fragment(pieces[:1], pieces[1:])
         occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", mesh_size)
         gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
@@ -449,10 +440,40 @@ def section_triangles(geometry: TipGeometry, mesh_size: float):
     mids = np.vstack([xy[tri6[:, k]] for _, _, k in pairs])
     straight = 0.5 * (xy[corner][ends[:, 0]] + xy[corner][ends[:, 1]])
     bent = np.linalg.norm(mids - straight, axis=1) > 1e-12
+    # A thin triangle against a curve (next to a land edge) can fold when its edge
+    # is bent; such edges stay straight (their faceting error is local and tiny).
+    folded = ~_p2_triangles_valid(xy[tri6])
+    bent &= ~np.tile(folded, 3)
+    edge_key = np.sort(ends, axis=1)
+    if folded.any():
+        bad_keys = {tuple(k) for k in edge_key[np.tile(folded, 3)]}
+        bent &= np.array([tuple(k) not in bad_keys for k in edge_key])
+        log.info("kept %d curved edges straight to avoid folded triangles", len(bad_keys))
     ends, mids = ends[bent], mids[bent]
     ends = np.sort(ends, axis=1)
     _, first = np.unique(ends, axis=0, return_index=True)
     return xy[corner], tri, ends[first], mids[first]
+
+
+def _p2_triangles_valid(x6: np.ndarray) -> np.ndarray:
+    """True where a 6-node triangle's Jacobian keeps the sign of its straight version.
+
+    ``x6`` (m, 6, 2): corners then midsides (01, 12, 20). The Jacobian of a P2
+    triangle is quadratic; it is checked at the 6 nodes and the centroid.
+    """
+    pts = [(0, 0), (1, 0), (0, 1), (0.5, 0), (0.5, 0.5), (0, 0.5), (1 / 3, 1 / 3)]
+    lin = np.cross(x6[:, 1] - x6[:, 0], x6[:, 2] - x6[:, 0])
+    ok = np.ones(len(x6), bool)
+    for r, s in pts:
+        lam = 1 - r - s
+        # dN/dr, dN/ds of the 6 P2 shape functions at (r, s)
+        dr = np.array([1 - 4 * lam, 4 * r - 1, 0, 4 * (lam - r), 4 * s, -4 * s])
+        ds = np.array([1 - 4 * lam, 0, 4 * s - 1, -4 * r, 4 * r, 4 * (lam - s)])
+        jr = np.einsum("k,mkd->md", dr, x6)
+        js = np.einsum("k,mkd->md", ds, x6)
+        det = jr[:, 0] * js[:, 1] - jr[:, 1] * js[:, 0]
+        ok &= det * np.sign(lin) > 0.05 * np.abs(lin)
+    return ok
 
 
 def _ellipse(occ, xc: float, yc: float, a: float, b: float) -> int:

@@ -8,14 +8,16 @@ Tangent contacts (tube-coil at the top, tube-channel and channel-coil at the
 bottom) are where CAD booleans and meshers fail: at a tangent point two
 boundaries meet with zero angle, leaving a cusp of vanishing thickness. The
 treatment here is a **bonded land**: wherever the gap between two touching
-bodies is thinner than ``land_gap`` (mm), it is filled with silicone bonded to
-both bodies. The land is the strip ``|x| < x_land`` between the two boundaries,
+bodies is thinner than ``land_gap`` (mm), it is filled and bonded to both
+bodies. The land is the strip ``|x| < x_land`` between the two boundaries,
 where ``x_land`` is the first abscissa at which the vertical gap reaches
 ``land_gap``; so the remaining cusps start at thickness ``land_gap`` and a
-mesher meets no zero-thickness wedge. Tube-contact lands belong to the tube;
-the channel-coil land is silicone of the filler (or of the tube, if the coil
-interior is void). Where the squeezed tube would overlap the coil or channel
-it is clipped by them (steel does not yield to silicone).
+mesher meets no zero-thickness wedge. A land must be fused with one of the two
+bodies (a separate land region would itself be a zero-thickness sliver at the
+tangent point): the tube-coil and tube-channel lands are tube silicone (the
+squeezed tube conforms); the channel-coil land is given to the coil (it adds
+< 0.5 % to the coil's area; the two steel coils are pressed together there).
+Where the squeezed tube would overlap the coil or channel it is clipped by them.
 """
 
 from __future__ import annotations
@@ -36,13 +38,12 @@ __all__ = [
     "TUBE",
     "CHANNEL",
     "FILLER",
-    "LAND",
     "VOID",
 ]
 
 # Region labels (per tetrahedron). VOID marks empty space (lumens, unfilled coil).
-COIL, TUBE, CHANNEL, FILLER, LAND, VOID = 1, 2, 3, 4, 5, 0
-REGIONS = {COIL: "coil", TUBE: "tube", CHANNEL: "channel", FILLER: "filler", LAND: "land"}
+COIL, TUBE, CHANNEL, FILLER, VOID = 1, 2, 3, 4, 0
+REGIONS = {COIL: "coil", TUBE: "tube", CHANNEL: "channel", FILLER: "filler"}
 
 
 @dataclass(frozen=True)
@@ -185,14 +186,13 @@ class TipGeometry:
         lumen = (x / self.lumen_a) ** 2 + ((y - self.lumen_y) / self.lumen_b) ** 2 < 1
         if z is not None:
             lumen = lumen & (np.asarray(z) < self.length - self.cap_thickness)
-        cc_land = (np.abs(x) < lands["channel_coil"]) & (y < self.channel_y) & inner
+        cc_land = (np.abs(x) < lands["channel_coil"]) & (y < self.channel_y)
         rest = inner & ~tube
-        if self.filled:  # the land is filler silicone then: one region, one material
+        if self.filled:
             lab[rest] = FILLER
-        else:
-            lab[rest & cc_land & (rc2 > self.channel_outer_radius**2)] = LAND
         lab[tube & ~lumen] = TUBE
         lab[(r2 >= self.coil_inner_radius**2) & (r2 < self.coil_outer_radius**2)] = COIL
+        lab[cc_land & (r2 < self.coil_outer_radius**2)] = COIL
         lab[rc2 < self.channel_outer_radius**2] = CHANNEL
         lab[rc2 < self.channel_inner_radius**2] = VOID
         lab[r2 >= self.coil_outer_radius**2] = VOID
