@@ -28,6 +28,7 @@ import contextlib
 import logging
 import math
 import os
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -462,7 +463,8 @@ def _p2_triangles_valid(x6: np.ndarray) -> np.ndarray:
     triangle is quadratic; it is checked at the 6 nodes and the centroid.
     """
     pts = [(0, 0), (1, 0), (0, 1), (0.5, 0), (0.5, 0.5), (0, 0.5), (1 / 3, 1 / 3)]
-    lin = np.cross(x6[:, 1] - x6[:, 0], x6[:, 2] - x6[:, 0])
+    e1, e2 = x6[:, 1] - x6[:, 0], x6[:, 2] - x6[:, 0]
+    lin = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     ok = np.ones(len(x6), bool)
     for r, s in pts:
         lam = 1 - r - s
@@ -551,5 +553,57 @@ def extrude(xy, tri, z, keep=None, curved_edges=None, curved_midpoints=None):
 
 
 # ------------------------------------------------------------- tetwild ------
+def interface_surface(g: TipGeometry, mesh_size: float) -> tuple[np.ndarray, np.ndarray]:
+    """Triangulated surface of every region boundary and interface of the tip.
+
+    Made from the exact section (gmsh) extruded along z: the outer skin, the
+    lumens, the cap and every material interface, as one (non-manifold)
+    surface, so a volume mesher keeps the interfaces embedded.
+    """
+    points, tets, _, _ = _extruded_gmsh(g, mesh_size, axial_ratio=2.0)
+    labels = _label(g, points, tets)
+    keep = labels != VOID
+    points, tets, _ = _compact(points, tets[keep])
+    labels = labels[keep]
+    faces = np.vstack([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]], tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]])
+    owner = np.tile(labels, 4)
+    key = np.sort(faces, axis=1)
+    _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inv = inv.ravel()
+    # A face is kept if it is on the boundary (seen once) or between two regions.
+    lab_min = np.full(counts.size, 99)
+    lab_max = np.full(counts.size, -1)
+    np.minimum.at(lab_min, inv, owner)
+    np.maximum.at(lab_max, inv, owner)
+    first = np.zeros(counts.size, dtype=np.int64)
+    first[inv[::-1]] = np.arange(len(inv))[::-1]
+    wanted = (counts == 1) | (lab_min != lab_max)
+    return points, faces[first[wanted]]
+
+
 def _tetwild(g: TipGeometry, mesh_size: float):
-    raise MeshError("tetwild back-end not implemented yet")
+    """pytetwild on the interface surface; run in a temporary directory (stray file)."""
+    import warnings
+
+    import pytetwild
+    import pyvista as pv
+
+    pts, tris = interface_surface(g, mesh_size)
+    surface = pv.PolyData(pts, np.column_stack([np.full(len(tris), 3), tris]).ravel())
+    cwd = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="softcath-tetwild-") as tmp:
+        os.chdir(tmp)  # fTetWild writes __tracked_surface.stl into the working directory
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # pytetwild uses a deprecated pyvista accessor
+                grid = pytetwild.tetrahedralize_pv(
+                    surface,
+                    edge_length_abs=mesh_size,
+                    epsilon=2e-4,  # of the bounding-box diagonal: ~1 um on this tip
+                    num_threads=1,
+                    quiet=True,
+                )
+        finally:
+            os.chdir(cwd)
+    tets = np.asarray(grid.cells_dict[pv.CellType.TETRA], dtype=np.int64)
+    return np.asarray(grid.points, dtype=float), tets

@@ -26,8 +26,8 @@ class BendingFit:
     curvature_rotation_per_mm
         End-section rotation about x divided by L (the second estimate).
     elongation
-        Axial strain at the stiffness-weighted centroid ``neutral_axis_y``,
-        from the plane fitted to the end-face axial displacement.
+        Axial strain at the stiffness-weighted centroid ``neutral_axis_y`` in the
+        middle of the tip (bilinear fit of u_z over the fitted nodes).
     neutral_axis_y
         The FEM section's own axial-stiffness-weighted centroid (mm).
     curvature_variation
@@ -86,9 +86,13 @@ def bending_fit(
     end = np.abs(z - end_z) < 1e-9 * max(1.0, length) + 1e-6
     a = np.column_stack([np.ones(end.sum()), nodes[end, 0], nodes[end, 1]])
     coef, *_ = np.linalg.lstsq(a, u[end, 2], rcond=None)
-    uz0, _, duz_dy = coef
-    kappa_rot = duz_dy / length  # top fibres (y > ybar) stretch when bending toward -y
-    elong = (uz0 + duz_dy * neutral_axis_y) / length
+    kappa_rot = coef[2] / length  # top fibres (y > ybar) stretch when bending toward -y
+    # Elongation: axial strain at ybar in the middle, where Saint-Venant holds (the
+    # beam models' regime): u_z = c0 + c1 z + (c2 + c3 z) y + (c4 + c5 z) x.
+    xm, ym, zm = nodes[mid, 0], nodes[mid, 1], z[mid]
+    a = np.column_stack([np.ones(zm.size), zm, ym, ym * zm, xm, xm * zm])
+    c, *_ = np.linalg.lstsq(a, u[mid, 2], rcond=None)
+    elong = c[1] + c[3] * neutral_axis_y
     # Local curvature: quadratic fits over sliding windows of `window` levels.
     window = max(5, zs.size // n_windows)
     kz, kk = [], []

@@ -146,25 +146,18 @@ class TipGeometry:
         return float(d.min())
 
     def lands(self) -> dict[str, float]:
-        """Half-widths ``x_land`` (mm) of the three bonded lands."""
-        x = np.linspace(0.0, self.coil_inner_radius, 6001)
-        r_ci, r_co = self.coil_inner_radius, self.channel_outer_radius
-        with np.errstate(invalid="ignore"):
-            ell = self.tube_b * np.sqrt(np.clip(1 - (x / self.tube_a) ** 2, 0, None))
-            circ = np.sqrt(np.clip(r_ci**2 - x**2, 0, None))
-            chan = np.sqrt(np.clip(r_co**2 - x**2, 0, None))
-        inside_tube = x < self.tube_a
-        inside_chan = x < r_co
-        gap_top = np.where(inside_tube, circ - (self.tube_y + ell), np.inf)
-        gap_tc = np.where(
-            inside_tube & inside_chan, (self.tube_y - ell) - (self.channel_y + chan), np.inf
+        """Half-widths ``x_land`` (mm) of the three bonded lands (``design.cad``)."""
+        from design.cad import land_half_widths
+
+        return land_half_widths(
+            coil_inner_radius=self.coil_inner_radius,
+            channel_outer_radius=self.channel_outer_radius,
+            channel_y=self.channel_y,
+            tube_a=self.tube_a,
+            tube_b=self.tube_b,
+            tube_y=self.tube_y,
+            land_gap=self.land_gap,
         )
-        gap_cc = np.where(inside_chan, (self.channel_y - chan) + circ, np.inf)
-        return {
-            "tube_coil": _first_at_least(x, gap_top, self.land_gap),
-            "tube_channel": _first_at_least(x, gap_tc, self.land_gap),
-            "channel_coil": _first_at_least(x, gap_cc, self.land_gap),
-        }
 
     def classify(self, x: np.ndarray, y: np.ndarray, z: np.ndarray | None = None) -> np.ndarray:
         """Region label of points (section coordinates, optional z), by priority.
@@ -220,8 +213,3 @@ class TipGeometry:
         return {name: float((lab == k).sum() * da) for k, name in REGIONS.items()}
 
 
-def _first_at_least(x: np.ndarray, gap: np.ndarray, threshold: float) -> float:
-    ok = gap >= threshold
-    if not ok.any():
-        return float(x[-1])
-    return float(x[int(np.argmax(ok))])
