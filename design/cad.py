@@ -87,12 +87,7 @@ def _circle_prism(cq, r: float, yc: float, z0: float, height: float):
 
 
 def _box(cq, x0: float, x1: float, y0: float, y1: float, height: float):
-    return (
-        cq.Workplane("XY")
-        .center(0.5 * (x0 + x1), 0.5 * (y0 + y1))
-        .rect(x1 - x0, y1 - y0)
-        .extrude(height)
-    )
+    return cq.Workplane("XY").center(0.5 * (x0 + x1), 0.5 * (y0 + y1)).rect(x1 - x0, y1 - y0).extrude(height)
 
 
 def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = LAND_GAP) -> dict:
@@ -157,9 +152,7 @@ def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = 
             .sweep(cq.Workplane("XY").add(helix), isFrenet=True)
         )
     if design.filler is not None:
-        land = (
-            _box(cq, -xc, xc, -ro, yc, length).intersect(inner).cut(chan_outer)
-        )
+        land = _box(cq, -xc, xc, -ro, yc, length).intersect(inner).cut(chan_outer)
         solids["filler"] = inner.cut(tube_outer).cut(chan_outer).cut(land)
     return solids
 

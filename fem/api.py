@@ -89,11 +89,7 @@ class FemResult:
         from dataclasses import fields
 
         c = asdict(self.case(load, pressure_MPa))
-        run = {
-            f.name: getattr(self, f.name)
-            for f in fields(self)
-            if f.name not in ("cases", "solution")
-        }
+        run = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("cases", "solution")}
         return _finite_or_none({**c, **run})
 
 

@@ -156,18 +156,34 @@ def run_tip(
     fits, srange, estrain = {}, {}, {}
     for ld in loads:
         fits[ld] = bending_fit(
-            problem.nodes, unit[ld], length=g.length, margin=margin, end_z=g.length,
+            problem.nodes,
+            unit[ld],
+            length=g.length,
+            margin=margin,
+            end_z=g.length,
             neutral_axis_y=ybar,
         )
         srange[ld], estrain[ld] = _silicone_strain(problem, mesh, unit[ld], margin)
     log.info(
         "fem: %d dofs, mesh %.1f s, assemble %.1f s, solve %.1f s, backward error %.1e",
-        problem.ndofs, mesh_seconds, assemble_seconds, solve_seconds, residual,
+        problem.ndofs,
+        mesh_seconds,
+        assemble_seconds,
+        solve_seconds,
+        residual,
     )
     return TipSolution(
-        mesh=mesh, problem=problem, unit=unit, fits=fits, strain_range=srange,
-        element_strain=estrain, residual=residual, mesh_seconds=mesh_seconds,
-        assemble_seconds=assemble_seconds, solve_seconds=solve_seconds, tags=tags,
+        mesh=mesh,
+        problem=problem,
+        unit=unit,
+        fits=fits,
+        strain_range=srange,
+        element_strain=estrain,
+        residual=residual,
+        mesh_seconds=mesh_seconds,
+        assemble_seconds=assemble_seconds,
+        solve_seconds=solve_seconds,
+        tags=tags,
     )
 
 

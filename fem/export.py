@@ -77,9 +77,7 @@ def render_png(
         clim=(min(0.0, float(strain.min(initial=0.0))), lim if lim > 0 else 1.0),
         scalar_bar_args={"title": "max principal strain", "color": "black"},
     )
-    plotter.add_text(
-        f"{load} load, p = {pressure_MPa:g} MPa (true scale)", font_size=12, color="black"
-    )
+    plotter.add_text(f"{load} load, p = {pressure_MPa:g} MPa (true scale)", font_size=12, color="black")
     plotter.view_vector((1.0, 0.0, 0.0), viewup=(0.0, 1.0, 0.0))
     plotter.camera.zoom(1.2)
     plotter.screenshot(str(path))

@@ -101,9 +101,7 @@ class TransverselyIsotropic:
             raise DesignError("transverse_poisson", self.transverse_poisson, "must be in (-1, 0.5)")
         bound = np.sqrt((1.0 - self.transverse_poisson) / 2.0)
         if not (abs(self.coupling_poisson) < bound):
-            raise DesignError(
-                "coupling_poisson", self.coupling_poisson, f"must satisfy |nu_c| < {bound:.4g}"
-            )
+            raise DesignError("coupling_poisson", self.coupling_poisson, f"must satisfy |nu_c| < {bound:.4g}")
 
     def tensor(self) -> np.ndarray:
         """Stiffness tensor ``C[i, j, k, l]`` in MPa."""

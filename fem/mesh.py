@@ -113,11 +113,7 @@ class TipMesh:
 
     def volume_errors(self) -> dict[str, float]:
         """Relative volume error per region (mesh / exact - 1)."""
-        return {
-            k: self.region_volumes.get(k, 0.0) / v - 1.0
-            for k, v in self.exact_volumes.items()
-            if v > 0
-        }
+        return {k: self.region_volumes.get(k, 0.0) / v - 1.0 for k, v in self.exact_volumes.items() if v > 0}
 
 
 def cache_dir() -> Path:
@@ -192,9 +188,7 @@ def mesh_tip(
     ok = (cedges >= 0).all(axis=1)
     cedges, cmid = cedges[ok], cmid[ok]
     seconds = time.perf_counter() - t0
-    arrays = dict(
-        points=points, tets=tets, labels=labels, curved_edges=cedges, curved_midpoints=cmid
-    )
+    arrays = dict(points=points, tets=tets, labels=labels, curved_edges=cedges, curved_midpoints=cmid)
     mesh = _finish(geometry, arrays, mesher, mesh_size, seconds, key)
     if use_cache:
         folder.mkdir(parents=True, exist_ok=True)
@@ -211,9 +205,7 @@ def _finish(geometry, arrays, mesher, mesh_size, seconds, key, cached=False):
     if (vol <= 0).any():
         raise MeshError(f"mesh has {(vol <= 0).sum()} inverted or flat tetrahedra; refused")
     if arrays["curved_edges"].size:
-        vol = curved_volumes(
-            skfem_mesh(points, tets, arrays["curved_edges"], arrays["curved_midpoints"])
-        )
+        vol = curved_volumes(skfem_mesh(points, tets, arrays["curved_edges"], arrays["curved_midpoints"]))
         if (vol <= 0).any():
             raise MeshError(f"{(vol <= 0).sum()} curved tetrahedra are inverted; refused")
     region_volumes = {
@@ -313,9 +305,7 @@ def _cap_areas(g: TipGeometry) -> dict[str, float]:
 def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     """Signed volumes (mm^3) of tetrahedra."""
     p = points[tets]
-    return (
-        np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
-    )
+    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6
 
 
 def scaled_jacobian(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
@@ -401,9 +391,7 @@ def section_triangles(geometry: TipGeometry, mesh_size: float):
         # Coil with the channel-coil land (the steel-bonded strip under the channel).
         x = lands["channel_coil"]
         coil, _ = occ.cut(disk(0, 0, ro), disk(0, 0, ri))
-        strip, _ = occ.intersect(
-            [(2, occ.addRectangle(-x, -ro, 0, 2 * x, ro + yc))], disk(0, 0, ro)
-        )
+        strip, _ = occ.intersect([(2, occ.addRectangle(-x, -ro, 0, 2 * x, ro + yc))], disk(0, 0, ro))
         coil, _ = occ.fuse(coil, strip)
         coil, _ = occ.cut(coil, disk(0, yc, rco))
         channel, _ = occ.cut(disk(0, yc, rco), disk(0, yc, rci))

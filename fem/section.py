@@ -91,9 +91,7 @@ class TipGeometry:
         for name, value in asdict(self).items():
             if name == "filled":
                 continue
-            if not (
-                math.isfinite(value) and (value > 0 or name in ("channel_y", "tube_y", "lumen_y"))
-            ):
+            if not (math.isfinite(value) and (value > 0 or name in ("channel_y", "tube_y", "lumen_y"))):
                 raise DesignError(f"geometry.{name}", value, "must be finite and > 0")
         if self.coil_inner_radius >= self.coil_outer_radius:
             raise DesignError(
@@ -119,9 +117,7 @@ class TipGeometry:
                 "lumen ellipse must lie strictly inside the tube ellipse",
             )
         if self.land_gap >= 0.5 * self.tube_b:
-            raise DesignError(
-                "geometry.land_gap", self.land_gap, f"must be < tube_b/2 = {self.tube_b / 2}"
-            )
+            raise DesignError("geometry.land_gap", self.land_gap, f"must be < tube_b/2 = {self.tube_b / 2}")
 
     # -- identity -----------------------------------------------------------
     def digest(self) -> str:
@@ -193,9 +189,7 @@ class TipGeometry:
 
     def in_lumen(self, x: np.ndarray, y: np.ndarray, margin: float) -> np.ndarray:
         """True inside the lumen ellipse grown by ``margin`` mm (facet tagging)."""
-        return (x / (self.lumen_a + margin)) ** 2 + (
-            (y - self.lumen_y) / (self.lumen_b + margin)
-        ) ** 2 < 1
+        return (x / (self.lumen_a + margin)) ** 2 + ((y - self.lumen_y) / (self.lumen_b + margin)) ** 2 < 1
 
     def exact_areas(self) -> dict[str, float]:
         """Section areas (mm^2) of each region in the lumen part, by fine sampling.
@@ -211,5 +205,3 @@ class TipGeometry:
         lab = self.classify(xx.ravel(), yy.ravel())
         da = (2 * r / n) ** 2
         return {name: float((lab == k).sum() * da) for k, name in REGIONS.items()}
-
-

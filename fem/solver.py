@@ -100,8 +100,7 @@ class Factorized:
             res = backward_error(self.matrix, u, rhs, self._knorm)
         if not np.isfinite(res) or res > self.tol:
             raise SolverError(
-                f"linear solve backward error = {res:.3g}: must be <= {self.tol:.1g}; "
-                "result refused"
+                f"linear solve backward error = {res:.3g}: must be <= {self.tol:.1g}; result refused"
             )
         return u, res
 
@@ -113,9 +112,7 @@ class Factorized:
         return np.asarray(u).reshape(rhs.shape)
 
 
-def backward_error(
-    matrix: sp.spmatrix, u: np.ndarray, rhs: np.ndarray, knorm: float | None = None
-) -> float:
+def backward_error(matrix: sp.spmatrix, u: np.ndarray, rhs: np.ndarray, knorm: float | None = None) -> float:
     """Largest column-wise normwise backward error ``||K u - f|| / (||K|| ||u|| + ||f||)``.
 
     Infinity norms (Rigal and Gaches 1967; Higham, *Accuracy and Stability of

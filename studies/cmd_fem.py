@@ -17,9 +17,7 @@ HELP = "one FEM bending check (mesh, solve, compare with the analytic model)"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("design", help="preset name (e.g. paper) or path to a design .toml")
-    parser.add_argument(
-        "--pressure", type=float, required=True, help="lumen pressure [MPa] (e.g. 0.1)"
-    )
+    parser.add_argument("--pressure", type=float, required=True, help="lumen pressure [MPa] (e.g. 0.1)")
     parser.add_argument(
         "--load",
         choices=("cap", "lumen"),

@@ -33,9 +33,7 @@ def quarter_annulus(r_in: float, r_out: float, size: float, length: float, layer
     tri = remap[tri6[:, :3]]
     ends = np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
     mids = np.vstack([xy[tri6[:, 3]], xy[tri6[:, 4]], xy[tri6[:, 5]]])
-    points, tets, ce, cm = extrude(
-        xy[corner], tri, np.linspace(0, length, layers + 1), None, ends, mids
-    )
+    points, tets, ce, cm = extrude(xy[corner], tri, np.linspace(0, length, layers + 1), None, ends, mids)
     tets = _orient(points, tets)
     return skfem_mesh(points, tets, ce, cm)
 
