@@ -3,7 +3,7 @@
 In one run, on the paper design:
 
 1. cold (mesh + assemble + solve, empty cache) and warm (mesh from the cache)
-   ``fem.check`` at the default mesh (0.12 mm: kappa within 1 % of its
+   ``fem.check`` at the default mesh (0.16 mm: kappa within 1 % of its
    Richardson extrapolation, tests/fem/test_fem_tip.py); targets warm <= 15 s,
    cold <= 20 s on 2 cores;
 2. our solver (PARDISO, SPD mode, factorise once) against scikit-fem's default
@@ -42,7 +42,7 @@ def _cold_warm() -> None:
         w = fem.check("paper", pressures=[0.1], loads=("cap", "lumen"))
         warm = time.perf_counter() - t
     assert w.mesh_cached and not r.mesh_cached
-    print(f"paper design, mesh 0.12 mm: {r.dofs} dofs, {r.n_elements} tets, both loads")
+    print(f"paper design, default mesh 0.16 mm: {r.dofs} dofs, {r.n_elements} tets, both loads")
     print(
         f"  cold {cold:6.1f} s (mesh {r.mesh_seconds:.1f}, assemble {r.assemble_seconds:.1f}, "
         f"solve {r.solve_seconds:.1f})   target <= 20 s  {'OK' if cold <= 20 else 'MISSED'}"
@@ -67,7 +67,7 @@ def _solver_vs_skfem() -> None:
     d = design.preset("paper")
     g = geometry_from_design(d)
     laws = laws_from_design(d)
-    m = mesh_tip(g, mesh_size=0.12)
+    m = mesh_tip(g, mesh_size=0.16)
     sk = m.skfem_mesh()
     tags = tag_facets(sk, g)
     t = time.perf_counter()
@@ -139,7 +139,7 @@ def _sizes() -> None:
     print("cost vs size (fresh process each, no cache):")
     print("   h [mm]     dofs   total [s]  mesh  assemble  solve   peak RSS [MB]   kappa/p [1/mm/MPa]")
     rows = []
-    for h in (0.16, 0.12, 0.09):
+    for h in (0.24, 0.16, 0.11):
         out = subprocess.run(
             [sys.executable, __file__, "--size", str(h)], capture_output=True, text=True,
             check=True, cwd=ROOT,

@@ -185,6 +185,9 @@ class TipGeometry:
         lab[rc2 < self.channel_outer_radius**2] = CHANNEL
         lab[rc2 < self.channel_inner_radius**2] = VOID
         lab[r2 >= self.coil_outer_radius**2] = VOID
+        if z is not None:  # outside the tip's length (a volume mesher's bounding box)
+            z = np.asarray(z, float)
+            lab[(z < 0) | (z > self.length)] = VOID
         return lab
 
     def in_lumen(self, x: np.ndarray, y: np.ndarray, margin: float) -> np.ndarray:

@@ -26,7 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", required=True, help="output folder")
     parser.add_argument(
-        "--mesh-size", type=float, default=0.12, help="section element size [mm] (default 0.12)"
+        "--mesh-size", type=float, default=0.16, help="section element size [mm] (default 0.16)"
     )
     parser.add_argument(
         "--mesher",

@@ -33,8 +33,13 @@ def test_cad_volumes_step_and_stl(tmp_path):
     for name, v in cad.items():
         assert mesh.region_volumes[name] == pytest.approx(v, rel=0.01), name
     step = export_step(d, tmp_path / "tip.step")
-    shape = cq.importers.importStep(str(step))
-    assert len(shape.solids().vals()) == 4  # coil, tube, channel, filler
+    text = step.read_text(errors="replace")
+    for name in ("coil", "tube", "channel", "filler"):  # one named solid per component
+        assert f"'{name}'" in text
+    solids = cq.importers.importStep(str(step)).solids().vals()
+    # the filler is two pockets (left and right of the tube-channel land): 5 solids
+    assert len(solids) == 5
+    assert sum(s.Volume() for s in solids) == pytest.approx(sum(cad.values()), rel=1e-6)
     import pyvista as pv
 
     stl = pv.read(str(export_stl(d, tmp_path / "tip.stl")))

@@ -46,7 +46,7 @@ def homogeneous_section(g):
 @pytest.mark.slow
 def test_homogeneous_eccentric_tube_cap_and_lumen(geometry):
     law = Isotropic(1.0, NU)
-    sol = run_tip(geometry, {k: law for k in REGIONS}, mesh_size=0.12)
+    sol = run_tip(geometry, {k: law for k in REGIONS}, mesh_size=0.16)
     area, ybar, inertia, al = homogeneous_section(geometry)
     k_eb = al * (geometry.lumen_y - ybar) / (1.0 * inertia)  # per MPa
     e_eb = al / (1.0 * area)
@@ -94,13 +94,13 @@ def test_catheter_cap_load_vs_composite_beam(geometry, paper):
         for k, v in laws.items()
     }
     k_beam, _ = composite_gains(geometry, soft)
-    sol = run_tip(geometry, soft, loads=("cap",), mesh_size=0.12)
+    sol = run_tip(geometry, soft, loads=("cap",), mesh_size=0.16)
     assert sol.fits["cap"].curvature_per_mm == pytest.approx(k_beam, rel=0.05)
 
 
 @pytest.mark.slow
 def test_paper_check_cap_and_lumen(paper):
-    r = fem.check(paper, pressures=[0.05, 0.1], loads=("cap", "lumen"), mesh_size=0.12)
+    r = fem.check(paper, pressures=[0.05, 0.1], loads=("cap", "lumen"), mesh_size=0.16)
     cap1, cap2 = r.case("cap", 0.05), r.case("cap", 0.1)
     # linear in pressure, factorised once: exact scaling
     assert cap2.curvature_per_mm == pytest.approx(2 * cap1.curvature_per_mm, rel=1e-12)
@@ -164,7 +164,7 @@ def test_bad_inputs_name_the_parameter(paper):
 @pytest.mark.slow
 def test_mesh_convergence_observed_order(paper, geometry):
     laws = laws_from_design(paper)
-    sizes = (0.16, 0.12, 0.09)  # constant ratio 4/3 (layers scale with the size)
+    sizes = (0.36, 0.24, 0.16)  # constant ratio 1.5 (layers scale with the size)
     kappa = [run_tip(geometry, laws, loads=("cap",), mesh_size=h).fits["cap"].curvature_per_mm
              for h in sizes]  # fmt: skip
     r = sizes[0] / sizes[1]
@@ -172,7 +172,10 @@ def test_mesh_convergence_observed_order(paper, geometry):
     order = np.log(abs(d1 / d2)) / np.log(r)
     extrapolated = kappa[2] + d2 / (r**order - 1)
     print(f"kappa {kappa}, observed order {order:.2f}, Richardson {extrapolated:.6g}")
-    # P2 with curved boundaries: order >= 1.5 expected (2 or more in the energy);
-    # the default mesh (0.12 mm) must be within 1 % of the extrapolation.
-    assert order > 1.5
+    # P2 with curved boundaries: order >= 2 expected for kappa (measured ~4 here,
+    # pre-asymptotic; below 0.16 mm the changes are at the 0.1 % level where two
+    # non-nested section meshes differ). The default mesh (0.16 mm) and the next
+    # coarser one must be within 1 % of the extrapolation (benchmark target).
+    assert order > 2
+    assert kappa[2] == pytest.approx(extrapolated, rel=0.01)
     assert kappa[1] == pytest.approx(extrapolated, rel=0.01)
