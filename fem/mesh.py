@@ -128,7 +128,7 @@ def mesh_tip(
     *,
     mesh_size: float = 0.04,
     mesher: str = "gmsh",
-    axial_ratio: float = 2.5,
+    axial_ratio: float = 5.0,
     use_cache: bool = True,
     cache: Path | None = None,
 ) -> TipMesh:
