@@ -45,3 +45,22 @@ def test_cad_volumes_step_and_stl(tmp_path):
     stl = pv.read(str(export_stl(d, tmp_path / "tip.stl")))
     # closed surfaces: the enclosed volume is the assembly's (2 %: chordal tessellation)
     assert stl.volume == pytest.approx(sum(cad.values()), rel=0.02)
+
+
+@pytest.mark.slow
+def test_helical_coil_option_has_the_wire_volume():
+    import math
+    from dataclasses import replace
+
+    from design.cad import build_solids
+
+    d = design.preset("paper")
+    d = replace(d, tip=replace(d.tip, bending_length=1.0, cap_thickness=0.3))
+    coil = build_solids(d, coil="helix")["coil"].val()
+    assert coil.isValid()
+    c = d.coil
+    # swept circle (0.1 % clearance) along one helix of length L/p turns
+    turns = 1.0 / c.pitch
+    wire = math.pi * (0.999 * c.wire_diameter / 2) ** 2 * math.hypot(2 * math.pi * c.mean_radius, c.pitch)
+    # 0.5 %: the sweep's end faces are cut square to the helix, not to z
+    assert coil.Volume() == pytest.approx(wire * turns, rel=0.005)
