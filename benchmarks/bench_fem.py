@@ -13,7 +13,8 @@ In one run, on the paper design:
    the peak RSS is that size's own);
 4. the two meshers side by side (gmsh extrusion vs pytetwild) on mesh time.
 
-Run: ``python benchmarks/bench_fem.py`` (``make bench``). ``--quick`` skips 3-4.
+Run: ``python benchmarks/bench_fem.py`` (``make bench``). ``--quick`` skips 3-4,
+``--only-sizes`` runs only 3-4.
 """
 
 from __future__ import annotations
@@ -129,7 +130,7 @@ def _one_size(h: float) -> None:
     total = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(json.dumps({
-        "h": h, "dofs": sol.problem.ndofs, "total": total, "mesh": sol.mesh_seconds,
+        "h": h, "dofs": int(sol.problem.ndofs), "total": total, "mesh": sol.mesh_seconds,
         "assemble": sol.assemble_seconds, "solve": sol.solve_seconds, "peak_mb": peak,
         "kappa": sol.fits["cap"].curvature_per_mm,
     }))  # fmt: skip
@@ -187,8 +188,9 @@ def main(argv: list[str]) -> int:
     if "--size" in argv:
         _one_size(float(argv[argv.index("--size") + 1]))
         return 0
-    _cold_warm()
-    _solver_vs_skfem()
+    if "--only-sizes" not in argv:
+        _cold_warm()
+        _solver_vs_skfem()
     if "--quick" not in argv:
         _sizes()
         _meshers()
