@@ -121,7 +121,7 @@ def _one_size(h: float) -> None:
 
     import design
     from fem.adapter import geometry_from_design, laws_from_design
-    from fem.check import run_tip
+    from fem.pipeline import run_tip
 
     d = design.preset("paper")
     t = time.perf_counter()

@@ -12,6 +12,6 @@ imported inside the functions that need them.
 from __future__ import annotations
 
 from fem.api import FemCase, FemResult, check
-from fem.check import LOADS
+from fem.pipeline import LOADS
 
 __all__ = ["FemCase", "FemResult", "LOADS", "check"]

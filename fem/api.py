@@ -15,7 +15,7 @@ import numpy as np
 
 from design.errors import DesignError
 from fem.adapter import geometry_from_design, laws_from_design
-from fem.check import LOADS, TipSolution, run_tip
+from fem.pipeline import LOADS, TipSolution, run_tip
 from fem.post import tip_pose
 
 __all__ = ["FemCase", "FemResult", "check"]

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.check import TipSolution
+from fem.pipeline import TipSolution
 from fem.section import REGIONS
 
 __all__ = ["to_grid", "write_vtu", "render_png"]

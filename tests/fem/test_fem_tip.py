@@ -11,8 +11,8 @@ import analytic
 import design
 import fem
 from fem.adapter import geometry_from_design, laws_from_design
-from fem.check import axial_modulus, run_tip
 from fem.materials import Isotropic
+from fem.pipeline import axial_modulus, run_tip
 from fem.section import REGIONS
 
 NU = 0.3
