@@ -127,8 +127,8 @@ def check(
         (the paper's model), ``lumen`` the lumen wall and the cap (the real load).
     mesh_size
         Section element size, mm (default 0.16: for the paper design the cap
-        curvature is within 0.05 % of its Richardson extrapolation, the lumen
-        curvature and elongation within 0.3 % of a 0.12 mm mesh; docs/fem.md).
+        curvature is within 0.07 % of its Richardson extrapolation, the lumen
+        curvature and elongation within 0.2 % of a 0.12 mm mesh; docs/fem.md).
     mesher
         ``"gmsh"`` (default, seconds) or ``"tetwild"`` (pytetwild, minutes).
     axial_ratio

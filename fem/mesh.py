@@ -49,7 +49,7 @@ _RECIPE = "fem-mesh-v2"
 VOLUME_TOL = 0.01
 #: Curvature sizing of the section mesh (elements per full turn of a boundary).
 #: With the midside nodes on the exact curves the faceting error is O(theta^4),
-#: so 16 segments keep region volumes within 0.1 % (tests/fem/test_mesh.py).
+#: so 16 segments keep region volumes within 0.02 % (tests/fem/test_fem_mesh.py).
 _SEGMENTS_PER_TURN = 16
 
 
