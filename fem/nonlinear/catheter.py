@@ -36,7 +36,7 @@ import numpy as np
 
 from fem.nonlinear.errors import NonlinearError
 
-__all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws"]
+__all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
 log = logging.getLogger(__name__)
 
@@ -282,3 +282,24 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
     if design.filler is not None:
         laws[REGIONS["filler"]] = silicone(design.filler)
     return laws
+
+
+def from_tip_mesh(tip_mesh) -> CatheterMesh:
+    """A :class:`CatheterMesh` from the linear FEM's ``fem.mesh.TipMesh`` (same labels 1–4, its facet tags).
+
+    Lets the finite-strain solver run on exactly the mesh of the linear check
+    (quadratic ``MeshTet2`` with curved boundary edges when the mesher made them).
+    """
+    from fem.tags import tag_facets
+
+    mesh = tip_mesh.skfem_mesh()
+    tags = tag_facets(mesh, tip_mesh.geometry)
+    lumen = np.union1d(tags["lumen"], tags["cap"])
+    if lumen.size == 0 or tags["cap"].size == 0 or tags["base"].size == 0:
+        raise NonlinearError("tip mesh: no base, lumen or cap facets tagged")
+    labels = np.asarray(tip_mesh.labels)
+    unknown = sorted(set(np.unique(labels).tolist()) - set(REGIONS.values()))
+    if unknown:
+        raise NonlinearError(f"tip mesh labels {unknown}: not coil/tube/channel/filler (1-4)")
+    return CatheterMesh(mesh=mesh, labels=labels, base_facets=tags["base"], lumen_facets=lumen,
+                        cap_facets=tags["cap"], length=float(tip_mesh.geometry.length))

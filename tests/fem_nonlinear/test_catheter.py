@@ -158,3 +158,16 @@ def test_cli_arguments_share_options_the_fem_command_already_has():
     add_cli_arguments(p)  # must not clash with the existing --pressure
     args = p.parse_args(["paper", "--nonlinear", "--pressure", "0.2", "0.4", "--steps", "3"])
     assert args.nonlinear and args.pressure == [0.2, 0.4] and args.steps == 3 and args.load == "lumen"
+
+
+@pytest.mark.slow
+def test_runs_on_the_linear_fem_mesh(paper):
+    # the linear check's own mesher (quadratic MeshTet2, curved edges) plugs in through from_tip_mesh
+    from fem.adapter import geometry_from_design
+    from fem.mesh import mesh_tip
+    from fem.nonlinear.catheter import from_tip_mesh
+
+    cm = from_tip_mesh(mesh_tip(geometry_from_design(paper), mesh_size=0.16, use_cache=False))
+    c = bend_curve(paper, [0.001], load="cap", mesh=cm)
+    # small-load equality (measured 0.15 % at 1 kPa, the follower arm's 1.5 p/MPa)
+    assert c.bend_angle[0] == pytest.approx(c.linear_bend_angle[0], rel=5e-3)
