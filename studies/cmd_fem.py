@@ -42,9 +42,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-cache", action="store_true", help="do not read/write the mesh cache")
     parser.add_argument("--no-png", action="store_true", help="skip the PNG rendering")
+    from fem.nonlinear import add_cli_arguments  # --nonlinear, --steps, --mixed, --compare-linear
+
+    add_cli_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
+    if getattr(args, "nonlinear", False):
+        from fem.nonlinear import run_cli
+
+        return run_cli(args, echo=print)
     import fem
     from fem.export import render_png, write_vtu
 

@@ -222,7 +222,7 @@ def mesh_catheter(
         return lab
 
     points, tets, labels = _extrude(pts2, tri, cls, z, keep)
-    mesh = MeshTet(points.T, tets.T)
+    mesh = MeshTet(np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T))
     bfac = mesh.boundary_facets()
     fc = mesh.p[:, mesh.facets[:, bfac]].mean(axis=1)
     s = design.section
