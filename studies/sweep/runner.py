@@ -193,7 +193,12 @@ def run_sweep(
     designs = pd.DataFrame(variants) if spec.parameters else pd.DataFrame(index=range(len(variants)))
     designs.insert(0, "design_id", range(len(variants)))
     tasks = build_tasks(spec, variants)
-    manifest = {"spec": spec.to_json(), "n_designs": len(variants), "n_tasks": len(tasks)}
+    manifest = {
+        "spec": spec.to_json(),
+        "base_table": spec.base_table,
+        "n_designs": len(variants),
+        "n_tasks": len(tasks),
+    }
     store.prepare(manifest, designs)
     done = store.finished()
     pending = [t for t in tasks if t["task_id"] not in done]
