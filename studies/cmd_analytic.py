@@ -1,0 +1,70 @@
+"""Curvature, elongation and tip pose of a design over a pressure range (the paper's model)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from pathlib import Path
+
+HELP = "curvature, elongation, tip pose over a pressure range"
+
+
+def parse_range(text: str):
+    """START:STOP:N → numpy array (N ≥ 2 points, inclusive)."""
+    import numpy as np
+
+    from design.errors import DataError
+
+    parts = text.split(":")
+    try:
+        if len(parts) == 1:
+            return np.array([float(parts[0])])
+        start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise DataError(
+            f"--pressure {text!r}: expected START:STOP:N (MPa, MPa, count) or one value"
+        ) from None
+    if n < 2 or n > 1_000_000:
+        raise DataError(f"--pressure count N = {n}: must be in [2, 1000000]")
+    if not (np.isfinite(start) and np.isfinite(stop)):
+        raise DataError(f"--pressure {text!r}: bounds must be finite")
+    return np.linspace(start, stop, n)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
+    p.add_argument("--pressure", default="0:3:31", help="START:STOP:N in MPa (default 0:3:31)")
+    p.add_argument(
+        "--load", choices=("cap", "lumen"), default="cap", help="load model (default: cap, the paper's)"
+    )
+    p.add_argument("--out", type=Path, required=True, help="output directory")
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    import analytic
+    import design
+    from studies.plots import analytic_plot
+
+    d = design.resolve(args.design)
+    p = parse_range(args.pressure)
+    r = analytic.response(d, p, load=args.load)
+    args.out.mkdir(parents=True, exist_ok=True)
+    path = args.out / "analytic.csv"
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
+        )
+        for row in zip(r.pressure, r.curvature, r.elongation, r.bend_angle, r.tip_x, r.tip_y, strict=True):
+            w.writerow([f"{v:.10g}" for v in row])
+    analytic_plot(args.out / "analytic.png", r, title=f"{d.name}: analytic model ({args.load} load)")
+    i = int(np.argmax(np.abs(p)))
+    print(
+        f"{d.name}: {p.size} pressures {p.min():g}..{p.max():g} MPa ({args.load} load); at {p[i]:g} MPa: "
+        f"curvature {r.curvature[i]:.4g} 1/mm, bend {np.degrees(r.bend_angle[i]):.1f} deg, "
+        f"tip ({r.tip_x[i]:.3f}, {r.tip_y[i]:.3f}) mm"
+    )
+    print(f"wrote {path} and {args.out / 'analytic.png'}")
+    return 0

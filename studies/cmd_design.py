@@ -1,0 +1,84 @@
+"""Show, validate or export a catheter-tip design (a preset name or a TOML path)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+HELP = "show / validate / export (STEP, STL) a design"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    sub = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    show = sub.add_parser("show", help="print a design, its as-assembled section and stiffness")
+    show.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
+    show.add_argument("--toml", action="store_true", help="print the design as TOML instead")
+    show.add_argument("--out", type=Path, help="also write section.png and design.json here")
+    val = sub.add_parser("validate", help="check a design file; exit non-zero with the reason if impossible")
+    val.add_argument("design")
+    exp = sub.add_parser("export", help="write CAD solids (STEP: one solid per component; STL: the assembly)")
+    exp.add_argument("design")
+    exp.add_argument("--step", type=Path, help="STEP output path")
+    exp.add_argument("--stl", type=Path, help="STL output path")
+
+
+def run(args: argparse.Namespace) -> int:
+    import design
+    from analytic import composite_section, gains
+
+    d = design.resolve(args.design)
+    if args.action == "validate":
+        print(f"{args.design}: valid design '{d.name}'")
+        print(d.fit_report())
+        return 0
+    if args.action == "export":
+        if not (args.step or args.stl):
+            raise design.DesignError("export", None, "give --step PATH and/or --stl PATH")
+        from design import cad  # CadQuery: lazily, only for export
+
+        if args.step:
+            cad.export_step(d, args.step)
+            print(f"wrote {args.step}")
+        if args.stl:
+            cad.export_stl(d, args.stl)
+            print(f"wrote {args.stl}")
+        return 0
+    if args.toml:
+        print(design.dumps(d), end="")
+        return 0
+    cs = composite_section(d)
+    kc, ec = gains(d, "cap")
+    kl, el = gains(d, "lumen")
+    coil, chan = design.coil_stiffness(d.coil), design.coil_stiffness(d.channel)
+    print(f"design '{d.name}'  (lengths mm, moduli MPa)")
+    print(d.fit_report())
+    print(
+        f"coil: OD {d.coil.outer_diameter:g} ID {d.coil.inner_diameter:g} wire {d.coil.wire_diameter:g} "
+        f"pitch {d.coil.pitch:g}; E_tension {coil.axial_modulus_tension:.4g}, E_compression "
+        f"{coil.axial_modulus_compression:.4g}, EI {coil.bending_stiffness:.4g} N mm^2"
+    )
+    print(
+        f"channel: OD {d.channel.outer_diameter:g} ID {d.channel.inner_diameter:g}; E_tension "
+        f"{chan.axial_modulus_tension:.4g}, EI {chan.bending_stiffness:.4g} N mm^2"
+    )
+    print(f"filler: {d.filler.name if d.filler else 'void'};  tip L0 = {d.tip.bending_length:g} mm")
+    print(
+        f"composite: EA {cs.EA:.4g} N, EI {cs.EI:.4g} N mm^2, neutral axis y {cs.neutral_axis_y:.4g}, "
+        f"pressure centre y {cs.pressure_centre_y:.4g}, A_p {cs.pressure_area:.4g} mm^2"
+    )
+    print(f"gains (cap load): {kc:.4g} 1/(mm MPa), {ec:.4g} 1/MPa;  (lumen load): {kl:.4g}, {el:.4g}")
+    if args.out:
+        from studies.plots import section_plot
+
+        args.out.mkdir(parents=True, exist_ok=True)
+        section_plot(args.out / "section.png", d)
+        doc = {
+            "name": d.name,
+            "section_mm": d.section.__dict__ | {"lumen_center_y": d.section.lumen_center_y},
+            "composite": {k: v for k, v in composite_section(d).__dict__.items()},
+            "gains": {"cap": [kc, ec], "lumen": [kl, el]},
+        }
+        (args.out / "design.json").write_text(json.dumps(doc, indent=2, default=float))
+        print(f"wrote {args.out / 'section.png'} and {args.out / 'design.json'}")
+    return 0
