@@ -116,7 +116,8 @@ def _serial(tasks):
 def _pool(tasks, workers: int):
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    pool = ProcessPoolExecutor(max_workers=workers)
+    try:
         futures = {pool.submit(evaluate_task, t): t for t in tasks}
         for fut in as_completed(futures):
             task = futures[fut]
@@ -124,6 +125,9 @@ def _pool(tasks, workers: int):
                 yield task, fut.result()
             except Exception as exc:
                 yield task, _failed_frame(task, exc)
+    finally:
+        # On Ctrl-C or an error, do not start the queued tasks: finished ones are on disk already.
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _dask(tasks, client):
@@ -239,6 +243,7 @@ def run_sweep(
             bar.set_postfix(failed=failed_now, refresh=False)
     finally:
         bar.close()
+        results.close()  # stops the backend generator (cancels queued work) if the loop ended early
         if client is not None:
             client.close()
         if cluster is not None:

@@ -146,6 +146,53 @@ def test_dask_local_cluster_equals_local_pool(small_spec, tmp_path):
 
 
 @pytest.mark.slow
+def test_existing_scheduler_address(small_spec, tmp_path):
+    """--scheduler tcp://...: a real scheduler on loopback, started outside the sweep, as on a cluster."""
+    from distributed import LocalCluster
+
+    spec = load_spec(small_spec)
+    serial = run_sweep(spec, tmp_path / "serial", workers=1, progress=False)
+    with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster:
+        remote = run_sweep(spec, tmp_path / "remote", scheduler=cluster.scheduler_address, progress=False)
+    assert remote.backend.startswith("dask(tcp://127.0.0.1:")
+    pd.testing.assert_frame_equal(
+        _values(pd.read_parquet(serial.results_parquet)), _values(pd.read_parquet(remote.results_parquet))
+    )
+
+
+@pytest.mark.slow
+def test_fem_evaluator_on_a_tiny_case(spec_writer, tmp_path):
+    """The FEM adapter end to end: one coarse design, both loads, next to the analytic model."""
+    if fem_check_function() is None:
+        pytest.skip("fem evaluator unavailable (fem.check not importable in this build)")
+    spec = load_spec(
+        spec_writer(
+            """
+            [sweep]
+            pressures_MPa = [0.5, 1.0]
+            loads = ["cap", "lumen"]
+            evaluators = ["analytic", "fem"]
+            [sweep.fem]
+            mesh_size = 0.08
+            """
+        )
+    )
+    s = run_sweep(spec, tmp_path / "o", workers=1, progress=False)
+    df = pd.read_parquet(s.results_parquet)
+    assert (df.status == "ok").all(), df.reason.unique()
+    assert (df.source == "fem").all() and np.isfinite(df.curvature_fem_per_mm).all()
+    rel = (df.curvature_fem_per_mm - df.curvature_analytic_per_mm) / df.curvature_analytic_per_mm.abs()
+    np.testing.assert_allclose(df.rel_diff_curvature, rel, rtol=1e-12)
+    # Linear FEM: curvature doubles with pressure (to solver tolerance, 1e-6 relative).
+    for load, g in df.groupby("load"):
+        k = g.sort_values("pressure_MPa").curvature_fem_per_mm.to_numpy()
+        assert k[1] == pytest.approx(2 * k[0], rel=1e-6), load
+    # Under the paper's cap load the FEM bends the same way as the formula (toward the channel).
+    cap = df[df.load == "cap"]
+    assert (np.sign(cap.curvature_fem_per_mm) == np.sign(cap.curvature_analytic_per_mm)).all()
+
+
+@pytest.mark.slow
 def test_sigkill_midway_resumes_without_recomputation(spec_writer, tmp_path):
     """Kill a sweep subprocess with SIGKILL mid-run; the rerun evaluates only the unfinished designs."""
     import dataclasses
