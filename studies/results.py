@@ -101,6 +101,8 @@ def add_derived_columns(df, *, max_strain: float, p_max: float):
 
 def write_results(df, out_dir: str | Path) -> tuple[Path, Path]:
     """Write ``results.parquet`` and ``results.csv`` (each atomically) and ``columns.json`` (units)."""
+    from concurrent.futures import ThreadPoolExecutor
+
     import pyarrow as pa
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
@@ -108,29 +110,39 @@ def write_results(df, out_dir: str | Path) -> tuple[Path, Path]:
     out = Path(out_dir)
     table = pa.Table.from_pandas(_stringify_objects(df), preserve_index=False)
     pq_path, csv_path = out / "results.parquet", out / "results.csv"
-    tmp = out / ".results.parquet.tmp"
-    pq.write_table(table, tmp)
-    os.replace(tmp, pq_path)
-    tmp = out / ".results.csv.tmp"
-    pacsv.write_csv(table, tmp)
-    os.replace(tmp, csv_path)
+
+    def atomic(writer, path: Path) -> None:
+        tmp = out / f".{path.name}.tmp"
+        writer(table, tmp)
+        os.replace(tmp, path)
+
+    # Both writers release the GIL: write the two files at once.
+    with ThreadPoolExecutor(2) as pool:
+        jobs = [pool.submit(atomic, pq.write_table, pq_path), pool.submit(atomic, pacsv.write_csv, csv_path)]
+        for job in jobs:
+            job.result()
     units = {c: COLUMN_UNITS.get(c, "see the design file (mm, MPa)") for c in df.columns}
     (out / "columns.json").write_text(json.dumps(units, indent=1), encoding="utf-8")
     return csv_path, pq_path
+
+
+_TEXT_COLUMNS = ("load", "status", "reason", "source")
 
 
 def _stringify_objects(df):
     """Object columns (swept values may mix numbers and names) become numbers if they all are, else text."""
     import pandas as pd
 
-    df = df.copy()
-    for c in df.columns:
-        if df[c].dtype == object and c not in ("load", "status", "reason", "source"):
-            num = pd.to_numeric(df[c], errors="coerce")
-            if num.notna().sum() == df[c].notna().sum():
-                df[c] = num
-            else:
-                df[c] = df[c].astype(str)
+    todo = [c for c in df.columns if df[c].dtype == object and c not in _TEXT_COLUMNS]
+    if not todo:
+        return df
+    df = df.copy(deep=False)
+    for c in todo:
+        num = pd.to_numeric(df[c], errors="coerce")
+        if num.notna().sum() == df[c].notna().sum():
+            df[c] = num
+        else:
+            df[c] = df[c].astype(str)
     return df
 
 

@@ -91,13 +91,20 @@ class SweepStore:
     def read_all(self):
         """All finished task rows as one DataFrame, ordered by design, load, pressure."""
         import pandas as pd
+        import pyarrow as pa
         import pyarrow.parquet as pq
 
         files = sorted(self.tasks_dir.glob("t*.parquet"))
         if not files:
             raise DataError(f"{self.root}: no finished designs")
-        frames = [pq.read_table(f).to_pandas() for f in files]
-        df = pd.concat(frames, ignore_index=True)
+        tables = [pq.read_table(f) for f in files]
+        try:
+            df = pa.concat_tables(tables, promote_options="permissive").to_pandas()
+        except (
+            pa.ArrowInvalid,
+            pa.ArrowTypeError,
+        ):  # e.g. a swept column numeric in one task, text in another
+            df = pd.concat([t.to_pandas() for t in tables], ignore_index=True)
         return df.sort_values(["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True)
 
     @staticmethod
