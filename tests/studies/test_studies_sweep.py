@@ -265,3 +265,39 @@ def test_sigkill_midway_resumes_without_recomputation(spec_writer, tmp_path):
     (task,) = build_tasks(dataclasses.replace(spec, chunk_size=n), expand(spec))
     fresh = add_derived_columns(evaluate_task(task), max_strain=spec.max_strain, p_max=spec.p_max)
     pd.testing.assert_frame_equal(_values(df), _values(fresh), check_dtype=False)
+
+
+def test_material_paths_scale_exactly(spec_writer, tmp_path):
+    """Doubling every modulus halves κ and ε exactly (κ = p A_p e/ΣEI, ε = p A_p/ΣEA; ȳ is unchanged)."""
+    spec = load_spec(
+        spec_writer(
+            """
+            [sweep]
+            pressures_MPa = [1.0]
+            loads = ["cap"]
+            [parameters]
+            "materials.stainless_steel.youngs_modulus" = { values = [193000.0, 386000.0] }
+            "materials.medical_silicone.youngs_modulus" = { values = [2.46, 4.92] }
+            "materials.ecoflex_00_30.youngs_modulus" = { values = [0.102, 0.204] }
+            "filler.material" = { values = ["ecoflex_00_30", "none"] }
+            """
+        )
+    )
+    s = run_sweep(spec, tmp_path / "o", workers=1, progress=False)
+    df = pd.read_csv(s.results_csv)
+    assert s.ok_designs == 16 and set(df["filler.material"]) == {"ecoflex_00_30", "none"}
+    for filler in ("ecoflex_00_30", "none"):
+        g = df[df["filler.material"] == filler]
+        lo = g[g["materials.stainless_steel.youngs_modulus"] == 193000.0].iloc[0]
+        hi = g[g["materials.stainless_steel.youngs_modulus"] == 386000.0].iloc[-1]
+        assert hi["materials.medical_silicone.youngs_modulus"] == 4.92
+        assert hi["materials.ecoflex_00_30.youngs_modulus"] == 0.204
+        # rounding only: the same sums with every term doubled
+        assert hi.curvature_analytic_per_mm == pytest.approx(lo.curvature_analytic_per_mm / 2, rel=1e-12)
+        assert hi.elongation_analytic == pytest.approx(lo.elongation_analytic / 2, rel=1e-12)
+    # a void filler makes the section softer: more elongation at the same pressure
+    base = df[(df["materials.stainless_steel.youngs_modulus"] == 193000.0)
+              & (df["materials.medical_silicone.youngs_modulus"] == 2.46)
+              & (df["materials.ecoflex_00_30.youngs_modulus"] == 0.102)]  # fmt: skip
+    void, filled = (base[base["filler.material"] == f].iloc[0] for f in ("none", "ecoflex_00_30"))
+    assert void.elongation_analytic > filled.elongation_analytic
