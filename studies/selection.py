@@ -57,6 +57,7 @@ _COMPARE = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "=="
 _BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
 _FUNCS = {"abs": np.abs}
 _AT = re.compile(r"^(?P<expr>.*?)\s+at\s+(?P<where>p_max|p_min|p\s*=\s*[-+0-9.eE]+)\s*$")
+MAX_POINTS = 5000
 _DIRECTIONS = {"maximise": -1.0, "maximize": -1.0, "max": -1.0, "minimise": 1.0, "minimize": 1.0, "min": 1.0}
 
 
@@ -317,6 +318,9 @@ class Selection:
         Feasible designs, best first: ``design_id``, ``rank``, ``pareto``, ``objectives``, ``parameters``.
     pareto_front
         Design ids on the Pareto front.
+    points
+        ``[design_id, pareto (0/1), objective values...]`` of up to :data:`MAX_POINTS`
+        feasible designs (the report's Pareto plot).
     """
 
     load: str
@@ -327,6 +331,7 @@ class Selection:
     rejected: dict[str, int]
     ranked: list[dict] = field(default_factory=list)
     pareto_front: list[int] = field(default_factory=list)
+    points: list[list[float]] = field(default_factory=list)
 
     def to_json(self) -> dict:
         return {
@@ -338,6 +343,7 @@ class Selection:
             "rejected": self.rejected,
             "pareto_front": self.pareto_front,
             "ranked": self.ranked,
+            "points": self.points,
         }
 
 
@@ -422,7 +428,13 @@ def select(
                 "parameters": {p: _jsonable(first.at[did, p]) for p in parameters if p in first.columns},
             }
         )
+    keep = order[:MAX_POINTS]
+    points = [
+        [int(feasible[k]), int(on_front[k]), *(float(obj_vals[o.text][feasible[k]]) for o in objs)]
+        for k in keep
+    ]
     return Selection(
+        points=points,
         load=load,
         constraints=tuple(constraints),
         objectives=tuple(objectives),

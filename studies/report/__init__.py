@@ -45,7 +45,7 @@ def design_of(sweep_dir: str | Path, design_id: int):
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
-def _selection_html(sweep_dir: Path) -> str:
+def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
     path = sweep_dir / "selection.json"
     if not path.is_file():
         return note(
@@ -61,6 +61,10 @@ def _selection_html(sweep_dir: Path) -> str:
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
         f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
     )
+    if fig_dir is not None:
+        ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
+        if ppath:
+            out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
     if sel["ranked"]:
         params = list(sel["ranked"][0]["parameters"])
         header = ["rank", "design", "Pareto", *sel["objectives"], *params]
@@ -154,7 +158,7 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     else:
         body = "<p class='ok'>No failed designs.</p>"
     sections.append(("Failed designs", body))
-    sections.append(("Selection", _selection_html(sweep_dir)))
+    sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
     return sections
 
 

@@ -14,6 +14,7 @@ __all__ = [
     "sensitivity",
     "render_design",
     "failed_summary",
+    "pareto_plot",
 ]
 
 log = logging.getLogger(__name__)
@@ -248,3 +249,33 @@ def failed_summary(df) -> list[tuple[str, int, str]]:
             (str(reason), len(ids), ", ".join(str(i) for i in ids[:8]) + (" …" if len(ids) > 8 else ""))
         )
     return sorted(out, key=lambda t: -t[1])
+
+
+def pareto_plot(selection: dict, path: Path) -> Path | None:
+    """Feasible designs in the plane of the first two objectives, the Pareto front highlighted."""
+    pts = np.asarray(selection.get("points") or [], dtype=float)
+    objs = selection.get("objectives", [])
+    if len(objs) < 2 or pts.size == 0:
+        return None
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    front = pts[:, 1] > 0
+    ax.scatter(pts[~front, 2], pts[~front, 3], s=14, color="0.6", label="feasible")
+    f = pts[front]
+    f = f[np.argsort(f[:, 2])]
+    ax.plot(f[:, 2], f[:, 3], "o-", color="tab:red", ms=5, label="Pareto front")
+    best = pts[0]
+    ax.scatter(
+        [best[2]],
+        [best[3]],
+        s=160,
+        facecolors="none",
+        edgecolors="k",
+        label=f"rank 1 (design {int(best[0])})",
+    )
+    ax.set_xlabel(objs[0])
+    ax.set_ylabel(objs[1])
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"Selection ({selection.get('load')} load)")
+    return _save(fig, path)

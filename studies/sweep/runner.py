@@ -113,10 +113,18 @@ def _serial(tasks):
             yield task, _failed_frame(task, exc)
 
 
+def _single_threaded_worker() -> None:
+    """One BLAS/MKL thread per worker process (as Dask's nanny does): N workers use N cores, not N²."""
+    import os
+
+    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
+
+
 def _pool(tasks, workers: int):
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    pool = ProcessPoolExecutor(max_workers=workers)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
     try:
         futures = {pool.submit(evaluate_task, t): t for t in tasks}
         for fut in as_completed(futures):

@@ -18,27 +18,24 @@ def _images(html: str) -> list[str]:
 def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
-    assert main(["report", str(out)]) == 0
-    html = (out / "report" / "index.html").read_text()
-    assert "No selection yet" in html
-    assert (
-        main(
-            [
-                "select",
-                str(out),
-                "--constraint",
-                "max_strain <= 0.3",
-                "--objective",
-                "maximise bend_per_MPa_deg",
-            ]
-        )
-        == 0
-    )
+    from studies.report import _selection_html
+
+    assert "No selection yet" in _selection_html(out)
+    select = [
+        "select",
+        str(out),
+        "--constraint",
+        "max_strain <= 0.3",
+        "--objective",
+        "maximise bend_per_MPa_deg",
+    ]
+    assert main([*select, "--objective", "minimise elongation at p_max"]) == 0
     assert main(["report", str(out)]) == 0
     html = (out / "report" / "index.html").read_text()
     images = _images(html)
-    # error/response vs parameters, heat map (2 factorial parameters), sensitivity, two renders
-    assert {"vs_parameters.png", "heatmap.png", "sensitivity.png"} <= set(images) and len(images) == 5
+    # error/response vs parameters, heat map (2 factorial parameters), sensitivity, two renders, Pareto plot
+    assert {"vs_parameters.png", "heatmap.png", "sensitivity.png", "pareto.png"} <= set(images)
+    assert len(images) == 6
     for name in images:
         data = (out / "report" / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000  # a real, non-empty PNG

@@ -86,6 +86,9 @@ def test_constraints_and_ranking_by_hand():
     assert [r["design_id"] for r in sel.ranked] == [2, 0, 1]
     assert sel.ranked[0]["objectives"]["minimise elongation"] == pytest.approx(0.02)
     assert sel.ranked[0]["parameters"]["tube.h"] == pytest.approx(0.02)
+    # points for the report's Pareto plot: [id, on front, objective values as defined (not negated)]
+    assert sel.points == [[2, 1, 120.0, pytest.approx(0.02)], [0, 1, 40.0, pytest.approx(0.01)],
+                          [1, 0, 100.0, pytest.approx(0.03)]]  # fmt: skip
 
 
 def test_pareto_front_against_brute_force():
