@@ -40,5 +40,7 @@ def run(args: argparse.Namespace) -> int:
         f"evaluated {s.evaluated_designs} designs, {s.skipped_tasks} of {s.n_tasks} tasks already done; "
         f"{s.seconds:.1f} s"
     )
+    if s.lost_tasks:
+        print(f"{s.lost_tasks} tasks were lost to worker crashes: run the same command again to retry them")
     print(f"results: {s.results_csv} and {s.results_parquet.name}")
     return 0

@@ -138,7 +138,12 @@ def evaluate_task(task: dict) -> pd.DataFrame:
     loads = tuple(task["loads"])
     ids = list(task["design_ids"])
     designs, reasons = [], []
+    forced = task.get("fail_reason")  # set by the runner when a task crashed: rows without evaluation
     for did, variant in zip(ids, task["variants"], strict=True):
+        if forced:
+            designs.append(None)
+            reasons.append(forced)
+            continue
         try:
             designs.append(builder.build(variant, name=f"design {did}"))
             reasons.append("")

@@ -56,6 +56,8 @@ class SweepSummary:
         Wall time of this run [s].
     results_csv, results_parquet
         The merged tables.
+    lost_tasks
+        Tasks whose worker crashed (not saved; a rerun retries them).
     """
 
     out_dir: Path
@@ -70,6 +72,7 @@ class SweepSummary:
     seconds: float
     results_csv: Path
     results_parquet: Path
+    lost_tasks: int = 0
 
 
 def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
@@ -96,10 +99,26 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
     return tasks
 
 
+# Failures of the machinery, not of the design: the task is not saved, so a rerun retries it.
+_INFRASTRUCTURE = {"BrokenProcessPool", "KilledWorker", "CancelledError", "CommClosedError", "TimeoutError"}
+
+
+def _outcome(task: dict, exc: BaseException):
+    if type(exc).__name__ in _INFRASTRUCTURE:
+        log.warning("sweep task %s lost (%s: %s); it will be retried on the next run", task["task_id"],
+                    type(exc).__name__, exc)  # fmt: skip
+        return task, None
+    return task, _failed_frame(task, exc)
+
+
 def _failed_frame(task: dict, exc: BaseException):
     """Rows of a task whose evaluation raised: analytic values kept, status failed with the reason."""
-    frame = evaluate_task(dict(task, evaluators=["analytic"]))
     reason = f"task failed: {type(exc).__name__}: {exc}"
+    log.warning("sweep task %s failed: %s", task["task_id"], reason)
+    try:
+        frame = evaluate_task(dict(task, evaluators=["analytic"]))
+    except Exception:  # even the analytic path fails: rows with the reason and no values
+        return evaluate_task(dict(task, fail_reason=reason))
     frame["status"] = "failed"
     frame["reason"] = [r or reason for r in frame["reason"]]
     return frame
@@ -132,7 +151,7 @@ def _pool(tasks, workers: int):
             try:
                 yield task, fut.result()
             except Exception as exc:
-                yield task, _failed_frame(task, exc)
+                yield _outcome(task, exc)
     finally:
         # On Ctrl-C or an error, do not start the queued tasks: finished ones are on disk already.
         pool.shutdown(wait=True, cancel_futures=True)
@@ -149,7 +168,7 @@ def _dask(tasks, client):
         try:
             yield task, fut.result()
         except Exception as exc:
-            yield task, _failed_frame(task, exc)
+            yield _outcome(task, exc)
 
 
 def _check_options(workers, dask_local, scheduler) -> None:
@@ -236,13 +255,16 @@ def run_sweep(
         backend = "serial" if n == 1 else f"processes({n})"
         results = _serial(pending) if n == 1 else _pool(pending, n)
 
-    evaluated_designs = failed_now = 0
+    evaluated_designs = failed_now = lost = 0
     bar = tqdm(
         total=len(variants), initial=skipped_designs, unit="design", desc=f"sweep {spec.name}",
         disable=not progress, dynamic_ncols=True,
     )  # fmt: skip
     try:
         for task, frame in results:
+            if frame is None:
+                lost += 1
+                continue
             store.write_task(task["task_id"], frame, run_id=run_id)
             n_d = len(task["design_ids"])
             failed_now += int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
@@ -257,6 +279,8 @@ def run_sweep(
         if cluster is not None:
             cluster.close()
 
+    if lost:
+        log.warning("%d tasks were lost to worker crashes; run the same command again to retry them", lost)
     df = store.read_all()
     # Derived columns are recomputed on the merged table (cheap) so files from any run agree.
     df = add_derived_columns(df, max_strain=spec.max_strain, p_max=spec.p_max)
@@ -268,7 +292,8 @@ def run_sweep(
         n_designs=len(variants),
         n_tasks=len(tasks),
         skipped_tasks=len(tasks) - len(pending),
-        evaluated_tasks=len(pending),
+        evaluated_tasks=len(pending) - lost,
+        lost_tasks=lost,
         evaluated_designs=evaluated_designs,
         ok_designs=int((per_design["status"] == "ok").sum()),
         failed_designs=int((per_design["status"] == "failed").sum()),

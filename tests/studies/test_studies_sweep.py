@@ -301,3 +301,61 @@ def test_material_paths_scale_exactly(spec_writer, tmp_path):
               & (df["materials.ecoflex_00_30.youngs_modulus"] == 0.102)]  # fmt: skip
     void, filled = (base[base["filler.material"] == f].iloc[0] for f in ("none", "ecoflex_00_30"))
     assert void.elongation_analytic > filled.elongation_analytic
+
+
+def test_failed_task_rows_keep_analytic_values(small_spec):
+    from studies.sweep.runner import _failed_frame
+
+    spec = load_spec(small_spec)
+    task = build_tasks(spec, expand(spec))[0]
+    frame = _failed_frame(task, RuntimeError("mesher crashed"))
+    assert (frame.status == "failed").all()
+    ok_rows = frame[~frame.reason.str.startswith("invalid design")]
+    assert (ok_rows.reason == "task failed: RuntimeError: mesher crashed").all()
+    assert np.isfinite(ok_rows.curvature_analytic_per_mm).all()
+    bare = evaluate_task(dict(task, fail_reason="task failed: X"))
+    assert (bare.reason == "task failed: X").all() and bare.curvature_analytic_per_mm.isna().all()
+
+
+@pytest.mark.slow
+def test_killed_worker_loses_only_unsaved_tasks(spec_writer, tmp_path):
+    """SIGKILL one pool worker mid-sweep: saved tasks stay, lost ones are not saved, a rerun completes."""
+    import multiprocessing
+    import os
+    import signal
+    import threading
+    import time
+
+    n = 150
+    spec = load_spec(
+        spec_writer(
+            f"""
+            [sweep]
+            pressures_MPa = [1.0]
+            loads = ["cap"]
+            chunk_size = 1
+            [sample]
+            n = {n}
+            [parameters]
+            "tube.h" = {{ lhs = [-0.04, 0.04] }}
+            """
+        )
+    )
+    out = tmp_path / "o"
+    result = {}
+    thread = threading.Thread(target=lambda: result.update(s=run_sweep(spec, out, workers=2, progress=False)))
+    thread.start()
+    store = SweepStore(out)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not (store.tasks_dir.is_dir() and len(store.finished()) >= 5):
+        time.sleep(0.005)
+    workers = multiprocessing.active_children()
+    assert workers and thread.is_alive()
+    os.kill(workers[0].pid, signal.SIGKILL)
+    thread.join(120)
+    first = result["s"]
+    saved = store.finished()
+    assert first.lost_tasks > 0 and first.evaluated_tasks == len(saved) and len(saved) < n
+    second = run_sweep(spec, out, workers=2, progress=False)
+    assert second.skipped_tasks == len(saved) and second.evaluated_tasks == n - len(saved)
+    assert second.lost_tasks == 0 and second.ok_designs == n
