@@ -6,9 +6,11 @@ a user would get from loading that design file.
 
 Dependent fields follow the swept ones unless they are swept too:
 
-- a coil's (or the channel's) ``wire_diameter`` and ``pitch`` are dropped when
-  its outer or inner diameter is swept, so the coil stays a close-wound single
-  layer of wire (OD − ID)/2;
+- a coil (outer coil or channel) stays a close-wound single layer: when its
+  outer or inner diameter is swept, the wire is (OD − ID)/2 and the pitch the
+  wire; when its ``wire_diameter`` is swept, the OD is kept and the ID follows
+  (ID = OD − 2·wire), or, if the OD is swept too, the ID follows it, or, if only
+  the ID is swept with it, the OD does (OD = ID + 2·wire);
 - when some but not all of the tube shape ``a, a_int, b_int, h`` are swept and
   the base leaves the shape to the nominal rule, the others take the base's
   nominal values.
@@ -25,8 +27,6 @@ from design.errors import DesignError
 __all__ = ["check_path", "set_path", "variant_table", "build_variant", "VariantBuilder"]
 
 _SHAPE = ("a", "a_int", "b_int", "h")
-_COIL_SIZE = ("outer_diameter", "inner_diameter")
-_COIL_DEPENDENT = ("wire_diameter", "pitch")
 # Fields a design file may set although the base file leaves them out (defaults / nominal rules).
 _OPTIONAL = {
     "coil": {"wire_diameter", "pitch"},
@@ -73,6 +73,26 @@ def set_path(table: dict, path: str, value: Any) -> None:
     node[parts[-1]] = value
 
 
+def _coil_rule(kw: Mapping[str, Any], base_od: float, base_id: float) -> dict[str, Any]:
+    """Updates that keep a coil a close-wound single layer (``None``: use the default)."""
+    swept = set(kw)
+    out: dict[str, Any] = {}
+    if not swept & {"outer_diameter", "inner_diameter", "wire_diameter"}:
+        return out
+    if "wire_diameter" in swept:
+        w = kw["wire_diameter"]
+        if isinstance(w, (int, float)) and not isinstance(w, bool):
+            if "inner_diameter" not in swept:
+                out["inner_diameter"] = kw.get("outer_diameter", base_od) - 2 * w
+            elif "outer_diameter" not in swept and isinstance(kw["inner_diameter"], (int, float)):
+                out["outer_diameter"] = kw["inner_diameter"] + 2 * w
+    else:
+        out["wire_diameter"] = None
+    if "pitch" not in swept:
+        out["pitch"] = None
+    return out
+
+
 def variant_table(base_table: Mapping[str, Any], overrides: Mapping[str, Any]) -> dict:
     """The TOML tables of a variant: ``base_table`` with ``overrides`` (dotted path → value) applied."""
     swept = set(overrides)
@@ -80,10 +100,12 @@ def variant_table(base_table: Mapping[str, Any], overrides: Mapping[str, Any]) -
     touched = {path.split(".")[0] for path in swept} | {"coil", "channel", "tube"}
     table = {k: (copy.deepcopy(v) if k in touched else v) for k, v in base_table.items()}
     for part in ("coil", "channel"):
-        if any(f"{part}.{k}" in swept for k in _COIL_SIZE):
-            for k in _COIL_DEPENDENT:
-                if f"{part}.{k}" not in swept:
-                    table[part].pop(k, None)
+        kw = {p.split(".", 1)[1]: _plain(v) for p, v in overrides.items() if p.split(".", 1)[0] == part}
+        for k, v in _coil_rule(kw, table[part]["outer_diameter"], table[part]["inner_diameter"]).items():
+            if v is None:
+                table[part].pop(k, None)
+            else:
+                table[part][k] = v
     shape_swept = [k for k in _SHAPE if f"tube.{k}" in swept]
     if shape_swept and len(shape_swept) < len(_SHAPE) and "a" not in table["tube"]:
         import design
@@ -178,9 +200,8 @@ class VariantBuilder:
                 mkey = self.base_table[part]["material"]
                 if mkey in new_materials:
                     kw["material"] = new_materials[mkey]
-            if part in ("coil", "channel") and any(k in kw for k in _COIL_SIZE):
-                for k in _COIL_DEPENDENT:
-                    kw.setdefault(k, None)
+            if part in ("coil", "channel"):
+                kw.update(_coil_rule(kw, comp.outer_diameter, comp.inner_diameter))
             if part == "tube" and any(k in kw for k in _SHAPE) and not comp.has_explicit_shape:
                 for k in _SHAPE:
                     kw.setdefault(k, self._nominal_shape[k])

@@ -110,6 +110,13 @@ def test_dependent_fields_follow_swept_ones():
     d = design.from_dict(table)
     # close-wound single layer: wire = (OD - ID)/2, pitch = wire
     assert d.coil.wire_diameter == pytest.approx(0.15) and d.coil.pitch == pytest.approx(0.15)
+    # sweeping the wire alone keeps the catheter OD: ID = OD - 2 wire, pitch = wire
+    d = design.from_dict(variant_table(spec.base_table, {"coil.wire_diameter": 0.05}))
+    assert (d.coil.outer_diameter, d.coil.inner_diameter, d.coil.pitch) == pytest.approx((0.8, 0.7, 0.05))
+    d = design.from_dict(
+        variant_table(spec.base_table, {"channel.inner_diameter": 0.1, "channel.wire_diameter": 0.1})
+    )
+    assert d.channel.outer_diameter == pytest.approx(0.3)
     base = design.from_dict(spec.base_table)
     d2 = design.from_dict(variant_table(spec.base_table, {"tube.h": 0.01}))
     assert d2.tube_shape == {**base.tube_shape, "h": 0.01}
@@ -128,6 +135,13 @@ def _variants():
             "materials.stainless_steel.poisson_ratio": n,
         }
     yield {"tube.a_int": 0.3}
+    yield {"coil.wire_diameter": 0.05}
+    yield {"coil.wire_diameter": 0.5}
+    yield {"coil.wire_diameter": 0.05, "coil.outer_diameter": 0.9}
+    yield {"coil.wire_diameter": 0.05, "coil.inner_diameter": 0.6}
+    yield {"coil.wire_diameter": 0.05, "coil.inner_diameter": 0.6, "coil.outer_diameter": 0.8}
+    yield {"coil.pitch": 0.2, "coil.outer_diameter": 0.85}
+    yield {"channel.wire_diameter": "thick"}
     yield {"channel.outer_diameter": 0.7}
     yield {"tip.cap_thickness": 3.0, "tip.bending_length": 5.0}
     yield {"filler.material": "none", "tube.material": "ecoflex_00_30"}
