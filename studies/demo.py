@@ -95,6 +95,9 @@ def section_model(ctx: DemoContext) -> SectionOutput:
             ],
             left=1,
         )  # fmt: skip
+        + f"<p>A 90° bend needs {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2)))} MPa under the "
+        f"cap load and {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2, load='lumen')))} MPa if the "
+        "lumen-wall term acts unconfined.</p>"
         + "<p>The paper's formulas are the response to the end-cap force alone. Pressure also pushes on "
         "the lumen wall; for a bonded section of one Poisson ratio ν that multiplies both by (1 − 2ν) — "
         f"{fmt(1 - 2 * d.tube.material.poisson_ratio)} for ν = {fmt(d.tube.material.poisson_ratio)}: an "
