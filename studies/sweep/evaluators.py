@@ -9,6 +9,7 @@ A design that cannot be built is reported with status ``failed`` and the
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -22,7 +23,7 @@ from studies.results import _FEM_RENAME
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["evaluate_task", "fem_check_function", "FEM_UNAVAILABLE"]
+__all__ = ["evaluate_task", "fem_check_function", "fem_records", "FEM_UNAVAILABLE"]
 
 log = logging.getLogger(__name__)
 
@@ -85,34 +86,72 @@ def _analytic(designs: list, pressures: np.ndarray, load: str) -> dict[str, np.n
 
 
 def _fem_rows(check, design, pressures: tuple[float, ...], loads: tuple[str, ...], mesh_size) -> dict:
-    """``{(load, pressure): {key: value}}`` from ``fem.check`` (one result or a sequence of results)."""
+    """``{(load, pressure): {key: value}}`` from ``fem.check`` (see :func:`fem_records`)."""
     kwargs: dict[str, Any] = {"pressures": list(pressures), "loads": tuple(loads)}
     if mesh_size is not None:
         kwargs["mesh_size"] = mesh_size
-    result = check(design, **kwargs)
-    records = result if isinstance(result, (list, tuple)) else [result]
+    return fem_records(check(design, **kwargs))
+
+
+_CONTAINERS = ("cases", "results", "rows", "records")
+
+
+def _as_mapping(obj: Any) -> dict | None:
+    if isinstance(obj, dict):
+        return obj
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+    return None
+
+
+def fem_records(result: Any, load: str | None = None) -> dict:
+    """Normalise what ``fem.check`` returns to ``{(load, pressure_MPa): {fem.json key: float}}``.
+
+    Accepted forms (the FEM package's result keys follow ``fem.json``): one
+    record whose fields are scalars or arrays over the (load, pressure) cases
+    — flat, or shaped (n_loads, n_pressures) with ``load`` and
+    ``pressure_MPa`` listing the axes; a sequence of such records; a record
+    holding them under ``cases``/``results``/``rows``/``records``; or a
+    mapping from load name to records.
+    """
     out: dict = {}
-    for rec in records:
-        fields = (
-            rec
-            if isinstance(rec, dict)
-            else {k: getattr(rec, k, None) for k in (*_FEM_KEYS, "load", "pressure_MPa")}
-        )
-        load_arr = np.atleast_1d(np.asarray(fields["load"], dtype=object)).ravel()
-        p_arr = np.atleast_1d(np.asarray(fields["pressure_MPa"], dtype=float)).ravel()
-        n = max(len(load_arr), len(p_arr))
-        load_arr = np.broadcast_to(load_arr, (n,)) if len(load_arr) != n else load_arr
-        p_arr = np.broadcast_to(p_arr, (n,)) if len(p_arr) != n else p_arr
-        for i in range(n):
-            row = {}
-            for k in _FEM_KEYS:
-                v = fields.get(k)
-                if v is None:
-                    row[k] = math.nan
-                    continue
-                a = np.atleast_1d(np.asarray(v, dtype=float)).ravel()
-                row[k] = float(a[i] if a.size == n else a[0])
-            out[(str(load_arr[i]), round(float(p_arr[i]), 12))] = row
+    if isinstance(result, (list, tuple)):
+        for r in result:
+            out.update(fem_records(r, load))
+        return out
+    m = _as_mapping(result)
+    if m is None:
+        raise TypeError(f"cannot read a FEM result of type {type(result).__name__}")
+    for key in _CONTAINERS:
+        if isinstance(m.get(key), (list, tuple)) and "curvature_per_mm" not in m:
+            return fem_records(m[key], load)
+    if "curvature_per_mm" not in m:
+        for k, v in m.items():
+            if k in ("cap", "lumen"):
+                out.update(fem_records(v, k))
+        if not out:
+            raise KeyError("FEM result has no curvature_per_mm")
+        return out
+    loads_ = np.atleast_1d(np.asarray(m.get("load", load), dtype=object)).ravel()
+    ps = np.atleast_1d(np.asarray(m["pressure_MPa"], dtype=float)).ravel()
+    kappa = np.asarray(m["curvature_per_mm"], dtype=float)
+    square = kappa.ndim == 2 and kappa.shape == (len(loads_), len(ps))
+    product = len(loads_) != len(ps) and kappa.size == len(loads_) * len(ps) > max(len(loads_), len(ps))
+    if square or product:
+        loads_, ps = np.repeat(loads_, len(ps)), np.tile(ps, len(loads_))  # (n_loads, n_pressures) grid
+    n = max(len(loads_), len(ps))
+    loads_ = np.resize(loads_, n)
+    ps = np.resize(ps, n)
+    for i in range(n):
+        row = {}
+        for k in _FEM_KEYS:
+            v = m.get(k)
+            if v is None or isinstance(v, (dict, str)):
+                row[k] = math.nan
+                continue
+            a = np.atleast_1d(np.asarray(v, dtype=float)).ravel()
+            row[k] = float(a[i] if a.size == n else a[0])
+        out[(str(loads_[i]), round(float(ps[i]), 12))] = row
     return out
 
 

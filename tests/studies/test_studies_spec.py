@@ -165,3 +165,44 @@ def test_fast_builder_matches_from_dict():
             continue
         assert builder.build(v) == expected
     assert n_err > 20  # the list exercises many invalid combinations
+
+
+def test_fem_result_forms_are_read_the_same():
+    """The FEM adapter's reader: the same numbers in each accepted result layout give the same rows."""
+    from dataclasses import dataclass
+
+    from studies.sweep.evaluators import fem_records
+
+    @dataclass(frozen=True)
+    class Case:  # the layout of one (load, pressure) entry of fem.json
+        load: str
+        pressure_MPa: float
+        curvature_per_mm: float
+        elongation: float
+        n_elements: int
+
+    cases = [
+        Case(ld, p, k * p, 0.01 * p, 99) for ld, k in (("cap", 0.07), ("lumen", 0.03)) for p in (0.5, 1.0)
+    ]
+    expected = fem_records(cases)
+    assert expected[("lumen", 1.0)]["curvature_per_mm"] == pytest.approx(0.03)
+    assert expected[("cap", 0.5)]["n_elements"] == 99 and np.isnan(expected[("cap", 0.5)]["max_strain"])
+    flat = {
+        "load": [c.load for c in cases], "pressure_MPa": [c.pressure_MPa for c in cases],
+        "curvature_per_mm": [c.curvature_per_mm for c in cases], "elongation": [c.elongation for c in cases],
+        "n_elements": 99,
+    }  # fmt: skip
+    grid = {**flat, "load": ["cap", "lumen"], "pressure_MPa": [0.5, 1.0],
+            "curvature_per_mm": np.reshape(flat["curvature_per_mm"], (2, 2))}  # fmt: skip
+    grid["elongation"] = np.reshape(flat["elongation"], (2, 2))
+    per_load = {
+        "cap": [c for c in cases if c.load == "cap"],
+        "lumen": [c for c in cases if c.load == "lumen"],
+    }
+    for form in (flat, grid, {"cases": cases}, per_load):
+        got = fem_records(form)
+        assert got.keys() == expected.keys()
+        for key, row in expected.items():
+            np.testing.assert_equal(got[key], row)
+    with pytest.raises(KeyError, match="no curvature_per_mm"):
+        fem_records({"something": 1})
