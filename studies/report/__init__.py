@@ -132,7 +132,7 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     sections.append(
         ("Against each swept parameter",
          figure(prefix + epath.name, f"{esc(label)} against each swept parameter.") if epath
-         else note("No numeric swept parameter."))
+         else note("No valid design with a numeric swept parameter."))
     )  # fmt: skip
 
     hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
@@ -200,6 +200,8 @@ def write_report(sweep_dir: str | Path) -> Path:
     """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``."""
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report"
+    for stale in out.glob("*.png"):  # figures of an earlier report that this one may not redraw
+        stale.unlink()
     sections = sweep_sections(sweep_dir, out)
     body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
     path = out / "index.html"

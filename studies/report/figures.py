@@ -82,6 +82,8 @@ def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str
     if not params:
         return None, ""
     ok = df[(df.status == "ok") & df.at_p_max]
+    if ok.empty:
+        return None, ""
     fem = has_fem(df)
     col, label = (
         ("rel_diff_curvature", "(κ_FEM − κ_analytic)/|κ_analytic| at p_max")
@@ -110,6 +112,8 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
     px, py = factorial[:2]
     others = factorial[2:]
     sub = df[df.at_p_max & (df.status == "ok")]
+    if sub.empty:
+        return None, ""
     fixed = []
     for o in others:
         vals = np.unique(sub[o].astype(float))

@@ -44,10 +44,11 @@ class SweepStore:
                     f"this spec is {manifest['spec']['fingerprint']}); use another --out"
                 )
         else:
-            self._atomic_text(path, json.dumps(manifest, indent=1, default=str))
+            # designs.csv first: sweep.json marks a prepared directory
             tmp = self.root / f".designs.{uuid.uuid4().hex}.tmp"
             designs_frame.to_csv(tmp, index=False)
             os.replace(tmp, self.root / "designs.csv")
+            self._atomic_text(path, json.dumps(manifest, indent=1, default=str))
         for stale in self.tasks_dir.glob(".*.tmp"):
             stale.unlink(missing_ok=True)  # half-written files of a killed run
 

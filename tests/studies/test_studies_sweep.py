@@ -129,6 +129,11 @@ def test_fem_evaluator_unavailable_is_reported(spec_writer, tmp_path):
     df = pd.read_csv(s.results_csv)
     assert (df.status == "failed").all() and (df.reason == FEM_UNAVAILABLE).all()
     assert np.isfinite(df.curvature_analytic_per_mm).all()
+    # A report of a sweep with no valid design still renders, and says why it has no figures.
+    assert main(["report", str(tmp_path / "o")]) == 0
+    html = (tmp_path / "o" / "report" / "index.html").read_text()
+    assert "fem evaluator unavailable" in html and "No valid design to render" in html
+    assert not list((tmp_path / "o" / "report").glob("*.png"))
 
 
 @pytest.mark.slow
