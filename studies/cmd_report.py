@@ -15,7 +15,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from studies.report import write_report
 
-    path = write_report(args.dir)
+    path, _ = write_report(args.dir)
     n = len(list(path.parent.glob("*.png")))
     print(f"report: {path} ({n} figures)")
     return 0

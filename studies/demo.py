@@ -240,7 +240,7 @@ mesh_size = 0.06
 
 
 def section_sweep(ctx: DemoContext) -> SectionOutput:
-    from studies.report import sweep_sections
+    from studies.report import write_report
     from studies.results import read_results
     from studies.selection import select, write_selection
     from studies.sweep import fem_check_function, load_spec, run_sweep
@@ -260,12 +260,13 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     sel = select(df, constraints=constraints, objectives=objectives, load="cap")
     write_selection(sel, sdir / "run")
     ctx.shared["selection"] = sel
-    parts = sweep_sections(sdir / "run", sdir / "run" / "report", prefix="sweep/run/report/")
+    _, parts = write_report(sdir / "run", prefix="sweep/run/report/")
     body = (
         f"<p>{summary.n_designs} designs ({summary.ok_designs} ok, {summary.failed_designs} failed) × "
         f"{len(spec.pressures_MPa)} pressures × 2 loads in {summary.seconds:.1f} s on {esc(summary.backend)}; "
         f"spec <code>sweep/spec.toml</code>, results <code>sweep/run/results.csv</code>. Re-run it with "
-        "<code>softcath sweep sweep/spec.toml --out sweep/run</code>.</p>"
+        "<code>softcath sweep sweep/spec.toml --out sweep/run</code>; the sweep's own report: "
+        "<a href='sweep/run/report/index.html'>sweep/run/report/index.html</a>.</p>"
     )
     for title, frag in parts:
         if title in ("Overview",):

@@ -196,20 +196,27 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
     return out
 
 
-def write_report(sweep_dir: str | Path) -> Path:
-    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``."""
+def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list[tuple[str, str]]]:
+    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``.
+
+    Returns the page's path and its sections ``(title, html)`` with image links
+    prefixed by ``prefix``, for embedding the report in another page.
+    """
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report"
     for stale in out.glob("*.png"):  # figures of an earlier report that this one may not redraw
         stale.unlink()
-    sections = sweep_sections(sweep_dir, out)
+    sections = sweep_sections(sweep_dir, out, prefix=prefix)
+    mark = '<img src="' + prefix
     body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
+    if prefix:
+        body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
     path = out / "index.html"
     path.write_text(
         page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
         encoding="utf-8",
     )
-    return path
+    return path, sections
 
 
 _ = Markup  # re-exported for callers building tables with HTML cells

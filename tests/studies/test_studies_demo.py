@@ -29,6 +29,10 @@ def test_demo_model_sweep_verdict(tmp_path, capsys):
     assert status == {"model": "ok", "sweep": "ok", "verdict": "ok"}
     for src in re.findall(r'<img src="([^"]+)"', html):
         assert (out / src).read_bytes()[:4] == b"\x89PNG", src  # every figure link resolves offline
+    sweep_report = out / "sweep" / "run" / "report" / "index.html"  # the sweep's own page, linked
+    assert "sweep/run/report/index.html" in html
+    for src in re.findall(r'<img src="([^"]+)"', sweep_report.read_text()):
+        assert (sweep_report.parent / src).is_file(), src
     # The model table states the paper's cap-load bend at 2 MPa: θ = κ L0 (1 + ε), from the analytic model.
     r = analytic.response(design.preset("paper"), 2.0, "cap")
     assert f"{np.degrees(float(r.bend_angle)):.4g}" in html
