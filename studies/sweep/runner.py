@@ -100,7 +100,10 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
 
 
 # Failures of the machinery, not of the design: the task is not saved, so a rerun retries it.
-_INFRASTRUCTURE = {"BrokenProcessPool", "KilledWorker", "CancelledError", "CommClosedError", "TimeoutError"}
+# (ModuleNotFoundError: a cluster worker without softcath installed.)
+_INFRASTRUCTURE = {
+    "BrokenProcessPool", "KilledWorker", "CancelledError", "CommClosedError", "TimeoutError", "ModuleNotFoundError",
+}  # fmt: skip
 
 
 def _outcome(task: dict, exc: BaseException):
@@ -241,7 +244,11 @@ def run_sweep(
         from distributed import Client, LocalCluster
 
         if scheduler:
-            client, backend = Client(scheduler), f"dask({scheduler})"
+            try:
+                client = Client(scheduler, timeout="15s")
+            except (OSError, TimeoutError) as exc:
+                raise DesignError("scheduler", scheduler, f"cannot be reached: {exc}") from None
+            backend = f"dask({scheduler})"
         else:
             cluster = LocalCluster(
                 n_workers=dask_local, threads_per_worker=1, processes=True,
