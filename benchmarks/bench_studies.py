@@ -113,7 +113,7 @@ pressures_MPa = [1.0]
 loads = ["cap", "lumen"]
 evaluators = ["analytic", "fem"]
 [sweep.fem]
-mesh_size = 0.08
+mesh_size = 0.12
 [parameters]
 "tube.h" = { values = [-0.02, 0.0, 0.02, 0.03] }
 """,

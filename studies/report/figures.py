@@ -54,30 +54,60 @@ def has_fem(df) -> bool:
 
 
 def parity_plot(df, path: Path) -> Path | None:
-    """Analytic vs FEM curvature for every design and pressure, both load cases."""
+    """FEM vs analytic curvature, every design and pressure, both loads.
+
+    Left: each load against the analytic model of the same load. Right: each
+    load against the paper's formula (the analytic cap load), i.e. how much of
+    the paper's prediction the FEM finds under each load.
+    """
     if not has_fem(df):
         return None
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(5.2, 5))
-    lo, hi = np.inf, -np.inf
-    for load, g in df[df.status == "ok"].groupby("load"):
-        x, y = g.curvature_analytic_per_mm.to_numpy(float), g.curvature_fem_per_mm.to_numpy(float)
-        m = np.isfinite(x) & np.isfinite(y)
-        ax.scatter(x[m], y[m], s=14, alpha=0.75, label=f"{load} load", color=_LOAD_COLOURS.get(load))
-        if m.any():
-            lo, hi = min(lo, x[m].min(), y[m].min()), max(hi, x[m].max(), y[m].max())
-    if np.isfinite(lo):
-        ax.plot([lo, hi], [lo, hi], "k--", lw=1, label="FEM = analytic")
-    ax.set_xlabel("analytic curvature κ [1/mm]")
-    ax.set_ylabel("FEM curvature κ [1/mm]")
-    ax.set_title("Parity: analytic model vs FEM")
-    ax.legend()
-    ax.grid(alpha=0.3)
+    ok = df[df.status == "ok"]
+    paper = ok[ok.load == "cap"].set_index(["design_id", "pressure_MPa"]).curvature_analytic_per_mm
+    fig, axes = plt.subplots(
+        1, 2 if len(paper) else 1, figsize=(10 if len(paper) else 5.2, 4.8), squeeze=False
+    )
+    panels = [
+        ("curvature_analytic_per_mm", "analytic κ, same load [1/mm]", "vs the analytic model of each load")
+    ]
+    if len(paper):
+        panels.append(("paper", "paper's formula κ (cap load) [1/mm]", "vs the paper's formula"))
+    for ax, (xcol, xlabel, title) in zip(axes[0], panels, strict=False):
+        lo, hi = np.inf, -np.inf
+        for load, g in ok.groupby("load"):
+            if xcol == "paper":
+                x = paper.reindex(pd_index(g)).to_numpy(float)
+            else:
+                x = g[xcol].to_numpy(float)
+            y = g.curvature_fem_per_mm.to_numpy(float)
+            m = np.isfinite(x) & np.isfinite(y)
+            ax.scatter(x[m], y[m], s=14, alpha=0.75, label=f"FEM, {load} load", color=_LOAD_COLOURS.get(load))
+            if m.any():
+                lo, hi = min(lo, x[m].min(), y[m].min()), max(hi, x[m].max(), y[m].max())
+        if np.isfinite(lo):
+            ax.plot([lo, hi], [lo, hi], "k--", lw=1, label="FEM = analytic")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("FEM curvature κ [1/mm]")
+        ax.set_title(title)
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
     return _save(fig, path)
 
 
+def pd_index(g):
+    """The (design_id, pressure_MPa) index of a group of result rows."""
+    import pandas as pd
+
+    return pd.MultiIndex.from_arrays([g.design_id.to_numpy(), g.pressure_MPa.to_numpy()])
+
+
 def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str]:
-    """Relative FEM–analytic curvature error (or, without FEM, the analytic bend per MPa) vs each parameter."""
+    """FEM/analytic curvature ratio (or, without FEM, the analytic bend per MPa) vs each parameter.
+
+    With FEM, one row per load: the two loads' ratios differ by orders of magnitude.
+    """
     params = _numeric_params(df, params)
     if not params:
         return None, ""
@@ -85,21 +115,25 @@ def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str
     if ok.empty:
         return None, ""
     fem = has_fem(df)
-    col, label = (
-        ("rel_diff_curvature", "(κ_FEM − κ_analytic)/|κ_analytic| at p_max")
-        if fem
-        else ("bend_per_MPa_deg", "analytic bend per MPa [deg/MPa]")
-    )
+    if fem:
+        col, label = "fem_over_analytic", "κ_FEM / κ_analytic at p_max"
+        ok = ok.assign(fem_over_analytic=1.0 + ok.rel_diff_curvature.to_numpy(float))
+        groups = [(load, g) for load, g in ok.groupby("load")]
+    else:
+        col, label = "bend_per_MPa_deg", "analytic bend per MPa [deg/MPa]"
+        groups = [(None, ok)]
     plt = _plt()
     n = len(params)
-    fig, axes = plt.subplots(1, n, figsize=(4 * n, 3.4), squeeze=False)
-    for ax, p in zip(axes[0], params, strict=True):
-        for load, g in ok.groupby("load"):
-            ax.scatter(g[p].astype(float), g[col], s=12, alpha=0.7, label=load, color=_LOAD_COLOURS.get(load))
-        ax.set_xlabel(p)
-        ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel(label)
-    axes[0][-1].legend(title="load")
+    fig, axes = plt.subplots(len(groups), n, figsize=(4 * n, 3.2 * len(groups)), squeeze=False)
+    for row, (load, grp) in enumerate(groups):
+        for ax, p in zip(axes[row], params, strict=True):
+            for ld, g in grp.groupby("load"):
+                ax.scatter(g[p].astype(float), g[col], s=12, alpha=0.7, label=f"{ld} load",
+                           color=_LOAD_COLOURS.get(ld))  # fmt: skip
+            ax.set_xlabel(p)
+            ax.grid(alpha=0.3)
+        axes[row][0].set_ylabel(label if load is None else f"{label}\n({load} load)")
+        axes[row][-1].legend(fontsize=8)
     fig.tight_layout()
     return _save(fig, path), label
 

@@ -104,31 +104,36 @@ def _as_mapping(obj: Any) -> dict | None:
     return None
 
 
-def fem_records(result: Any, load: str | None = None) -> dict:
+def fem_records(result: Any, load: str | None = None, defaults: dict | None = None) -> dict:
     """Normalise what ``fem.check`` returns to ``{(load, pressure_MPa): {fem.json key: float}}``.
 
     Accepted forms (the FEM package's result keys follow ``fem.json``): one
     record whose fields are scalars or arrays over the (load, pressure) cases
     — flat, or shaped (n_loads, n_pressures) with ``load`` and
     ``pressure_MPa`` listing the axes; a sequence of such records; a record
-    holding them under ``cases``/``results``/``rows``/``records``; or a
-    mapping from load name to records.
+    holding them under ``cases``/``results``/``rows``/``records`` (its own
+    run-level numbers, e.g. ``dofs``, ``mesh_seconds``, apply to every case);
+    or a mapping from load name to records.
     """
     out: dict = {}
+    defaults = dict(defaults or {})
     if isinstance(result, (list, tuple)):
         for r in result:
-            out.update(fem_records(r, load))
+            out.update(fem_records(r, load, defaults))
         return out
     m = _as_mapping(result)
     if m is None:
         raise TypeError(f"cannot read a FEM result of type {type(result).__name__}")
+    run_level = {
+        k: m[k] for k in _FEM_KEYS if isinstance(m.get(k), (int, float)) and not isinstance(m[k], bool)
+    }
     for key in _CONTAINERS:
         if isinstance(m.get(key), (list, tuple)) and "curvature_per_mm" not in m:
-            return fem_records(m[key], load)
+            return fem_records(m[key], load, {**defaults, **run_level})
     if "curvature_per_mm" not in m:
         for k, v in m.items():
             if k in ("cap", "lumen"):
-                out.update(fem_records(v, k))
+                out.update(fem_records(v, k, {**defaults, **run_level}))
         if not out:
             raise KeyError("FEM result has no curvature_per_mm")
         return out
@@ -145,7 +150,7 @@ def fem_records(result: Any, load: str | None = None) -> dict:
     for i in range(n):
         row = {}
         for k in _FEM_KEYS:
-            v = m.get(k)
+            v = m.get(k, defaults.get(k))
             if v is None or isinstance(v, (dict, str)):
                 row[k] = math.nan
                 continue

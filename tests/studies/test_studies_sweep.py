@@ -178,7 +178,7 @@ def test_fem_evaluator_on_a_tiny_case(spec_writer, tmp_path):
             loads = ["cap", "lumen"]
             evaluators = ["analytic", "fem"]
             [sweep.fem]
-            mesh_size = 0.08
+            mesh_size = 0.12
             """
         )
     )
