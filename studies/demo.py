@@ -31,6 +31,7 @@ __all__ = ["DemoContext", "SectionOutput", "SECTIONS", "run_demo", "DEMO_PRESSUR
 log = logging.getLogger(__name__)
 
 DEMO_PRESSURES_MPA = (0.5, 1.0, 2.0)  # the bundled bench data span 0–2 MPa
+DEMO_MAX_STRAIN = 0.5
 
 
 @dataclass
@@ -250,6 +251,9 @@ pressures_MPa = {list(DEMO_PRESSURES_MPA)}
 loads = ["cap", "lumen"]
 evaluators = {evaluators}
 
+[sweep.feasibility]
+max_strain = {DEMO_MAX_STRAIN}
+
 [parameters]
 "tube.h" = {{ values = {hs} }}
 "tube.a_int" = {{ values = [0.08, 0.1, 0.12] }}
@@ -270,7 +274,9 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     spec = load_spec(spec_path)
     summary = run_sweep(spec, sdir / "run", workers=ctx.workers, progress=True)
     df = read_results(sdir / "run")
-    constraints = ["max_strain <= 0.3", "bend_angle_deg >= 45 at p_max"]
+    # A 45° bend at the bench's top pressure; silicone strain below 0.5, beyond which neither the
+    # linear FEM nor the beam model is to be trusted (the silicone itself stretches several-fold).
+    constraints = [f"max_strain <= {DEMO_MAX_STRAIN}", "bend_angle_deg >= 45 at p_max"]
     objectives = ["maximise bend_per_MPa_deg", "minimise elongation at p_max"]
     if fem:
         objectives.append("minimise abs_rel_diff_curvature at p_max")
