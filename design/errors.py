@@ -41,6 +41,6 @@ class DataError(SoftcathError, ValueError):
 
 
 def _fmt(value: object) -> str:
-    if isinstance(value, float) and math.isfinite(value):
-        return f"{value:.6g}"
+    if isinstance(value, float):  # includes numpy float64
+        return f"{float(value):.6g}" if math.isfinite(value) else repr(float(value))
     return repr(value)

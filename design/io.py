@@ -110,8 +110,9 @@ def from_dict(data: Mapping[str, Any]) -> TipDesign:
 
 
 def _material_key(m: Material) -> str:
-    key = "".join(c if c.isalnum() else "_" for c in m.name.lower()).strip("_")
-    return key or "material"
+    import re
+
+    return re.sub(r"[^a-z0-9]+", "_", m.name.lower()).strip("_") or "material"
 
 
 def to_dict(design: TipDesign) -> dict[str, Any]:
