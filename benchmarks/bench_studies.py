@@ -18,6 +18,11 @@ import tempfile
 import time
 from pathlib import Path
 
+# One BLAS/MKL thread everywhere, so "1 worker" (in this process) uses one core like each pool or Dask
+# worker does; set before numpy or the FEM solver is loaded.
+for _var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402

@@ -144,9 +144,15 @@ def _single_threaded_worker() -> None:
 
 
 def _pool(tasks, workers: int):
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_single_threaded_worker)
+    # Not "fork": this process may already run OpenMP/MKL thread pools (e.g. the FEM's PARDISO after an
+    # in-process evaluation), and a forked child of such a process deadlocks in its first solve. The fork
+    # server is a clean process; preloading the evaluator there keeps worker start-up cheap.
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(["studies.sweep.evaluators"])
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_single_threaded_worker)
     try:
         futures = {pool.submit(evaluate_task, t): t for t in tasks}
         for fut in as_completed(futures):
