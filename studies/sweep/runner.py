@@ -150,8 +150,11 @@ def _pool(tasks, workers: int):
     # Not "fork": this process may already run OpenMP/MKL thread pools (e.g. the FEM's PARDISO after an
     # in-process evaluation), and a forked child of such a process deadlocks in its first solve. The fork
     # server is a clean process; preloading the evaluator there keeps worker start-up cheap.
-    ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(["studies.sweep.evaluators"])
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(["studies.sweep.evaluators"])
+    else:  # Windows
+        ctx = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_single_threaded_worker)
     try:
         futures = {pool.submit(evaluate_task, t): t for t in tasks}
