@@ -12,7 +12,7 @@ Layout::
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
     [sweep.fem]
-    mesh_size = 0.05               # mm, passed to fem.check
+    mesh_size = 0.12               # mm, section element size passed to fem.check
 
     [sweep.feasibility]
     max_strain = 0.3               # silicone strain limit [-]
