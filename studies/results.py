@@ -20,7 +20,8 @@ One row per design × pressure × load. Columns (unit in the name or below):
   ``bend_per_MPa_deg`` [deg/MPa];
 - ``feasible_strain`` (max_strain ≤ the spec's limit), ``feasible``;
 - ``status`` (``ok``/``failed``), ``reason``;
-- ``analytic_seconds``, ``fem_mesh_seconds``, ``fem_solve_seconds`` [s].
+- ``analytic_seconds``, ``fem_mesh_seconds``, ``fem_solve_seconds``, and
+  ``cpu_seconds`` (the evaluating process's CPU time per design) [s].
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ COLUMN_UNITS = {
     "abs_rel_diff_curvature": "-", "curvature_per_mm": "1/mm", "elongation": "-", "bend_angle_deg": "deg",
     "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|fem", "feasible_strain": "bool",
     "feasible": "bool", "status": "ok|failed", "reason": "text", "analytic_seconds": "s",
-    "fem_mesh_seconds": "s", "fem_solve_seconds": "s",
+    "fem_mesh_seconds": "s", "fem_solve_seconds": "s", "cpu_seconds": "s",
 }  # fmt: skip
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 import uuid
 from pathlib import Path
 
@@ -71,13 +72,20 @@ class SweepStore:
         os.replace(tmp, self.task_path(task_id))
         failed = int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
         line = json.dumps(
-            {"run": run_id, "task": task_id, "designs": int(frame["design_id"].nunique()), "failed": failed}
+            {
+                "run": run_id,
+                "task": task_id,
+                "designs": int(frame["design_id"].nunique()),
+                "failed": failed,
+                "t": round(time.time(), 3),
+            }
         )
         with open(self.root / "events.jsonl", "a", encoding="utf-8") as fh:
             fh.write(line + "\n")
 
     def events(self) -> list[dict]:
-        """The evaluation log: one record per task evaluated (``run``, ``task``, ``designs``, ``failed``)."""
+        """The evaluation log: one record per task evaluated (``run``, ``task``, ``designs``, ``failed``,
+        ``t`` = Unix time [s] when its result was saved)."""
         path = self.root / "events.jsonl"
         if not path.is_file():
             return []

@@ -27,7 +27,7 @@ from studies.sweep import (
 )
 
 # Columns that legitimately differ between two runs of the same sweep.
-_RUN_DEPENDENT = ["analytic_seconds", "task_id", "fem_mesh_seconds", "fem_solve_seconds"]
+_RUN_DEPENDENT = ["analytic_seconds", "cpu_seconds", "task_id", "fem_mesh_seconds", "fem_solve_seconds"]
 
 
 def _values(df: pd.DataFrame) -> pd.DataFrame:
