@@ -110,7 +110,10 @@ class _Expr:
         def ev(n: ast.AST):
             name = _dotted(n)
             if name is not None:
-                return df[name].to_numpy(dtype=float)
+                try:
+                    return df[name].to_numpy(dtype=float)
+                except (TypeError, ValueError):
+                    raise SelectionError(f"in '{self.text}': column '{name}' is not numeric") from None
             if isinstance(n, ast.Constant):
                 return float(n.value)
             if isinstance(n, ast.UnaryOp):

@@ -61,6 +61,7 @@ def test_parse_forms():
         ("bend_angle_deg > 'a'", "max bend_angle_deg", r"only numbers"),
         ("bend_angle_deg > 1", "bend_angle_deg", r"must start with maximise or minimise"),
         ("bend_angle_deg > 1", "maximise bend_angle_deg at p=3", r"no results at that pressure"),
+        ("load > 1", "maximise bend_angle_deg", r"column 'load' is not numeric"),
     ],
 )
 def test_bad_expressions_name_the_problem(constraint, objective, match):
