@@ -33,6 +33,7 @@ from design.errors import DesignError
 __all__ = ["LOADS", "BeamResponse", "gains", "gains_arrays", "response", "response_arrays"]
 
 LOADS = ("cap", "lumen")
+MAX_PRESSURE_MPA = 1e6  # far beyond any hydraulic catheter; keeps products of design numbers finite
 
 
 def _check_load(load: str) -> None:
@@ -90,6 +91,10 @@ def response_arrays(inp: dict, pressure, load: str = "cap") -> BeamResponse:
     p = np.asarray(pressure, dtype=float)
     if not np.all(np.isfinite(p)):
         raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
+    if p.size and np.max(np.abs(p)) > MAX_PRESSURE_MPA:
+        raise DesignError(
+            "pressure", float(np.max(np.abs(p))), f"magnitude must be <= {MAX_PRESSURE_MPA:g} MPa"
+        )
     k_gain, e_gain = gains_arrays(inp, load)
     kappa = k_gain * p
     eps = e_gain * p

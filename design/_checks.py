@@ -7,6 +7,12 @@ import numbers
 
 from design.errors import DesignError
 
+# Design numbers are mm and MPa: nothing in a catheter (or its materials) lies outside
+# [1e-9, 1e9] in magnitude, and staying inside keeps every derived quantity (I ~ length^4,
+# EI ~ E length^4) far from float overflow and underflow.
+MAX_MAGNITUDE = 1e9
+MIN_POSITIVE = 1e-9
+
 
 def finite(name: str, value: object) -> float:
     """Return ``value`` as a float, or raise if it is not a finite real number."""
@@ -15,6 +21,8 @@ def finite(name: str, value: object) -> float:
     v = float(value)
     if not math.isfinite(v):
         raise DesignError(name, value, "must be finite")
+    if abs(v) > MAX_MAGNITUDE:
+        raise DesignError(name, value, f"magnitude must be <= {MAX_MAGNITUDE:g} (mm, MPa)")
     return v
 
 
@@ -22,6 +30,8 @@ def positive(name: str, value: object) -> float:
     v = finite(name, value)
     if v <= 0:
         raise DesignError(name, value, "must be > 0")
+    if v < MIN_POSITIVE:
+        raise DesignError(name, value, f"must be >= {MIN_POSITIVE:g} (mm, MPa)")
     return v
 
 

@@ -49,3 +49,5 @@ def test_pressure_for_tip_round_trip():
 def test_non_finite_pressure_is_rejected():
     with pytest.raises(design.DesignError, match="pressure = nan: must be finite"):
         analytic.response(design.preset("paper"), [1.0, np.nan])
+    with pytest.raises(design.DesignError, match="pressure = 1e\\+300: magnitude must be <= 1e\\+06 MPa"):
+        analytic.response(design.preset("paper"), [1e300])

@@ -121,6 +121,11 @@ BAD = [
     (lambda d: d["coil"].update(outer_diameter=float("nan")), r"coil\.outer_diameter = nan: must be finite"),
     (lambda d: d["tip"].update(cap_thickness=float("inf")), r"tip\.cap_thickness = inf: must be finite"),
     (
+        lambda d: d["tip"].update(bending_length=1e300),
+        r"tip\.bending_length = 1e\+300: magnitude must be <= 1e\+09",
+    ),
+    (lambda d: d["coil"].update(pitch=1e-300), r"coil\.pitch = 1e-300: must be >= 1e-09"),
+    (
         lambda d: d["materials"]["medical_silicone_tubing"].update(poisson_ratio=0.5),
         r"materials\.medical_silicone_tubing\.poisson_ratio = 0\.5: must be in \(-1, 0\.5\)",
     ),

@@ -1,0 +1,278 @@
+"""Turn a measurement table into filtered, decimated segments for fitting and scoring.
+
+Steps, per run (``run`` column; one run if absent):
+
+1. resample onto a uniform 200 Hz base if the samples are irregular (the paper
+   filters on 200 Hz);
+2. find the excitation: the dominant frequency of each sine-like run, and
+   whether a run is a step-and-hold (mostly constant pressure);
+3. choose the data low-pass so that it keeps the excitation band: the paper's
+   0.5 Hz filter when the fastest sine is at most 0.2 Hz (its 5th-order
+   Butterworth passes 0.2 Hz within 3e-5), otherwise the same shape scaled to
+   put the passband at 2.5x the fastest sine;
+4. anti-alias both pressure and curvature with the same shape at 4x the band,
+   decimate to 40x the passband, and apply the data low-pass to the curvature
+   (the target). The model input is the anti-aliased pressure; the model
+   output gets the same data low-pass (``analytic.effects.fit``), so data and
+   model see identical linear filtering (trap 2);
+5. estimate the noise floor: the raw curvature noise s.d. from what the
+   anti-alias filter removes, propagated through both filters.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy import signal
+
+from analytic.effects import Scales
+from analytic.effects.fit import Segment
+from design.errors import DataError
+from hardware.filtering import PAPER_FILTER, PAPER_FS_HZ, FilterSpec, design_sos, filtfilt, resample_uniform
+
+__all__ = ["RunInfo", "Prepared", "prepare", "prepare_static"]
+
+log = logging.getLogger(__name__)
+
+#: decimated sample rate over the data passband. At 40 the decimated Nyquist rate
+#: is 20x the band: what folds into the data band (< 2x the band) comes from above
+#: 38x the band, where the anti-alias filter (4x the band, order 5, zero-phase)
+#: has removed more than 100 dB. Rate-independent candidates see the sampled
+#: input and miss a peak between samples by ~(w h)^2/8 of the amplitude: 3e-4
+#: at 0.2 Hz and 20 Hz, below the filtered noise at 0.5 % noise
+DECIMATED_OVER_PASSBAND = 40.0
+#: trimmed at each end of a run in fits and scores: two filter settling times
+TRIM_OVER_PASSBAND = 1.0
+
+
+@dataclass(frozen=True)
+class RunInfo:
+    """What the preparation found in one run."""
+
+    label: str
+    kind: str  # "sine" or "step"
+    frequency_hz: float  # dominant excitation frequency (sine runs), else 0
+    duration_s: float
+    noise_sd_per_mm: float  # raw curvature noise s.d. estimate
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """Segments ready for fitting, the filters used, and what was found."""
+
+    segments: tuple[Segment, ...]
+    runs: tuple[RunInfo, ...]
+    data_filter: FilterSpec  # at the original rate
+    fit_filter: FilterSpec  # the same specification at the decimated rate
+    fs_hz: float
+    decimation: int
+    noise_floor_per_mm: float  # s.d. of the noise left in the filtered target
+    full_scale_per_mm: float  # peak-to-peak of the filtered curvature over all runs
+    scales: Scales
+    times: tuple[np.ndarray, ...]  # decimated time base of each segment (s)
+    static: bool = False  # quasi-static points (FEM reference): no time, no filter
+
+    def output_filter(self) -> Callable[[np.ndarray], np.ndarray]:
+        """The data low-pass at the decimated rate (apply to model output)."""
+        if self.static:
+            return lambda x: np.asarray(x, dtype=float)
+        return _zero_phase(self.fit_filter)
+
+    def distinct_frequencies(self) -> int:
+        """Number of distinct excitations: sine frequencies differing by >= 1.5x, + steps."""
+        freqs = sorted(r.frequency_hz for r in self.runs if r.kind == "sine")
+        distinct = []
+        for f in freqs:
+            if not distinct or f >= 1.5 * distinct[-1]:
+                distinct.append(f)
+        return len(distinct) + any(r.kind == "step" for r in self.runs)
+
+
+def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
+    """``hardware.filtering.filtfilt(x, spec)`` along axis 0, with set-up done once.
+
+    The same sections, odd padding of 2 s and steady-state initial conditions as
+    ``scipy.signal.sosfiltfilt`` (tested equal to 1e-12); the filter design and
+    ``sosfilt_zi`` cost more than the filtering, and the fits filter thousands
+    of times, so they are computed once here. Accepts (n,) or (n, columns).
+    """
+    sos = design_sos(spec)
+    zi0 = signal.sosfilt_zi(sos)  # (sections, 2)
+    pad = 2.0 * spec.fs_hz
+
+    def f(x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        n = x.shape[0]
+        m = int(min(n - 1, round(pad)))
+        ext = np.concatenate([2 * x[:1] - x[m:0:-1], x, 2 * x[-1:] - x[-2 : -(m + 2) : -1]])
+        zi = zi0.reshape(zi0.shape + (1,) * (x.ndim - 1))
+        y, _ = signal.sosfilt(sos, ext, axis=0, zi=zi * ext[:1])
+        y, _ = signal.sosfilt(sos, y[::-1], axis=0, zi=zi * y[-1:])
+        return y[::-1][m : m + n]
+
+    return f
+
+
+def _excitation(t: np.ndarray, p: np.ndarray) -> tuple[str, float]:
+    span = np.ptp(p)
+    if span <= 0:
+        raise DataError("pressure is constant: there is no excitation to compare against")
+    # step-and-hold: in most half-second windows the pressure stays within 5 % of its
+    # span (a range test, not a slope test: differentiated sensor noise would swamp it)
+    fs = 1 / (t[1] - t[0])
+    w = max(2, int(round(0.5 * fs)))
+    nwin = p.size // w
+    if nwin >= 4:
+        win = p[: nwin * w].reshape(nwin, w)
+        if np.mean(np.ptp(win, axis=1) < 0.05 * span) > 0.5:
+            return "step", 0.0
+    x = (p - p.mean()) * np.hanning(p.size)
+    spec = np.abs(np.fft.rfft(x))
+    f = np.fft.rfftfreq(p.size, 1 / fs)
+    spec[0] = 0
+    return "sine", float(f[np.argmax(spec)])
+
+
+def _noise_gain(aa: FilterSpec, data: FilterSpec, fs: float) -> float:
+    """Ratio of filtered to raw white-noise s.d. through anti-alias and data filters."""
+    f = np.linspace(0, fs / 2, 20001)
+    _, h1 = signal.sosfreqz(design_sos(aa), worN=f, fs=fs)
+    f2 = f[f < data.fs_hz / 2]
+    _, h2 = signal.sosfreqz(design_sos(data), worN=f2, fs=data.fs_hz)
+    h2 = np.concatenate([np.abs(h2), np.zeros(f.size - f2.size)])
+    # zero-phase (forward-backward) filtering squares each magnitude response
+    power = np.abs(h1) ** 4 * h2**4
+    return float(np.sqrt(np.trapezoid(power, f) / (fs / 2)))
+
+
+def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Prepared:
+    """Filtered, decimated segments of a validated measurement table.
+
+    Parameters
+    ----------
+    table
+        Columns ``time_s``, ``pressure_MPa``, ``curvature_per_mm``, ``run``
+        (see ``studies.measurement_csv``).
+    filter_spec
+        Force the data low-pass (default: chosen from the excitation, see above).
+    """
+    raw = []
+    for label, g in table.groupby("run", sort=False):
+        t = g["time_s"].to_numpy(float)
+        p = g["pressure_MPa"].to_numpy(float)
+        k = g["curvature_per_mm"].to_numpy(float)
+        if t.size < 50:
+            raise DataError(f"run {label!r}: {t.size} samples, need at least 50")
+        dt = np.diff(t)
+        if np.ptp(dt) > 1e-6 * np.median(dt):
+            tu, p = resample_uniform(t, p, fs_hz=PAPER_FS_HZ)
+            _, k = resample_uniform(t, k, fs_hz=PAPER_FS_HZ)
+            t = tu
+        raw.append((str(label), t, p, k))
+    # rounded to 1 mHz: time stamps like 107.985 carry 1e-12 s of binary noise
+    fs_all = {round(float(1 / np.median(np.diff(t))), 3) for _, t, _, _ in raw}
+    if len(fs_all) != 1:
+        raise DataError(f"runs have different sample rates {sorted(fs_all)} Hz")
+    fs = fs_all.pop()
+    exc = [_excitation(t, p) for _, t, p, _ in raw]
+    if filter_spec is None:
+        fmax = max([f for kind, f in exc if kind == "sine"], default=0.0)
+        spec = FilterSpec(fs_hz=fs) if fs != PAPER_FILTER.fs_hz else PAPER_FILTER
+        if 2.5 * fmax > spec.passband_hz * (1 + 1e-6):  # FFT bins carry rounding noise
+            spec = spec.scaled(2.5 * fmax / spec.passband_hz)
+    else:
+        spec = filter_spec
+    if spec.stopband_hz * 4 >= fs / 2:
+        raise DataError(
+            f"sample rate {fs} Hz is too low for a {spec.passband_hz:g} Hz "
+            f"data filter: need > {8 * spec.stopband_hz:g} Hz"
+        )
+    aa = spec.scaled(4.0)
+    q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz) + 1e-6)))
+    fs_d = fs / q
+    fit_spec = FilterSpec(
+        passband_hz=spec.passband_hz,
+        stopband_hz=spec.stopband_hz,
+        ripple_db=spec.ripple_db,
+        attenuation_db=spec.attenuation_db,
+        fs_hz=fs_d,
+        family=spec.family,
+    )
+    gain = _noise_gain(aa, fit_spec, fs)
+    data_filter = _zero_phase(fit_spec)
+    trim = int(round(TRIM_OVER_PASSBAND / spec.passband_hz * fs_d))
+    segments, infos, times, noise = [], [], [], []
+    for (label, t, p, k), (kind, f) in zip(raw, exc, strict=True):
+        pa = filtfilt(p, aa)
+        ka = filtfilt(k, aa)
+        # what the anti-alias filter removes is (almost all) noise above 4x the band
+        sd = float(np.std(k - ka)) / np.sqrt(max(1 - 2 * aa.stopband_hz / fs, 0.5))
+        pd_, kd, td = pa[::q], ka[::q], t[::q]
+        target = data_filter(kd)
+        mask = np.zeros(td.size, dtype=bool)
+        mask[trim : td.size - trim] = True
+        if mask.sum() < 20:
+            raise DataError(
+                f"run {label!r} is too short ({t[-1] - t[0]:.3g} s) for a {spec.passband_hz:g} Hz filter"
+            )
+        segments.append(Segment(dt_s=1 / fs_d, pressure_MPa=pd_, target=target, mask=mask, label=label))
+        infos.append(
+            RunInfo(
+                label=label, kind=kind, frequency_hz=f, duration_s=float(t[-1] - t[0]), noise_sd_per_mm=sd
+            )
+        )
+        times.append(td)
+        noise.append(sd)
+    targets = np.concatenate([s.target[s.mask] for s in segments])
+    pressures = np.concatenate([s.pressure_MPa for s in segments])
+    return Prepared(
+        segments=tuple(segments),
+        runs=tuple(infos),
+        data_filter=spec,
+        fit_filter=fit_spec,
+        fs_hz=fs_d,
+        decimation=q,
+        noise_floor_per_mm=float(np.sqrt(np.mean(np.square(noise))) * gain),
+        full_scale_per_mm=float(np.ptp(targets)),
+        scales=Scales(pressure_MPa=float(np.ptp(pressures)), duration_s=max(r.duration_s for r in infos)),
+        times=tuple(times),
+    )
+
+
+def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Prepared:
+    """Quasi-static reference points (e.g. FEM over a pressure range) as one segment.
+
+    No time, no filter, no noise: the points are sorted by pressure and held out
+    interleaved (every third point) by the workflow.
+    """
+    p = np.asarray(pressure_MPa, dtype=float)
+    k = np.asarray(curvature_per_mm, dtype=float)
+    if p.shape != k.shape or p.ndim != 1 or p.size < 6:
+        raise DataError(
+            f"reference: need >= 6 (pressure, curvature) points of equal length, got {p.shape} and {k.shape}"
+        )
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(k))):
+        raise DataError("reference: pressures and curvatures must be finite")
+    order = np.argsort(p)
+    p, k = p[order], k[order]
+    seg = Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool), label="reference")
+    info = RunInfo(
+        label="reference", kind="static", frequency_hz=0.0, duration_s=float(p.size), noise_sd_per_mm=0.0
+    )
+    return Prepared(
+        segments=(seg,),
+        runs=(info,),
+        data_filter=PAPER_FILTER,
+        fit_filter=PAPER_FILTER,
+        fs_hz=1.0,
+        decimation=1,
+        noise_floor_per_mm=0.0,
+        full_scale_per_mm=float(np.ptp(k)),
+        scales=Scales(pressure_MPa=float(np.ptp(p)), duration_s=float(p.size)),
+        times=(np.arange(p.size, dtype=float),),
+        static=True,
+    )

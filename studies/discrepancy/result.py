@@ -1,0 +1,400 @@
+"""``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult."""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
+from analytic.effects.fit import ChainFit
+from design.errors import DataError, DesignError
+from studies.discrepancy.prepare import Prepared, prepare, prepare_static
+from studies.discrepancy.workflow import RATE_FAMILY, name_effects
+from studies.measurement_csv import read_measurement_csv, validate_table
+
+__all__ = ["DiscrepancyResult", "run_workflow", "fem_reference"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class DiscrepancyResult:
+    """What the workflow found (held-out numbers unless stated).
+
+    ``nrmse_*`` are RMSE over the filtered data's full scale; ``excess_removed``
+    is the fraction of the excess error power above the noise floor that the
+    named effects removed, ``(before^2 - after^2) / (before^2 - floor^2)``.
+    """
+
+    reference: str
+    named: tuple[str, ...]
+    steps: tuple[dict, ...]
+    nrmse_before: float
+    nrmse_after: float
+    noise_floor_nrmse: float
+    excess_removed: float
+    calibration: dict
+    filter: dict
+    runs: tuple[dict, ...]
+    candidates: tuple[dict, ...]  # per step: candidate -> held-out NRMSE
+    notes: tuple[str, ...]
+    margin: float
+    min_share: float
+    prepared: Prepared = field(repr=False)
+    baseline_fit: ChainFit = field(repr=False)
+    final_fit: ChainFit = field(repr=False)
+
+    @property
+    def ambiguous_with(self) -> list[list[str]]:
+        return [list(s["ambiguous_with"]) for s in self.steps]
+
+    def as_dict(self) -> dict[str, Any]:
+        """The ``discrepancy.json`` record."""
+        return _clean(
+            {
+                "reference": self.reference,
+                "named": list(self.named),
+                "steps": list(self.steps),
+                "nrmse_before": self.nrmse_before,
+                "nrmse_after": self.nrmse_after,
+                "ambiguous_with": self.ambiguous_with,
+                "noise_floor_nrmse": self.noise_floor_nrmse,
+                "excess_removed": self.excess_removed,
+                "gap_shrink": self.nrmse_before / self.nrmse_after if self.nrmse_after > 0 else None,
+                "calibration": self.calibration,
+                "filter": self.filter,
+                "runs": list(self.runs),
+                "candidate_nrmse": list(self.candidates),
+                "decision_rule": {
+                    "margin": self.margin,
+                    "min_share": self.min_share,
+                    "text": "name the best candidate only if its held-out RMSE is at least "
+                    f"{self.margin:.0%} below the current model's; a further effect must "
+                    f"also remove >= {self.min_share:.0%} of the original excess error "
+                    "power above the noise floor",
+                },
+                "final_model": self.final_fit.as_dict(),
+                "notes": list(self.notes),
+            }
+        )
+
+
+def _clean(x):
+    if isinstance(x, dict):
+        return {str(k): _clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_clean(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
+    """``fem(design, pressures) -> curvature`` from the fem package, or None if absent.
+
+    Uses ``fem.check(design, pressures=..., loads=("lumen",))``: the FEM with the
+    real load (lumen wall and cap), which the workflow compares with the analytic
+    cap-load model.
+    """
+    try:
+        import fem as fem_pkg
+    except ImportError:
+        return None
+    check = getattr(fem_pkg, "check", None)
+    if check is None:
+        return None
+
+    def run(design, pressures):
+        res = check(design, pressures=tuple(float(x) for x in pressures), loads=("lumen",))
+        return np.array([c.curvature_per_mm for c in res.cases if c.load == "lumen"])
+
+    return run
+
+
+def _resolve_design(design):
+    if design is None:
+        return None
+    if isinstance(design, (str, Path)):
+        import design as design_pkg
+
+        return design_pkg.resolve(str(design))
+    return design
+
+
+def _shape_calibration(prep: Prepared, design) -> dict:
+    """Paper eq. 8 (``analytic.calibration.calibrate``) on the filtered, scored samples.
+
+    Run for the record: the workflow relies on the explicit gain, because the
+    shape family may not reach the data (``reachable``) and its four shape
+    parameters are not identifiable from one curvature gain.
+    """
+    from analytic.calibration import calibrate
+    from analytic.io import Measurement
+    from design.errors import SoftcathError
+
+    u = np.concatenate([s.pressure_MPa[s.mask] for s in prep.segments])
+    y = np.concatenate([s.target[s.mask] for s in prep.segments])
+    try:
+        m = Measurement.from_arrays(
+            time_s=np.arange(u.size) / prep.fs_hz,
+            pressure_MPa=u,
+            curvature_per_mm=y,
+            source="filtered series",
+        )
+        r = calibrate(m, design, use_elongation=False)
+    except SoftcathError as exc:
+        return {"used": False, "error": str(exc)}
+    keep = (
+        "x_opt",
+        "x_nominal",
+        "nrmse_nominal",
+        "nrmse_optimized",
+        "gains_model",
+        "reachable",
+        "identifiable",
+        "message",
+    )
+    return {
+        "used": "analytic.calibration.calibrate (eq. 8), curvature only, on the "
+        "filtered series; reported, not relied on"
+    } | {k: v for k, v in r.to_json().items() if k in keep}
+
+
+def _excess(before: float, after: float, floor: float) -> float:
+    den = before**2 - floor**2
+    if den <= 0:
+        return 0.0
+    return float(np.clip((before**2 - after**2) / den, -1.0, 1.0))
+
+
+def run_workflow(
+    data: pd.DataFrame | str | Path | None,
+    design: Any = None,
+    *,
+    reference: str = "measured",
+    fem: Callable[..., Any] | pd.DataFrame | None = None,
+    pressures_MPa: np.ndarray | None = None,
+    margin: float = 0.05,
+    min_share: float = 0.05,
+    max_effects: int = 3,
+    candidates: tuple[str, ...] | None = None,
+    progress: bool = False,
+) -> DiscrepancyResult:
+    """Run the missing-effect workflow.
+
+    Parameters
+    ----------
+    data
+        ``reference="measured"``: a measurement table or CSV path (ARCHITECTURE.md
+        columns). ``reference="fem"``: a table/CSV of quasi-static reference points
+        with ``pressure_MPa`` and ``curvature_per_mm`` (or None with ``fem``).
+    design
+        A ``TipDesign``, a preset name or a TOML path; needed for ``"fem"`` (the
+        model's gain is then the design's, not calibrated) and used for the
+        nominal gain in the calibration record otherwise.
+    reference
+        ``"measured"`` or ``"fem"``.
+    fem
+        For ``"fem"`` without ``data``: a callable ``fem(design, pressures_MPa)``
+        returning curvatures (1/mm), or a precomputed table.
+    pressures_MPa
+        Pressures for the ``fem`` callable (default 12 points over 0..2 MPa).
+    margin, min_share, max_effects
+        Decision rule, see :func:`studies.discrepancy.workflow.name_effects`.
+    candidates
+        Candidate names to try (default: the measured or FEM set).
+    progress
+        Show a tqdm bar over candidate fits.
+    """
+    if reference not in ("measured", "fem"):
+        raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
+    if not 0 < margin < 1:
+        raise DesignError("margin", margin, "must be in (0, 1)")
+    if not 0 <= min_share < 1:
+        raise DesignError("min_share", min_share, "must be in [0, 1)")
+    if not 1 <= max_effects <= 6:
+        raise DesignError("max_effects", max_effects, "must be in [1, 6]")
+    d = _resolve_design(design)
+    notes: list[str] = []
+    fixed_gain = None
+    context: dict[str, float] = {}
+    nominal = None
+    if d is not None:
+        import analytic
+
+        nominal = analytic.gains(d, "cap")[0]
+    if reference == "measured":
+        if data is None:
+            raise DataError("reference 'measured' needs a measurement table or CSV")
+        table = validate_table(data) if isinstance(data, pd.DataFrame) else read_measurement_csv(data)
+        prep = prepare(table)
+        cands = candidates or MEASURED_CANDIDATES
+        shape_cal = _shape_calibration(prep, d) if d is not None else None
+    else:
+        if d is None:
+            raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
+        import analytic
+
+        g_cap = analytic.gains(d, "cap")[0]
+        g_lum = analytic.gains(d, "lumen")[0]
+        fixed_gain = g_cap
+        context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_cap}
+        src = data if data is not None else fem
+        if src is None:
+            raise DataError("reference 'fem' needs a FEM table or a fem callable")
+        if callable(src) and not isinstance(src, pd.DataFrame):
+            p = np.linspace(0, 2.0, 12) if pressures_MPa is None else np.asarray(pressures_MPa)
+            k = np.asarray(src(d, p), dtype=float)
+        else:
+            tab = src if isinstance(src, pd.DataFrame) else pd.read_csv(src)
+            for c in ("pressure_MPa", "curvature_per_mm"):
+                if c not in tab.columns:
+                    raise DataError(f"FEM reference table: missing column {c!r}")
+            p = tab["pressure_MPa"].to_numpy(float)
+            k = tab["curvature_per_mm"].to_numpy(float)
+        prep = prepare_static(p, k)
+        shape_cal = None
+        cands = candidates or FEM_CANDIDATES
+        notes.append(
+            "reference = FEM: the model's gain is the design's (not calibrated), "
+            "so a lumen-wall term is distinguishable from a gain error"
+        )
+    for c in cands:
+        get(c)
+    steps = name_effects(
+        prep,
+        candidates=cands,
+        margin=margin,
+        min_share=min_share,
+        max_effects=max_effects,
+        fixed_gain=fixed_gain,
+        context=context,
+        progress=progress,
+    )
+    first = steps[0].baseline
+    baseline_fit = first.fit
+    named = tuple(s.named for s in steps if s.named)
+    after = steps[-1].baseline if steps[-1].named is None else steps[-1].candidates[steps[-1].named]
+    final_fit = after.fit
+    floor = prep.noise_floor_per_mm
+    fs = prep.full_scale_per_mm
+    step_records = []
+    for s in steps:
+        if s.named is None:
+            continue
+        sc = s.candidates[s.named]
+        step_records.append(
+            {
+                "effect": s.named,
+                "meaning": get(s.named).meaning,
+                "params": s.fit.params.get(s.named, {}),
+                "params_stderr": s.fit.stderr.get(s.named, {}),
+                "coefficient": s.fit.coefficients.get(s.named),
+                "coefficient_stderr": s.fit.coefficient_stderr.get(s.named),
+                "nrmse_before": s.baseline.nrmse,
+                "nrmse_after": sc.nrmse,
+                "excess_removed": _excess(s.baseline.rmse_per_mm, sc.rmse_per_mm, floor),
+                "ambiguous_with": list(s.ambiguous_with),
+                "separating_experiment": s.separating_experiment,
+            }
+        )
+        if s.ambiguous_with:
+            notes.append(
+                f"step {len(step_records)}: the data cannot tell {s.named} from "
+                f"{', '.join(s.ambiguous_with)}"
+                + (f"; to separate them, {s.separating_experiment}" if s.separating_experiment else "")
+            )
+    for c, sh in steps[-1].extra.get("below_min_share", {}).items():
+        gain = 1 - steps[-1].candidates[c].rmse_per_mm / steps[-1].baseline.rmse_per_mm
+        notes.append(
+            f"{c} would lower the held-out RMSE by a further {gain:.0%} but removes only "
+            f"{sh:.2%} of the original excess error power (< {min_share:.0%}): read as the "
+            "named effects' form error, not as another missing effect"
+        )
+    if not named:
+        notes.append(
+            "no candidate beat the calibrated model by the margin on held-out data: "
+            "nothing is missing at this noise level"
+        )
+    calib = {
+        "used": "explicit gain: least squares on the filtered series (refitted in every model)"
+        if fixed_gain is None
+        else "none: gain fixed to the design's analytic cap-load gain",
+        "gain_per_mm_MPa": baseline_fit.gain,
+        "gain_stderr": baseline_fit.gain_stderr,
+        "final_gain_per_mm_MPa": final_fit.gain,
+    }
+    if nominal is not None:
+        calib["nominal_gain_per_mm_MPa"] = nominal
+        calib["gain_over_nominal"] = baseline_fit.gain / nominal if nominal else None
+    if shape_cal is not None:
+        calib["shape_optimisation"] = shape_cal
+        g_shape = shape_cal.get("gains_model", {}).get("curvature_per_mm_per_MPa")
+        if g_shape:
+            # the explicit gain is what the workflow relies on; this says how far the
+            # shape family alone got
+            calib["explicit_gain_over_shape_gain"] = baseline_fit.gain / g_shape
+    elif fixed_gain is None:
+        calib["shape_optimisation"] = "not run (no design given)"
+    filt = (
+        {
+            "family": prep.data_filter.family,
+            "passband_hz": prep.data_filter.passband_hz,
+            "stopband_hz": prep.data_filter.stopband_hz,
+            "ripple_db": prep.data_filter.ripple_db,
+            "attenuation_db": prep.data_filter.attenuation_db,
+            "decimated_rate_hz": prep.fs_hz,
+            "applied_to": "data and model output alike (zero-phase)",
+        }
+        if not prep.static
+        else {"family": "none (quasi-static reference)"}
+    )
+    runs = tuple(
+        {
+            "run": r.label,
+            "kind": r.kind,
+            "frequency_hz": r.frequency_hz,
+            "duration_s": r.duration_s,
+            "noise_sd_per_mm": r.noise_sd_per_mm,
+        }
+        for r in prep.runs
+    )
+    cand_table = tuple(
+        {c: sc.nrmse for c, sc in s.candidates.items()} | {"(current)": s.baseline.nrmse} for s in steps
+    )
+    if prep.distinct_frequencies() < 2 and not prep.static and set(named) & set(RATE_FAMILY):
+        notes.append(
+            "one excitation only: rate-independent hysteresis, lag, delay and creep "
+            "are not separable from these data (see the separating experiment)"
+        )
+    return DiscrepancyResult(
+        reference=reference,
+        named=named,
+        steps=tuple(step_records),
+        nrmse_before=first.nrmse,
+        nrmse_after=after.nrmse,
+        noise_floor_nrmse=floor / fs if fs > 0 else 0.0,
+        excess_removed=_excess(first.rmse_per_mm, after.rmse_per_mm, floor),
+        calibration=calib,
+        filter=filt,
+        runs=runs,
+        candidates=cand_table,
+        notes=tuple(notes),
+        margin=margin,
+        min_share=min_share,
+        prepared=prep,
+        baseline_fit=baseline_fit,
+        final_fit=final_fit,
+    )
