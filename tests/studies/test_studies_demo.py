@@ -83,5 +83,9 @@ def test_full_demo_subprocess(tmp_path):
     sections = json.loads((out / "demo.json").read_text())["sections"]
     assert [s["key"] for s in sections] == [k for k, _, _ in demo.SECTIONS]
     assert all(s["status"] in ("ok", "unavailable") for s in sections), sections
-    assert {s["key"] for s in sections if s["status"] == "ok"} >= {"model", "calibration", "sweep", "verdict"}
+    ok = {s["key"] for s in sections if s["status"] == "ok"}
+    assert ok >= {"model", "calibration", "effects", "sweep", "verdict"}
+    assert (out / "effects" / "report.html").is_file() and "effects/report.html" in (
+        out / "index.html"
+    ).read_text()
     assert (out / "index.html").is_file() and "demo:" in proc.stdout
