@@ -15,6 +15,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--data", default=None, help="measurement CSV (default: the bundled paper_sine.csv)")
     parser.add_argument("--workers", type=int, default=2, help="processes for the sweep (default 2)")
     parser.add_argument("--only", default=None, help="comma-separated section keys to run (default: all)")
+    parser.add_argument("--no-fem", action="store_true", help="skip the FEM (a quick look in seconds)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,7 +31,14 @@ def run(args: argparse.Namespace) -> int:
             raise DesignError("only", bad[0], f"unknown section; choose from {', '.join(keys)}")
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
-    res = run_demo(args.out, design_ref=args.design, data_csv=args.data, workers=args.workers, only=only)
+    res = run_demo(
+        args.out,
+        design_ref=args.design,
+        data_csv=args.data,
+        workers=args.workers,
+        only=only,
+        fem=not args.no_fem,
+    )
     for s in res.sections:
         print(f"  {s['status']:<11} {s['seconds']:7.1f} s  {s['title']}")
     print(f"demo: {res.index_html} ({res.seconds:.0f} s)")

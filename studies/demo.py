@@ -42,6 +42,7 @@ class DemoContext:
     design: object
     data_csv: Path
     workers: int = 2
+    fem: bool = True
     shared: dict = field(default_factory=dict)
 
 
@@ -54,10 +55,8 @@ class SectionOutput:
     status: str = "ok"
 
 
-def _unavailable(what: str, why: str) -> SectionOutput:
-    return SectionOutput(
-        note(f"<b>Not available in this build:</b> {esc(what)} ({esc(why)})."), status="unavailable"
-    )
+def _unavailable(what: str, why: str, *, lead: str = "Not available in this build") -> SectionOutput:
+    return SectionOutput(note(f"<b>{esc(lead)}:</b> {esc(what)} ({esc(why)})."), status="unavailable")
 
 
 # ---------------------------------------------------------------- 1. the paper's model
@@ -113,6 +112,8 @@ def section_model(ctx: DemoContext) -> SectionOutput:
 def section_fem(ctx: DemoContext) -> SectionOutput:
     from studies.sweep.evaluators import _fem_rows, fem_check_function
 
+    if not ctx.fem:
+        return _unavailable("the FEM check under both loads", "switched off with --no-fem", lead="Not run")
     check = fem_check_function()
     if check is None:
         return _unavailable("the FEM check under both loads", "fem.check is not importable")
@@ -285,7 +286,7 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     from studies.selection import select, write_selection
     from studies.sweep import fem_check_function, load_spec, run_sweep
 
-    fem = fem_check_function() is not None
+    fem = ctx.fem and fem_check_function() is not None
     sdir = ctx.out_dir / "sweep"
     sdir.mkdir(exist_ok=True)
     spec_path = sdir / "spec.toml"
@@ -375,7 +376,8 @@ class DemoResult:
 
 
 def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | Path | None = None,
-             workers: int = 2, only: tuple[str, ...] | None = None, progress: bool = True) -> DemoResult:  # fmt: skip
+             workers: int = 2, only: tuple[str, ...] | None = None, progress: bool = True,
+             fem: bool = True) -> DemoResult:  # fmt: skip
     """Run the demo sections into ``out_dir`` and write ``out_dir/index.html``.
 
     Parameters
@@ -392,6 +394,8 @@ def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | 
         Run only these section keys (default: all).
     progress
         Show a progress bar over the sections.
+    fem
+        Run the FEM (section 2 and the sweep's FEM evaluator) when ``fem.check`` is installed.
     """
     from tqdm import tqdm
 
@@ -401,7 +405,7 @@ def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     data = Path(data_csv) if data_csv else Path(__file__).parent / "data" / "paper_sine.csv"
-    ctx = DemoContext(out_dir=out, design=design.resolve(design_ref), data_csv=data, workers=workers)
+    ctx = DemoContext(out_dir=out, design=design.resolve(design_ref), data_csv=data, workers=workers, fem=fem)
     chosen = [s for s in SECTIONS if only is None or s[0] in only]
     records, body, toc = [], "", ""
     for key, title, fn in tqdm(chosen, desc="demo", unit="section", disable=not progress):

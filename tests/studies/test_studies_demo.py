@@ -23,7 +23,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_demo_model_sweep_verdict(tmp_path, capsys):
     out = tmp_path / "demo"
-    assert main(["demo", "--out", str(out), "--only", "model,sweep,verdict", "--workers", "1"]) == 0
+    assert (
+        main(["demo", "--out", str(out), "--only", "model,sweep,verdict", "--workers", "1", "--no-fem"]) == 0
+    )
     html = (out / "index.html").read_text()
     status = {s["key"]: s["status"] for s in json.loads((out / "demo.json").read_text())["sections"]}
     assert status == {"model": "ok", "sweep": "ok", "verdict": "ok"}
@@ -56,15 +58,22 @@ def test_failing_or_missing_section_does_not_stop_the_demo(tmp_path, monkeypatch
             ("verdict", "Verdict", demo.section_verdict),
         ],
     )
-    res = demo.run_demo(tmp_path / "d", progress=False)
+    res = demo.run_demo(tmp_path / "d", progress=False, fem=False)
     status = {s["key"]: s["status"] for s in res.sections}
-    assert status["boom"] == "failed"
-    assert status["fem"] == ("unavailable" if fem_check_function() is None else "ok")
-    assert status["verdict"] == ("unavailable" if fem_check_function() is None else "ok")
+    assert status == {"boom": "failed", "fem": "unavailable", "verdict": "unavailable"}
     html = res.index_html.read_text()
     assert "This section failed:</b> RuntimeError: solver exploded" in html
-    if fem_check_function() is None:
-        assert "Not available in this build:</b> the FEM check under both loads" in html
+    assert (
+        "Not available in this build:</b> the FEM check under both loads (switched off with --no-fem)" in html
+    )
+
+
+def test_fem_section_says_why_it_is_missing(tmp_path):
+    if fem_check_function() is not None:
+        pytest.skip("fem.check is installed: this test covers the fem-unavailable note only")
+    ctx = demo.DemoContext(out_dir=tmp_path, design=design.preset("paper"), data_csv=tmp_path / "x.csv")
+    res = demo.section_fem(ctx)
+    assert res.status == "unavailable" and "fem.check is not importable" in res.html
 
 
 def test_demo_bad_arguments(tmp_path, capsys):
