@@ -63,9 +63,7 @@ def test_failing_or_missing_section_does_not_stop_the_demo(tmp_path, monkeypatch
     assert status == {"boom": "failed", "fem": "unavailable", "verdict": "unavailable"}
     html = res.index_html.read_text()
     assert "This section failed:</b> RuntimeError: solver exploded" in html
-    assert (
-        "Not available in this build:</b> the FEM check under both loads (switched off with --no-fem)" in html
-    )
+    assert "Not run:</b> the FEM check under both loads (switched off with --no-fem)" in html
 
 
 def test_fem_section_says_why_it_is_missing(tmp_path):
