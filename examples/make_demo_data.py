@@ -1,7 +1,8 @@
 """Regenerate ``studies/data/bench_hysteresis.csv``, the demo's bundled bench data.
 
 The paper's data shape: sinusoidal pressure (0.1 and 0.25 Hz, 3 cycles each, 0–2 MPa)
-on the paper design, recorded through the **virtual bench** (pseudo-terminal devices,
+on the paper design with a squeezed, offset lumen (``examples/bench_tip.toml``: what the
+calibration should find), recorded through the **virtual bench** (pseudo-terminal devices,
 rendered camera frames, the real recorder and tip-measurement pipeline), with a hidden
 rate-independent hysteresis (a Preisach plant, which the workflow's candidates do not
 share in form) of about the size the paper's Fig. 4 shows. Two frequencies, so the
@@ -20,7 +21,7 @@ from studies.cli import main
 
 ARGS = [
     "bench",
-    "--design", "paper",
+    "--design", str(Path(__file__).with_name("bench_tip.toml")),
     "--effect", "hysteresis:loop_width_MPa=0.4,fraction=0.3,range_MPa=2.0",
     "--waveform", "sine",
     "--freq", "0.1,0.25",

@@ -1,0 +1,212 @@
+"""The public FEM check: ``fem.check(design, pressures=..., loads=...)``.
+
+One mesh (from the cache when the same tip and settings were meshed before),
+one assembly, one factorisation; each load case is solved once at 1 MPa and
+scaled to every pressure (linear elasticity).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from design.errors import DesignError
+from fem.adapter import geometry_from_design, laws_from_design
+from fem.pipeline import LOADS, TipSolution, run_tip
+from fem.post import tip_pose
+
+__all__ = ["FemCase", "FemResult", "check"]
+
+
+@dataclass(frozen=True)
+class FemCase:
+    """FEM and analytic results for one load case at one pressure (``fem.json`` keys).
+
+    Lengths mm, curvature 1/mm, pressure MPa, angles rad, strain and
+    elongation dimensionless. ``curvature_variation`` is (max - min)/|mean| of
+    the local curvature along the middle of the tip. ``max_strain`` is the
+    largest principal strain in the silicone outside the clamp zone.
+    ``analytic`` holds the analytic model's ``curvature_per_mm`` and
+    ``elongation`` for the same design, pressure and load model, and
+    ``ratio_fem_over_analytic`` their ratios (NaN at zero pressure).
+    """
+
+    load: str
+    pressure_MPa: float
+    curvature_per_mm: float
+    curvature_rotation_per_mm: float
+    elongation: float
+    bend_angle_rad: float
+    tip_x_mm: float
+    tip_y_mm: float
+    curvature_variation: float
+    max_strain: float
+    analytic: dict[str, float]
+    ratio_fem_over_analytic: dict[str, float]
+
+
+@dataclass(frozen=True)
+class FemResult:
+    """Result of :func:`check`: one :class:`FemCase` per (load, pressure) plus run facts.
+
+    ``residual`` is the largest normwise backward error of the solves
+    (``fem.solver``); ``mesh_seconds`` is 0 when the mesh came from the cache
+    (``mesh_cached``). ``solution`` keeps the unit-pressure fields for export
+    (not compared, not printed).
+    """
+
+    cases: tuple[FemCase, ...]
+    design_name: str
+    mesher: str
+    mesh_size_mm: float
+    n_nodes: int
+    n_elements: int
+    dofs: int
+    mesh_seconds: float
+    assemble_seconds: float
+    solve_seconds: float
+    residual: float
+    mesh_cached: bool
+    mesh_quality: dict[str, float]
+    volume_errors: dict[str, float]
+    land_half_widths_mm: dict[str, float]
+    neutral_axis_y_mm: float
+    coil_modulus: str
+    solution: TipSolution | None = field(default=None, repr=False, compare=False)
+
+    def case(self, load: str, pressure_MPa: float) -> FemCase:
+        """The case for ``load`` at ``pressure_MPa``."""
+        for c in self.cases:
+            if c.load == load and math.isclose(c.pressure_MPa, pressure_MPa, rel_tol=1e-12):
+                return c
+        raise DesignError("case", (load, pressure_MPa), "not computed in this result")
+
+    def to_json(self, load: str, pressure_MPa: float) -> dict:
+        """The ``fem.json`` document for one case (all keys of issue 3 section 6)."""
+        from dataclasses import fields
+
+        c = asdict(self.case(load, pressure_MPa))
+        run = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("cases", "solution")}
+        return _finite_or_none({**c, **run})
+
+
+def _finite_or_none(obj):
+    if isinstance(obj, dict):
+        return {k: _finite_or_none(v) for k, v in obj.items()}
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None  # JSON has no NaN
+    return obj
+
+
+def check(
+    design,
+    *,
+    pressures: Sequence[float] = (0.1,),
+    loads: Sequence[str] = LOADS,
+    mesh_size: float = 0.16,
+    mesher: str = "gmsh",
+    axial_ratio: float = 5.0,
+    coil_modulus: str = "tension",
+    use_cache: bool = True,
+    method: str | None = None,
+    progress=None,
+) -> FemResult:
+    """Run the FEM bending check of a design and compare with the analytic model.
+
+    Parameters
+    ----------
+    design
+        A :class:`design.TipDesign`, a preset name or a TOML path.
+    pressures
+        Pressures in MPa (finite).
+    loads
+        Subset of ``("cap", "lumen")``: ``cap`` loads only the cap's inner face
+        (the paper's model), ``lumen`` the lumen wall and the cap (the real load).
+    mesh_size
+        Section element size, mm (default 0.16: for the paper design the cap
+        curvature is within 0.07 % of its Richardson extrapolation, the lumen
+        curvature and elongation within 0.2 % of a 0.12 mm mesh; docs/fem.md).
+    mesher
+        ``"gmsh"`` (default, seconds) or ``"tetwild"`` (pytetwild, minutes).
+    axial_ratio
+        gmsh back-end: layer thickness / mesh_size.
+    coil_modulus
+        ``"tension"`` or ``"bending"``: which homogenised axial modulus the coils
+        get (``fem.adapter``).
+    use_cache
+        Reuse / store meshes in the on-disk cache.
+    method
+        Solver back-end (``"pardiso"`` default, ``"superlu"``).
+    progress
+        Optional ``progress(stage)`` callable.
+    """
+    import analytic
+    import design as design_pkg
+
+    d = design_pkg.resolve(design)
+    p = np.asarray(list(pressures), dtype=float).ravel()
+    if p.size == 0 or not np.all(np.isfinite(p)):
+        raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
+    geometry = geometry_from_design(d)
+    laws = laws_from_design(d, coil_modulus=coil_modulus)
+    sol = run_tip(
+        geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
+        axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
+    )  # fmt: skip
+    cases = []
+    length = geometry.length
+    for ld in loads:
+        fit = sol.fits[ld]
+        ref = analytic.response(d, p, load=ld)
+        kappa = fit.curvature_per_mm * p
+        eps = fit.elongation * p
+        theta, tx, ty = tip_pose(kappa, eps, length=length)
+        for i, pi in enumerate(p):
+            a_k, a_e = float(ref.curvature[i]), float(ref.elongation[i])
+            cases.append(
+                FemCase(
+                    load=ld,
+                    pressure_MPa=float(pi),
+                    curvature_per_mm=float(kappa[i]),
+                    curvature_rotation_per_mm=float(fit.curvature_rotation_per_mm * pi),
+                    elongation=float(eps[i]),
+                    bend_angle_rad=float(theta[i]),
+                    tip_x_mm=float(tx[i]),
+                    tip_y_mm=float(ty[i]),
+                    curvature_variation=fit.curvature_variation,
+                    max_strain=sol.max_strain(ld, float(pi)),
+                    analytic={"curvature_per_mm": a_k, "elongation": a_e},
+                    ratio_fem_over_analytic={
+                        "curvature_per_mm": _ratio(kappa[i], a_k),
+                        "elongation": _ratio(eps[i], a_e),
+                    },
+                )
+            )
+    q = sol.mesh.quality
+    return FemResult(
+        cases=tuple(cases),
+        design_name=d.name,
+        mesher=sol.mesh.mesher,
+        mesh_size_mm=float(mesh_size),
+        n_nodes=int(sol.problem.n_nodes),
+        n_elements=int(sol.mesh.tets.shape[0]),
+        dofs=int(sol.problem.ndofs),
+        mesh_seconds=float(sol.mesh_seconds),
+        assemble_seconds=float(sol.assemble_seconds),
+        solve_seconds=float(sol.solve_seconds),
+        residual=float(sol.residual),
+        mesh_cached=bool(sol.mesh.cached),
+        mesh_quality={k: float(v) for k, v in asdict(q).items()},
+        volume_errors=sol.mesh.volume_errors(),
+        land_half_widths_mm=geometry.lands(),
+        neutral_axis_y_mm=float(sol.fits[loads[0]].neutral_axis_y),
+        coil_modulus=coil_modulus,
+        solution=sol,
+    )
+
+
+def _ratio(a: float, b: float) -> float:
+    return float(a / b) if b != 0 else float("nan")

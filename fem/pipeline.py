@@ -1,0 +1,219 @@
+"""The FEM bending check: mesh (cached), assemble, factorise once, solve the
+load cases at unit pressure, scale to every pressure, post-process.
+
+``run_tip`` works on a :class:`fem.section.TipGeometry` and a map region ->
+elastic law; :func:`fem.check` (in ``fem.api``) adds the design adapter and
+the analytic comparison.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from design.errors import DesignError
+from fem.elasticity import ElasticProblem
+from fem.mesh import TipMesh, mesh_tip
+from fem.post import BendingFit, bending_fit, principal_strain_max
+from fem.section import FILLER, REGIONS, TUBE, TipGeometry
+from fem.tags import tag_facets
+
+__all__ = ["LOADS", "TipSolution", "run_tip", "axial_modulus"]
+
+log = logging.getLogger(__name__)
+
+#: ``cap``: pressure on the cap's inner face only (the paper's end-cap force);
+#: ``lumen``: pressure on the lumen wall and the cap (the real load).
+LOADS = ("cap", "lumen")
+SILICONE = (TUBE, FILLER)
+
+
+@dataclass
+class TipSolution:
+    """Unit-pressure (1 MPa) solutions of one tip, with everything to post-process.
+
+    Attributes
+    ----------
+    mesh
+        The :class:`fem.mesh.TipMesh`.
+    problem
+        The assembled :class:`fem.elasticity.ElasticProblem` (factorised).
+    unit
+        Load name -> displacements (n_p2_nodes, 3) in mm per MPa.
+    fits
+        Load name -> :class:`fem.post.BendingFit` per MPa.
+    strain_range
+        Load name -> (min, max) principal strain per MPa in the silicone,
+        outside the clamp zone.
+    element_strain
+        Load name -> max principal strain per MPa per element (for pictures).
+    residual
+        Largest backward error of the solves.
+    mesh_seconds, assemble_seconds, solve_seconds
+        Wall times (mesh time is 0 on a cache hit; see ``mesh.cached``).
+    tags
+        Facet tag -> facet indices.
+    """
+
+    mesh: TipMesh
+    problem: ElasticProblem
+    unit: dict[str, np.ndarray]
+    fits: dict[str, BendingFit]
+    strain_range: dict[str, tuple[float, float]]
+    element_strain: dict[str, np.ndarray]
+    residual: float
+    mesh_seconds: float
+    assemble_seconds: float
+    solve_seconds: float
+    tags: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def max_strain(self, load: str, pressure_MPa: float) -> float:
+        """Largest principal strain in the silicone at ``pressure_MPa`` (linear)."""
+        lo, hi = self.strain_range[load]
+        return float(pressure_MPa * (hi if pressure_MPa >= 0 else lo))
+
+
+def axial_modulus(law) -> float:
+    """Axial (z) Young's modulus of a law (MPa)."""
+    return float(getattr(law, "axial_modulus", getattr(law, "youngs_modulus", np.nan)))
+
+
+def run_tip(
+    geometry: TipGeometry,
+    laws: Mapping[int, object],
+    *,
+    loads: Sequence[str] = LOADS,
+    mesh_size: float = 0.1,
+    mesher: str = "gmsh",
+    axial_ratio: float = 5.0,
+    margin: float | None = None,
+    use_cache: bool = True,
+    method: str | None = None,
+    progress=None,
+) -> TipSolution:
+    """Mesh, assemble, factorise once and solve every load case at 1 MPa.
+
+    Parameters
+    ----------
+    geometry
+        The tip (mm).
+    laws
+        Region label (``fem.section``) -> law (``fem.materials``).
+    loads
+        Subset of :data:`LOADS`.
+    mesh_size, mesher, axial_ratio, use_cache
+        Passed to :func:`fem.mesh.mesh_tip`.
+    margin
+        Length (mm) next to clamp and cap left out of the curvature fit;
+        default one outer diameter (notes/fem.md).
+    method
+        Linear solver back-end (``fem.solver``).
+    progress
+        Optional callable ``progress(stage: str)`` for a status line.
+    """
+    loads = tuple(loads)
+    bad = [ld for ld in loads if ld not in LOADS]
+    if bad or not loads:
+        raise DesignError("load", bad or loads, f"must be a non-empty subset of {LOADS}")
+    say = progress or (lambda stage: None)
+    say("meshing")
+    t0 = time.perf_counter()
+    mesh = mesh_tip(
+        geometry, mesh_size=mesh_size, mesher=mesher, axial_ratio=axial_ratio, use_cache=use_cache
+    )
+    mesh_seconds = 0.0 if mesh.cached else time.perf_counter() - t0
+    say("assembling")
+    t1 = time.perf_counter()
+    sk = mesh.skfem_mesh()
+    tags = tag_facets(sk, geometry)
+    if tags["cap"].size == 0 or tags["base"].size == 0:
+        raise DesignError("mesh", mesh.key, "no cap or base facets found; the geometry is broken")
+    present = {k: v for k, v in laws.items() if (mesh.labels == k).any()}
+    problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
+    rhs = {}
+    for ld in loads:
+        facets = tags["cap"] if ld == "cap" else np.concatenate([tags["cap"], tags["lumen"]])
+        rhs[ld] = problem.pressure_load(facets)
+    assemble_seconds = time.perf_counter() - t1
+    say("solving")
+    t2 = time.perf_counter()
+    problem.factorize()
+    unit, residual = {}, 0.0
+    for ld in loads:
+        sol = problem.solve(rhs[ld])
+        unit[ld] = sol.u
+        residual = max(residual, sol.residual)
+    solve_seconds = time.perf_counter() - t2
+    say("post-processing")
+    g = geometry
+    if margin is None:
+        margin = 2.0 * g.coil_outer_radius
+    ybar = _neutral_axis(mesh, laws)
+    fits, srange, estrain = {}, {}, {}
+    for ld in loads:
+        fits[ld] = bending_fit(
+            problem.nodes,
+            unit[ld],
+            length=g.length,
+            margin=margin,
+            end_z=g.length,
+            neutral_axis_y=ybar,
+        )
+        srange[ld], estrain[ld] = _silicone_strain(problem, mesh, unit[ld], margin)
+    log.info(
+        "fem: %d dofs, mesh %.1f s, assemble %.1f s, solve %.1f s, backward error %.1e",
+        problem.ndofs,
+        mesh_seconds,
+        assemble_seconds,
+        solve_seconds,
+        residual,
+    )
+    return TipSolution(
+        mesh=mesh,
+        problem=problem,
+        unit=unit,
+        fits=fits,
+        strain_range=srange,
+        element_strain=estrain,
+        residual=residual,
+        mesh_seconds=mesh_seconds,
+        assemble_seconds=assemble_seconds,
+        solve_seconds=solve_seconds,
+        tags=tags,
+    )
+
+
+def _neutral_axis(mesh: TipMesh, laws: Mapping[int, object]) -> float:
+    """Axial-stiffness-weighted centroid y of the lumen part (paper eq. 5 on the mesh)."""
+    from fem.mesh import tet_volumes
+
+    c = mesh.points[mesh.tets].mean(axis=1)
+    body = c[:, 2] < mesh.geometry.length - mesh.geometry.cap_thickness
+    v = tet_volumes(mesh.points, mesh.tets)
+    e = np.array([axial_modulus(laws[k]) if k in laws else 0.0 for k in range(max(REGIONS) + 1)])
+    w = e[mesh.labels] * v * body
+    return float((w * c[:, 1]).sum() / w.sum())
+
+
+def _silicone_strain(problem: ElasticProblem, mesh: TipMesh, u: np.ndarray, margin: float):
+    """(min, max) principal strain per MPa in silicone away from the clamp; per-element max."""
+    from skfem import CellBasis
+
+    basis = CellBasis(problem.mesh, problem.element, intorder=2)
+    grads = np.stack([basis.interpolate(u[:, c]).grad for c in range(3)])  # (3, 3, e, q)
+    eps = 0.5 * (grads + np.swapaxes(grads, 0, 1))
+    flat = np.moveaxis(eps.reshape(3, 3, -1), -1, 0)
+    eig = np.linalg.eigvalsh(flat).reshape(grads.shape[2], grads.shape[3], 3)
+    emax = eig[..., -1].max(axis=1)
+    emin = eig[..., 0].min(axis=1)
+    zc = mesh.points[mesh.tets].mean(axis=1)[:, 2]
+    # The rigid clamp makes a singular corner the glued-in real tip does not have:
+    # the silicone strain is read outside one margin from the base.
+    sel = np.isin(mesh.labels, SILICONE) & (zc > margin)
+    if not sel.any():
+        return (0.0, 0.0), principal_strain_max(grads).max(axis=1)
+    return (float(emin[sel].min()), float(emax[sel].max())), emax
