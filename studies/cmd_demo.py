@@ -12,7 +12,9 @@ HELP = "run the whole story on the paper's design and write DIR/index.html"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, help="output directory")
     parser.add_argument("--design", default="paper", help="preset name or design TOML (default: paper)")
-    parser.add_argument("--data", default=None, help="measurement CSV (default: the bundled paper_sine.csv)")
+    parser.add_argument(
+        "--data", default=None, help="measurement CSV (default: the bundled bench_hysteresis.csv)"
+    )
     parser.add_argument("--workers", type=int, default=2, help="processes for the sweep (default 2)")
     parser.add_argument("--only", default=None, help="comma-separated section keys to run (default: all)")
     parser.add_argument("--no-fem", action="store_true", help="skip the FEM (a quick look in seconds)")
