@@ -149,7 +149,7 @@ def section_fem(ctx: DemoContext) -> SectionOutput:
             verdict = (
                 f"the beam formulas {'under' if c > 1 else 'over'}estimate the bending by "
                 f"{fmt(abs(c - 1) * 100, 2)} % — the 3-D section (contact lands, filler, homogenised coils) "
-                "is stiffer or softer than the sum of its parts."
+                f"is {'softer' if c > 1 else 'stiffer'} in bending than the beam sums say."
             )
         text.append(
             f"Under the <b>cap</b> load (the paper's load) the FEM bends {fmt(c, 3)}× the paper's formula: {verdict}"
