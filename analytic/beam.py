@@ -9,11 +9,13 @@ Two load models, always both available:
   section whose materials share one Poisson ratio ν, equilibrium of the
   closed-end pressurised section (Lamé, generalised to an eccentric lumen)
   multiplies both by (1 − 2ν): the wall pressure's Poisson contraction
-  cancels most of the cap force. We use the tube's ν. For ν = 0.49 only 2 %
-  of the paper's bending survives *in an unconfined tube*; the outer coil's
-  hoop stiffness confines the tube, and the FEM measures how much of the
-  formula survives then (``shared/notes/fem.md``). This is the first missing
-  effect softcath names: the paper's model omits the wall load.
+  cancels most of the cap force. We use the tube's ν. The formula is exact for
+  one bonded material (the FEM reproduces it to 0.2 %), but it does **not**
+  survive confinement: in the paper's catheter the coil's hoop stiffness boxes
+  the near-incompressible silicone in, and the FEM's lumen load bends the tip
+  3.1× *more* than the cap-only model (154× this formula; docs/fem.md). Use
+  ``"lumen"`` for unconfined sections only; for the catheter it names the
+  effect (the lumen-wall load) whose size only the FEM can give.
 
 Both are linear in p, so a design is summarised by two gains (κ/p, ε/p).
 The arc length is L = L₀(1 + ε) and θ = κL (eq. 9 with L° = L(p)).
