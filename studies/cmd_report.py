@@ -1,0 +1,21 @@
+"""Write DIR/report/index.html for a sweep: parity, error vs parameters, heat maps, sensitivity,
+renders, failed designs and the selection. Static HTML with PNGs beside it; opens offline."""
+
+from __future__ import annotations
+
+import argparse
+
+HELP = "write a static HTML report of a sweep directory"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("dir", help="sweep directory (from `softcath sweep`)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from studies.report import write_report
+
+    path, _ = write_report(args.dir)
+    n = len(list(path.parent.glob("*.png")))
+    print(f"report: {path} ({n} figures)")
+    return 0

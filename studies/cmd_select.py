@@ -1,0 +1,50 @@
+"""Pick a design before fabrication: constraints and objectives over a sweep's result columns.
+
+Examples: --constraint "bend_angle_deg >= 90 at p_max" --constraint "max_strain <= 0.3"
+--objective "maximise bend_per_MPa_deg" --objective "minimise elongation at p_max".
+Writes DIR/selection.json (ranked list and Pareto front); `softcath report DIR` shows it.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("dir", help="sweep directory (with results.parquet or results.csv)")
+    parser.add_argument(
+        "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
+    )
+    parser.add_argument(
+        "--objective", action="append", default=[], metavar="EXPR", help="e.g. 'maximise bend_per_MPa_deg'"
+    )
+    parser.add_argument("--load", default="cap", choices=("cap", "lumen"), help="load case to select on")
+    parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from studies.results import read_results
+    from studies.selection import SelectionError, select, write_selection
+
+    if args.top < 1:
+        raise SelectionError(f"--top = {args.top}: must be >= 1")
+    df = read_results(args.dir)
+    sel = select(df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top)
+    path = write_selection(sel, args.dir)
+    print(
+        f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints (load {sel.load}); "
+        f"Pareto front: {len(sel.pareto_front)} designs"
+    )
+    for name, n in sel.rejected.items():
+        if n:
+            print(f"  removed {n}: {name}")
+    for r in sel.ranked[:5]:
+        objs = ", ".join(f"{k.split(None, 1)[-1]} = {v:.4g}" for k, v in r["objectives"].items())
+        params = ", ".join(
+            f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["parameters"].items()
+        )
+        print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
+    print(f"selection: {path}")
+    return 0

@@ -1,0 +1,233 @@
+"""The sweep report: ``DIR/report/index.html``, a static page with its PNGs beside it (opens offline).
+
+Sections: overview, parity (analytic vs FEM curvature, both loads), relative
+error against each swept parameter, heat maps for 2-D grids, sensitivity
+(standardised regression; RBD-FAST for Latin-hypercube samples), renders of
+the best- and worst-agreeing designs, the failed designs with reasons, and
+the selection (``DIR/selection.json``) when present.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from design.errors import DataError
+from studies.report import figures
+from studies.report.html import Markup, esc, figure, fmt, note, page, table
+
+__all__ = ["write_report", "sweep_sections", "design_of"]
+
+log = logging.getLogger(__name__)
+
+
+def _manifest(sweep_dir: Path) -> dict:
+    path = sweep_dir / "sweep.json"
+    if not path.is_file():
+        raise DataError(f"{sweep_dir}: no sweep.json (is this a `softcath sweep` output directory?)")
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def design_of(sweep_dir: str | Path, design_id: int):
+    """Rebuild design ``design_id`` of a sweep (base design + its swept values)."""
+    import pandas as pd
+
+    from studies.sweep.variants import VariantBuilder
+
+    sweep_dir = Path(sweep_dir)
+    manifest = _manifest(sweep_dir)
+    designs = pd.read_csv(sweep_dir / "designs.csv")
+    row = designs[designs.design_id == design_id].iloc[0]
+    variant = {k: v.item() if hasattr(v, "item") else v for k, v in row.items() if k != "design_id"}
+    return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
+
+
+def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
+    path = sweep_dir / "selection.json"
+    if not path.is_file():
+        return note(
+            "No selection yet: run <code>softcath select DIR --constraint ... --objective ...</code> "
+            "and then this report again."
+        )
+    sel = json.loads(path.read_text(encoding="utf-8"))
+    items = "".join(f"<li><code>{esc(c)}</code></li>" for c in sel["constraints"]) or "<li>none</li>"
+    objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
+    rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
+    out = (
+        f"<p>Load case <b>{esc(sel['load'])}</b>. Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
+        f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
+        f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+    )
+    if fig_dir is not None:
+        ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
+        if ppath:
+            out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
+    if sel["ranked"]:
+        params = list(sel["ranked"][0]["parameters"])
+        header = ["rank", "design", "Pareto", *sel["objectives"], *params]
+        rows = [
+            [r["rank"], r["design_id"], r["pareto"], *r["objectives"].values(), *r["parameters"].values()]
+            for r in sel["ranked"][:15]
+        ]
+        out += table(header, rows)
+        best = sel["ranked"][0]
+        out += (
+            f"<p><b>Build design {best['design_id']}</b>"
+            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())}).</p>"
+        )
+    return out
+
+
+def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = "") -> list[tuple[str, str]]:
+    """The report's sections as ``(title, html)``; figures are written into ``fig_dir``.
+
+    Image links are ``prefix + file name`` so the same sections can be placed
+    in another page (the demo) whose HTML sits elsewhere.
+    """
+    from studies.results import read_results
+
+    sweep_dir, fig_dir = Path(sweep_dir), Path(fig_dir)
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    manifest = _manifest(sweep_dir)
+    spec = manifest["spec"]
+    df = read_results(sweep_dir)
+    params = [p["path"] for p in spec["parameters"]]
+    factorial = [p["path"] for p in spec["parameters"] if p["kind"] != "lhs"]
+    lhs = any(p["kind"] == "lhs" for p in spec["parameters"])
+    fem = figures.has_fem(df)
+    per = df.drop_duplicates("design_id")
+    n_ok = int((per.status == "ok").sum())
+    sections: list[tuple[str, str]] = []
+
+    kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
+    overview = (
+        f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
+        f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
+        f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
+        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.</p>"
+        "<p>Loads: <b>cap</b> is the paper's model (end-cap force only); <b>lumen</b> adds the pressure on "
+        "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
+        "unconfined tube.</p>"
+    )
+    sections.append(("Overview", overview))
+
+    ppath = figures.parity_plot(df, fig_dir / "parity.png")
+    if ppath:
+        ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
+        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
+                 for load, g in ok.groupby("load")]  # fmt: skip
+        body = figure(
+            prefix + ppath.name,
+            "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
+            "the same load (left) and against the paper's formula, the analytic cap load (right).",
+        )
+        body += table(
+            ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
+        )
+    else:
+        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
+                    "no parity plot.")  # fmt: skip
+    sections.append(("Analytic vs FEM", body))
+
+    epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
+    sections.append(
+        ("Against each swept parameter",
+         figure(prefix + epath.name, f"{esc(label)} against each swept parameter.") if epath
+         else note("No valid design with a numeric swept parameter."))
+    )  # fmt: skip
+
+    hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
+    if hpath:
+        sections.append(("Heat maps", figure(prefix + hpath.name, esc(caption))))
+
+    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
+    if spath:
+        body = figure(
+            prefix + spath.name,
+            "Sensitivity of the analytic curvature at p_max to each parameter: "
+            "standardised regression coefficients"
+            + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+        )
+        body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
+        sections.append(("Sensitivity", body))
+
+    sections.append(("Renders", _renders(df, sweep_dir, fig_dir, prefix, fem)))
+
+    fails = figures.failed_summary(df)
+    if fails:
+        body = table(["reason", "designs", "design ids"], fails, left=1)
+    else:
+        body = "<p class='ok'>No failed designs.</p>"
+    sections.append(("Failed designs", body))
+    sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
+    return sections
+
+
+def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
+    ok = df[(df.status == "ok") & df.at_p_max]
+    if ok.empty:
+        return note("No valid design to render.")
+    if fem:
+        # Agreement under the cap load, where the analytic model claims validity (the lumen-load
+        # ratios are orders of magnitude larger and would decide alone).
+        base = ok[ok.load == "cap"] if (ok.load == "cap").any() else ok
+        score = base.groupby("design_id").abs_rel_diff_curvature.mean().dropna()
+        picks = [
+            ("best-agreeing", int(score.idxmin()), score.min()),
+            ("worst-agreeing", int(score.idxmax()), score.max()),
+        ]
+        what = (
+            "|FEM − analytic|/|analytic| of curvature, cap load"
+            if (ok.load == "cap").any()
+            else "mean |rel. diff.| of curvature"
+        )
+    else:
+        score = ok[ok.load == ok.load.iloc[0]].groupby("design_id").bend_per_MPa_deg.mean()
+        picks = [
+            ("most bending", int(score.idxmax()), score.max()),
+            ("least bending", int(score.idxmin()), score.min()),
+        ]
+        what = "analytic bend per MPa [deg/MPa]"
+    out = ""
+    for label, did, value in picks:
+        d = design_of(sweep_dir, did)
+        rows = ok[ok.design_id == did]
+        curv = {}
+        for _, r in rows.iterrows():
+            curv[f"analytic, {r.load}"] = float(r.curvature_analytic_per_mm)
+            if np.isfinite(r.curvature_fem_per_mm):
+                curv[f"FEM, {r.load}"] = float(r.curvature_fem_per_mm)
+        path = figures.render_design(
+            d, fig_dir / f"render_{did}.png", title=f"{label}: design {did}", curvatures=curv
+        )
+        out += figure(prefix + path.name, f"{esc(label)} design {did} ({what} = {fmt(value)}) at p_max.")
+    return out
+
+
+def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list[tuple[str, str]]]:
+    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``.
+
+    Returns the page's path and its sections ``(title, html)`` with image links
+    prefixed by ``prefix``, for embedding the report in another page.
+    """
+    sweep_dir = Path(sweep_dir)
+    out = sweep_dir / "report"
+    for stale in out.glob("*.png"):  # figures of an earlier report that this one may not redraw
+        stale.unlink()
+    sections = sweep_sections(sweep_dir, out, prefix=prefix)
+    mark = '<img src="' + prefix
+    body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
+    if prefix:
+        body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+    path = out / "index.html"
+    path.write_text(
+        page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
+        encoding="utf-8",
+    )
+    return path, sections
+
+
+_ = Markup  # re-exported for callers building tables with HTML cells

@@ -1,0 +1,268 @@
+"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised) and FEM.
+
+A task is a plain dict (picklable, so the same function runs in a local
+process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
+with one row per design × pressure × load (columns in :mod:`studies.results`).
+A design that cannot be built is reported with status ``failed`` and the
+:class:`~design.errors.DesignError` reason; it never stops the task.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from design.errors import DesignError
+from studies.results import _FEM_RENAME
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["evaluate_task", "fem_check_function", "fem_records", "FEM_UNAVAILABLE"]
+
+log = logging.getLogger(__name__)
+
+FEM_UNAVAILABLE = "fem evaluator unavailable"
+_FEM_KEYS = (
+    "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm",
+    "curvature_variation", "max_strain", "residual", "n_elements", "dofs", "mesh_seconds", "solve_seconds",
+)  # fmt: skip
+
+
+def fem_check_function():
+    """``fem.check`` if the FEM package provides it, else ``None``."""
+    try:
+        from fem import check
+    except ImportError:
+        return None
+    return check
+
+
+_BUILDERS: dict[str, Any] = {}
+
+
+def _builder(base_table: dict):
+    """One :class:`VariantBuilder` per base design and process (tasks of a sweep share it)."""
+    import json
+
+    from studies.sweep.variants import VariantBuilder
+
+    key = json.dumps(base_table, sort_keys=True, default=str)
+    if key not in _BUILDERS:
+        _BUILDERS.clear()
+        _BUILDERS[key] = VariantBuilder(base_table)
+    return _BUILDERS[key]
+
+
+def _analytic(designs: list, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
+    """Analytic response of many designs at many pressures, arrays of shape (n_designs, n_pressures)."""
+    import analytic
+    from analytic.section import section_arrays
+
+    inputs = [analytic.design_inputs(d) for d in designs]
+    inp = {k: np.array([x[k] for x in inputs], dtype=float)[:, None] for k in inputs[0]}
+    r = analytic.response_arrays(inp, pressures[None, :], load)
+    s = section_arrays(inp)
+    # Axial strain of the composite beam, ε + κ (y − ȳ), at the tube's top and bottom fibres:
+    # the largest silicone strain of the Euler–Bernoulli section.
+    y_top = s["tube_centre_y"] + s["b"] - s["neutral_axis_y"]
+    y_bot = s["tube_centre_y"] - s["b"] - s["neutral_axis_y"]
+    strain = np.maximum(
+        np.abs(r.elongation + r.curvature * y_top), np.abs(r.elongation + r.curvature * y_bot)
+    )
+    return {
+        "curvature_analytic_per_mm": r.curvature,
+        "elongation_analytic": r.elongation,
+        "bend_angle_analytic_rad": r.bend_angle,
+        "tip_x_analytic_mm": r.tip_x,
+        "tip_y_analytic_mm": r.tip_y,
+        "max_strain_analytic": strain,
+    }
+
+
+def _fem_rows(check, design, pressures: tuple[float, ...], loads: tuple[str, ...], mesh_size) -> dict:
+    """``{(load, pressure): {key: value}}`` from ``fem.check`` (see :func:`fem_records`)."""
+    kwargs: dict[str, Any] = {"pressures": list(pressures), "loads": tuple(loads)}
+    if mesh_size is not None:
+        kwargs["mesh_size"] = mesh_size
+    return fem_records(check(design, **kwargs))
+
+
+_CONTAINERS = ("cases", "results", "rows", "records")
+
+
+def _as_mapping(obj: Any) -> dict | None:
+    if isinstance(obj, dict):
+        return obj
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+    return None
+
+
+def fem_records(result: Any, load: str | None = None, defaults: dict | None = None) -> dict:
+    """Normalise what ``fem.check`` returns to ``{(load, pressure_MPa): {fem.json key: float}}``.
+
+    Accepted forms (the FEM package's result keys follow ``fem.json``): one
+    record whose fields are scalars or arrays over the (load, pressure) cases
+    — flat, or shaped (n_loads, n_pressures) with ``load`` and
+    ``pressure_MPa`` listing the axes; a sequence of such records; a record
+    holding them under ``cases``/``results``/``rows``/``records`` (its own
+    run-level numbers, e.g. ``dofs``, ``mesh_seconds``, apply to every case);
+    or a mapping from load name to records.
+    """
+    out: dict = {}
+    defaults = dict(defaults or {})
+    if isinstance(result, (list, tuple)):
+        for r in result:
+            out.update(fem_records(r, load, defaults))
+        return out
+    m = _as_mapping(result)
+    if m is None:
+        raise TypeError(f"cannot read a FEM result of type {type(result).__name__}")
+    run_level = {
+        k: m[k] for k in _FEM_KEYS if isinstance(m.get(k), (int, float)) and not isinstance(m[k], bool)
+    }
+    for key in _CONTAINERS:
+        if isinstance(m.get(key), (list, tuple)) and "curvature_per_mm" not in m:
+            return fem_records(m[key], load, {**defaults, **run_level})
+    if "curvature_per_mm" not in m:
+        for k, v in m.items():
+            if k in ("cap", "lumen"):
+                out.update(fem_records(v, k, {**defaults, **run_level}))
+        if not out:
+            raise KeyError("FEM result has no curvature_per_mm")
+        return out
+    loads_ = np.atleast_1d(np.asarray(m.get("load", load), dtype=object)).ravel()
+    ps = np.atleast_1d(np.asarray(m["pressure_MPa"], dtype=float)).ravel()
+    kappa = np.asarray(m["curvature_per_mm"], dtype=float)
+    square = kappa.ndim == 2 and kappa.shape == (len(loads_), len(ps))
+    product = len(loads_) != len(ps) and kappa.size == len(loads_) * len(ps) > max(len(loads_), len(ps))
+    if square or product:
+        loads_, ps = np.repeat(loads_, len(ps)), np.tile(ps, len(loads_))  # (n_loads, n_pressures) grid
+    n = max(len(loads_), len(ps))
+    loads_ = np.resize(loads_, n)
+    ps = np.resize(ps, n)
+    for i in range(n):
+        row = {}
+        for k in _FEM_KEYS:
+            v = m.get(k, defaults.get(k))
+            if v is None or isinstance(v, (dict, str)):
+                row[k] = math.nan
+                continue
+            a = np.atleast_1d(np.asarray(v, dtype=float)).ravel()
+            row[k] = float(a[i] if a.size == n else a[0])
+        out[(str(loads_[i]), round(float(ps[i]), 12))] = row
+    return out
+
+
+def _nan_block(n_d: int, n_p: int) -> np.ndarray:
+    return np.full((n_d, n_p), np.nan)
+
+
+def evaluate_task(task: dict) -> pd.DataFrame:
+    """Rows of one task (see module docstring).
+
+    Parameters
+    ----------
+    task
+        ``task_id``, ``design_ids``, ``variants`` (dotted path → value per design),
+        ``param_paths``, ``base_table``, ``pressures_MPa``, ``loads``, ``evaluators``,
+        ``mesh_size``, ``max_strain``.
+    """
+    import pandas as pd
+
+    t0, c0 = time.perf_counter(), time.process_time()
+    builder = _builder(task["base_table"])
+    pressures = np.asarray(task["pressures_MPa"], dtype=float)
+    loads = tuple(task["loads"])
+    ids = list(task["design_ids"])
+    designs, reasons = [], []
+    forced = task.get("fail_reason")  # set by the runner when a task crashed: rows without evaluation
+    for did, variant in zip(ids, task["variants"], strict=True):
+        if forced:
+            designs.append(None)
+            reasons.append(forced)
+            continue
+        try:
+            designs.append(builder.build(variant, name=f"design {did}"))
+            reasons.append("")
+        except DesignError as exc:
+            designs.append(None)
+            reasons.append(f"invalid design: {exc}")
+    ok = [i for i, d in enumerate(designs) if d is not None]
+    n_d, n_p = len(ids), len(pressures)
+
+    per_load: dict[str, dict[str, np.ndarray]] = {}
+    for load in loads:
+        block = {k: _nan_block(n_d, n_p) for k in (
+            "curvature_analytic_per_mm", "elongation_analytic", "bend_angle_analytic_rad",
+            "tip_x_analytic_mm", "tip_y_analytic_mm", "max_strain_analytic",
+        )}  # fmt: skip
+        if ok:
+            vals = _analytic([designs[i] for i in ok], pressures, load)
+            for k, v in vals.items():
+                block[k][ok] = v
+        per_load[load] = block
+    analytic_seconds = (time.perf_counter() - t0) / max(n_d, 1)
+
+    fem_cols = {load: {f"fem_{k}": _nan_block(n_d, n_p) for k in _FEM_KEYS} for load in loads}
+    fem_reason = [""] * n_d
+    if "fem" in task["evaluators"]:
+        check = fem_check_function()
+        for i in ok:
+            if check is None:
+                fem_reason[i] = FEM_UNAVAILABLE
+                continue
+            try:
+                rows = _fem_rows(check, designs[i], tuple(pressures), loads, task.get("mesh_size"))
+            except Exception as exc:  # a FEM failure is reported per design, never ends the sweep
+                log.warning("FEM failed for design %s: %s", ids[i], exc)
+                fem_reason[i] = f"fem failed: {type(exc).__name__}: {exc}"
+                continue
+            for load in loads:
+                for j, p in enumerate(pressures):
+                    row = rows.get((load, round(float(p), 12)))
+                    if row is None:
+                        fem_reason[i] = f"fem returned no result for load {load} at {p:g} MPa"
+                        continue
+                    for k in _FEM_KEYS:
+                        fem_cols[load][f"fem_{k}"][i, j] = row[k]
+
+    cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
+    frames = []
+    for load in loads:
+        cols: dict[str, Any] = {
+            "design_id": np.repeat(ids, n_p),
+            "task_id": task["task_id"],
+        }
+        for path in task["param_paths"]:
+            cols[path] = np.repeat(np.array([v.get(path) for v in task["variants"]], dtype=object), n_p)
+        cols["outer_diameter_mm"] = np.repeat([d.outer_diameter if d else np.nan for d in designs], n_p)
+        cols["bending_length_mm"] = np.repeat([d.tip.bending_length if d else np.nan for d in designs], n_p)
+        cols["catalogue_fits"] = np.repeat([bool(d.catalogue_fits) if d else False for d in designs], n_p)
+        cols["pressure_MPa"] = np.tile(pressures, n_d)
+        cols["load"] = load
+        for k, v in per_load[load].items():
+            cols[k] = v.ravel()
+        for k, v in fem_cols[load].items():
+            cols[k] = v.ravel()
+        status, reason = [], []
+        for i in range(n_d):
+            r = reasons[i] or fem_reason[i]
+            status += ["failed" if r else "ok"] * n_p
+            reason += [r] * n_p
+        cols["status"] = status
+        cols["reason"] = reason
+        cols["analytic_seconds"] = analytic_seconds
+        cols["cpu_seconds"] = cpu_seconds
+        frames.append(pd.DataFrame(cols))
+    df = pd.concat(frames, ignore_index=True)
+    # Derived columns (degrees, differences, feasibility) are added once, on the merged table.
+    return df.rename(columns=_FEM_RENAME).sort_values(
+        ["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True
+    )

@@ -1,0 +1,348 @@
+"""The sweep specification: a TOML file naming a base design, parameters, pressures, loads, evaluators.
+
+Layout::
+
+    [sweep]
+    name = "quick"
+    base = "paper"                 # a preset name or a design TOML path (relative to the spec)
+    pressures_MPa = [0.0, 0.5, 1.0]
+    loads = ["cap", "lumen"]
+    evaluators = ["analytic"]      # and/or "fem"
+    seed = 7                       # Latin hypercube seed
+    chunk_size = 500               # designs per task (FEM tasks are always one design)
+
+    [sweep.fem]
+    mesh_size = 0.12               # mm, section element size passed to fem.check
+
+    [sweep.feasibility]
+    max_strain = 0.3               # silicone strain limit [-]
+
+    [sample]                       # only needed for "lhs" parameters
+    n = 64
+
+    [parameters]                   # dotted paths into the base design's TOML tables
+    "tube.h" = { grid = [-0.02, 0.02, 5] }        # linspace(start, stop, n)
+    "tip.bending_length" = { values = [4.0, 5.0] }
+    "coil.outer_diameter" = { lhs = [0.75, 0.9] } # sampled on a seeded Latin hypercube
+
+Grid and value parameters form a full factorial; Latin-hypercube parameters
+form one sample of ``n`` points; when both are present every factorial point
+is combined with the whole sample.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from design.errors import DesignError
+
+__all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
+
+EVALUATORS = ("analytic", "fem")
+LOADS = ("cap", "lumen")
+_SWEEP_KEYS = {
+    "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
+}  # fmt: skip
+_TOP_KEYS = {"sweep", "parameters", "sample"}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One swept design field.
+
+    Attributes
+    ----------
+    path
+        Dotted path into the base design's TOML tables, e.g. ``"tube.a"``.
+    kind
+        ``"grid"`` (linspace), ``"values"`` (explicit list) or ``"lhs"`` (Latin hypercube range).
+    values
+        The grid points or listed values (empty for ``"lhs"``).
+    bounds
+        (low, high) of a Latin-hypercube parameter, else ``None``.
+    """
+
+    path: str
+    kind: str
+    values: tuple[Any, ...] = ()
+    bounds: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A parsed, checked sweep specification (see module docstring).
+
+    Attributes
+    ----------
+    name
+        Label of the sweep.
+    base
+        The base design reference as written (preset name or path).
+    base_table
+        The base design's TOML table structure (validated).
+    parameters
+        The swept parameters, in file order.
+    pressures_MPa
+        Pressures at which every design is evaluated [MPa], ascending.
+    loads
+        Load cases (``"cap"``, ``"lumen"``).
+    evaluators
+        ``("analytic",)`` or ``("analytic", "fem")``: the analytic model always runs.
+    n_samples
+        Latin-hypercube sample size (0 when no parameter is ``lhs``).
+    seed
+        Seed of the Latin hypercube.
+    chunk_size
+        Designs per task for analytic-only sweeps.
+    mesh_size
+        FEM mesh size [mm] or ``None`` for the FEM default.
+    max_strain
+        Silicone strain limit for the feasibility flag [-].
+    """
+
+    name: str
+    base: str
+    base_table: dict
+    parameters: tuple[Parameter, ...]
+    pressures_MPa: tuple[float, ...]
+    loads: tuple[str, ...]
+    evaluators: tuple[str, ...]
+    n_samples: int = 0
+    seed: int = 0
+    chunk_size: int = 500
+    mesh_size: float | None = None
+    max_strain: float = 0.3
+    source: str = field(default="<string>", compare=False)
+
+    @property
+    def uses_fem(self) -> bool:
+        return "fem" in self.evaluators
+
+    @property
+    def p_max(self) -> float:
+        return max(self.pressures_MPa)
+
+    def fingerprint(self) -> str:
+        """A hash of everything that decides the designs and their results (not the run options)."""
+        payload = {
+            "base_table": self.base_table,
+            "parameters": [(p.path, p.kind, list(p.values), p.bounds) for p in self.parameters],
+            "pressures_MPa": self.pressures_MPa,
+            "loads": self.loads,
+            "evaluators": self.evaluators,
+            "n_samples": self.n_samples,
+            "seed": self.seed,
+            "chunk_size": self.effective_chunk_size,
+            "mesh_size": self.mesh_size,
+            "max_strain": self.max_strain,
+        }
+        text = json.dumps(payload, sort_keys=True, default=str)
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    @property
+    def effective_chunk_size(self) -> int:
+        """Designs per task: one per task when FEM runs (each FEM design is saved as it completes)."""
+        return 1 if self.uses_fem else self.chunk_size
+
+    def to_json(self) -> dict:
+        return {
+            "name": self.name,
+            "base": self.base,
+            "parameters": [
+                {"path": p.path, "kind": p.kind, "values": list(p.values), "bounds": p.bounds}
+                for p in self.parameters
+            ],
+            "pressures_MPa": list(self.pressures_MPa),
+            "loads": list(self.loads),
+            "evaluators": list(self.evaluators),
+            "n_samples": self.n_samples,
+            "seed": self.seed,
+            "chunk_size": self.effective_chunk_size,
+            "mesh_size": self.mesh_size,
+            "max_strain": self.max_strain,
+            "fingerprint": self.fingerprint(),
+        }
+
+
+def _real(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DesignError(name, value, "must be a finite number")
+    return float(value)
+
+
+def _parameter(path: str, entry: Any) -> Parameter:
+    name = f"parameters.{path}"
+    if not isinstance(entry, dict) or len(entry) != 1:
+        raise DesignError(name, entry, "must be a table with exactly one of grid, values, lhs")
+    ((kind, value),) = entry.items()
+    if kind == "grid":
+        if not isinstance(value, list) or len(value) != 3:
+            raise DesignError(f"{name}.grid", value, "must be [start, stop, count]")
+        start, stop = _real(f"{name}.grid[0]", value[0]), _real(f"{name}.grid[1]", value[1])
+        count = value[2]
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise DesignError(f"{name}.grid[2]", count, "must be an integer >= 1")
+        step = (stop - start) / (count - 1) if count > 1 else 0.0
+        return Parameter(path, "grid", tuple(start + i * step for i in range(count)))
+    if kind == "values":
+        if not isinstance(value, list) or not value:
+            raise DesignError(f"{name}.values", value, "must be a non-empty list")
+        return Parameter(path, "values", tuple(value))
+    if kind == "lhs":
+        if not isinstance(value, list) or len(value) != 2:
+            raise DesignError(f"{name}.lhs", value, "must be [low, high]")
+        low, high = _real(f"{name}.lhs[0]", value[0]), _real(f"{name}.lhs[1]", value[1])
+        if not high > low:
+            raise DesignError(f"{name}.lhs[1]", high, f"must be > low = {low:g}")
+        return Parameter(path, "lhs", (), (low, high))
+    raise DesignError(name, kind, "unknown kind; use grid, values or lhs")
+
+
+def _base_table(base: str, spec_dir: Path) -> dict:
+    """The base design's TOML tables exactly as written (so dotted paths match the file)."""
+    import design
+    from design import presets
+
+    if base in presets.names():
+        table = tomllib.loads(presets.text(base))
+    else:
+        path = Path(base)
+        if not path.is_absolute():
+            path = spec_dir / path
+        if not path.is_file():
+            raise DesignError(
+                "sweep.base",
+                base,
+                f"must be a preset ({', '.join(presets.names())}) or an existing .toml file",
+            )
+        try:
+            table = tomllib.loads(path.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise DesignError("sweep.base", base, f"is not valid TOML: {exc}") from None
+    design.from_dict(table)  # the base itself must be valid
+    return table
+
+
+def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string>") -> SweepSpec:
+    """Check a sweep specification's tables and build a :class:`SweepSpec`."""
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise DesignError(key, data[key], f"unknown table; allowed: {', '.join(sorted(_TOP_KEYS))}")
+    sweep = data.get("sweep")
+    if not isinstance(sweep, dict):
+        raise DesignError("sweep", sweep, "table is required")
+    for key in sweep:
+        if key not in _SWEEP_KEYS:
+            raise DesignError(
+                f"sweep.{key}", sweep[key], f"unknown key; allowed: {', '.join(sorted(_SWEEP_KEYS))}"
+            )
+    base = sweep.get("base", "paper")
+    if not isinstance(base, str):
+        raise DesignError("sweep.base", base, "must be a preset name or a path")
+    base_table = _base_table(base, Path(spec_dir))
+
+    pressures = sweep.get("pressures_MPa")
+    if not isinstance(pressures, list) or not pressures:
+        raise DesignError("sweep.pressures_MPa", pressures, "must be a non-empty list of pressures [MPa]")
+    ps = tuple(sorted({_real("sweep.pressures_MPa", p) for p in pressures}))
+    if ps[0] < 0:
+        raise DesignError("sweep.pressures_MPa", ps[0], "must be >= 0")
+
+    loads = sweep.get("loads", ["cap", "lumen"])
+    if not isinstance(loads, list) or not loads or any(x not in LOADS for x in loads):
+        raise DesignError("sweep.loads", loads, f"must be a non-empty list from {list(LOADS)}")
+    evaluators = sweep.get("evaluators", ["analytic"])
+    if not isinstance(evaluators, list) or not evaluators or any(x not in EVALUATORS for x in evaluators):
+        raise DesignError("sweep.evaluators", evaluators, f"must be a non-empty list from {list(EVALUATORS)}")
+    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "analytic")
+
+    seed = sweep.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise DesignError("sweep.seed", seed, "must be an integer >= 0")
+    chunk = sweep.get("chunk_size", 500)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise DesignError("sweep.chunk_size", chunk, "must be an integer >= 1")
+
+    fem = sweep.get("fem", {})
+    if not isinstance(fem, dict) or set(fem) - {"mesh_size"}:
+        raise DesignError("sweep.fem", fem, "must be a table with only mesh_size [mm]")
+    mesh_size = fem.get("mesh_size")
+    if mesh_size is not None and _real("sweep.fem.mesh_size", mesh_size) <= 0:
+        raise DesignError("sweep.fem.mesh_size", mesh_size, "must be > 0 mm")
+
+    feas = sweep.get("feasibility", {})
+    if not isinstance(feas, dict) or set(feas) - {"max_strain"}:
+        raise DesignError("sweep.feasibility", feas, "must be a table with only max_strain")
+    max_strain = _real("sweep.feasibility.max_strain", feas.get("max_strain", 0.3))
+    if max_strain <= 0:
+        raise DesignError("sweep.feasibility.max_strain", max_strain, "must be > 0")
+
+    raw_params = data.get("parameters", {})
+    if not isinstance(raw_params, dict):
+        raise DesignError("parameters", raw_params, "must be a table of dotted design paths")
+    params = tuple(_parameter(k, v) for k, v in _flatten(raw_params))
+    _check_paths(params, base_table)
+
+    n_samples = 0
+    if any(p.kind == "lhs" for p in params):
+        sample = data.get("sample")
+        if not isinstance(sample, dict) or "n" not in sample:
+            raise DesignError("sample.n", None, "is required when a parameter uses lhs")
+        n_samples = sample["n"]
+        if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
+            raise DesignError("sample.n", n_samples, "must be an integer >= 1")
+    name = sweep.get("name", Path(source).stem if source != "<string>" else "sweep")
+    return SweepSpec(
+        name=str(name),
+        base=base,
+        base_table=base_table,
+        parameters=params,
+        pressures_MPa=ps,
+        loads=tuple(x for x in LOADS if x in loads),
+        evaluators=evals,
+        n_samples=n_samples,
+        seed=seed,
+        chunk_size=chunk,
+        mesh_size=None if mesh_size is None else float(mesh_size),
+        max_strain=max_strain,
+        source=source,
+    )
+
+
+def _flatten(table: dict, prefix: str = ""):
+    """Accept both ``"tube.a" = {...}`` and ``[parameters.tube] a = {...}``."""
+    for key, value in table.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict) and not (set(value) & {"grid", "values", "lhs"}):
+            yield from _flatten(value, f"{path}.")
+        else:
+            yield path, value
+
+
+def _check_paths(params: tuple[Parameter, ...], base_table: dict) -> None:
+    from studies.sweep.variants import check_path
+
+    seen = set()
+    for p in params:
+        if p.path in seen:
+            raise DesignError(f"parameters.{p.path}", p.path, "is given twice")
+        seen.add(p.path)
+        check_path(base_table, p.path)
+
+
+def load_spec(path: str | Path) -> SweepSpec:
+    """Read and check a sweep specification TOML file."""
+    path = Path(path)
+    if not path.is_file():
+        raise DesignError("spec", str(path), "does not exist")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise DesignError("spec", str(path), f"is not valid TOML: {exc}") from None
+    return parse_spec(data, spec_dir=path.parent, source=str(path))

@@ -1,0 +1,123 @@
+"""The sweep directory: one file per finished task, written atomically, so a killed sweep resumes.
+
+Layout of ``DIR``::
+
+    sweep.json         the spec as run, its fingerprint, design and task counts
+    designs.csv        design_id and the swept values of every design
+    tasks/t000042.parquet   rows of one finished task (written to a temp file, then renamed)
+    events.jsonl       one line per task evaluated, by which run (the evaluator call log)
+    results.parquet, results.csv, columns.json   the merged table (after the run)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+import uuid
+from pathlib import Path
+
+from design.errors import DataError
+
+__all__ = ["SweepStore"]
+
+
+class SweepStore:
+    """Read and write the finished tasks of one sweep directory."""
+
+    def __init__(self, out_dir: str | Path) -> None:
+        self.root = Path(out_dir)
+        self.tasks_dir = self.root / "tasks"
+
+    def prepare(self, manifest: dict, designs_frame) -> None:
+        """Create the directory, or check that it holds the same sweep (same fingerprint)."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        self.tasks_dir.mkdir(exist_ok=True)
+        path = self.root / "sweep.json"
+        if path.is_file():
+            try:
+                old = json.loads(path.read_text(encoding="utf-8"))
+            except json.JSONDecodeError as exc:
+                raise DataError(f"{path}: unreadable sweep manifest ({exc}); use another --out") from None
+            if old.get("spec", {}).get("fingerprint") != manifest["spec"]["fingerprint"]:
+                raise DataError(
+                    f"{self.root} holds a different sweep (fingerprint {old.get('spec', {}).get('fingerprint')}, "
+                    f"this spec is {manifest['spec']['fingerprint']}); use another --out"
+                )
+        else:
+            # designs.csv first: sweep.json marks a prepared directory
+            tmp = self.root / f".designs.{uuid.uuid4().hex}.tmp"
+            designs_frame.to_csv(tmp, index=False)
+            os.replace(tmp, self.root / "designs.csv")
+            self._atomic_text(path, json.dumps(manifest, indent=1, default=str))
+        for stale in self.tasks_dir.glob(".*.tmp"):
+            stale.unlink(missing_ok=True)  # half-written files of a killed run
+
+    def task_path(self, task_id: int) -> Path:
+        return self.tasks_dir / f"t{task_id:06d}.parquet"
+
+    def finished(self) -> set[int]:
+        """Ids of the tasks whose result file is complete."""
+        return {int(p.stem[1:]) for p in self.tasks_dir.glob("t*.parquet")}
+
+    def write_task(self, task_id: int, frame, *, run_id: str) -> None:
+        """Write one task's rows atomically (temp file + rename), then log the evaluation."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        from studies.results import _stringify_objects
+
+        tmp = self.tasks_dir / f".t{task_id:06d}.{uuid.uuid4().hex}.tmp"
+        pq.write_table(pa.Table.from_pandas(_stringify_objects(frame), preserve_index=False), tmp)
+        os.replace(tmp, self.task_path(task_id))
+        failed = int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
+        line = json.dumps(
+            {
+                "run": run_id,
+                "task": task_id,
+                "designs": int(frame["design_id"].nunique()),
+                "failed": failed,
+                "t": round(time.time(), 3),
+            }
+        )
+        with open(self.root / "events.jsonl", "a", encoding="utf-8") as fh:
+            fh.write(line + "\n")
+
+    def events(self) -> list[dict]:
+        """The evaluation log: one record per task evaluated (``run``, ``task``, ``designs``, ``failed``,
+        ``t`` = Unix time [s] when its result was saved)."""
+        path = self.root / "events.jsonl"
+        if not path.is_file():
+            return []
+        out = []
+        for line in path.read_text(encoding="utf-8").splitlines():
+            try:
+                out.append(json.loads(line))
+            except json.JSONDecodeError:
+                continue  # a line cut by a kill
+        return out
+
+    def read_all(self):
+        """All finished task rows as one DataFrame, ordered by design, load, pressure."""
+        import pandas as pd
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        files = sorted(self.tasks_dir.glob("t*.parquet"))
+        if not files:
+            raise DataError(f"{self.root}: no finished designs")
+        tables = [pq.read_table(f) for f in files]
+        try:
+            df = pa.concat_tables(tables, promote_options="permissive").to_pandas()
+        except (
+            pa.ArrowInvalid,
+            pa.ArrowTypeError,
+        ):  # e.g. a swept column numeric in one task, text in another
+            df = pd.concat([t.to_pandas() for t in tables], ignore_index=True)
+        return df.sort_values(["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True)
+
+    @staticmethod
+    def _atomic_text(path: Path, text: str) -> None:
+        tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, path)

@@ -1,0 +1,95 @@
+"""The sweep report: a static page whose figures exist, with failed designs and the selection."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from studies.cli import main
+from studies.report import design_of
+from studies.sweep import expand, load_spec, variant_table
+
+
+def _images(html: str) -> list[str]:
+    return re.findall(r'<img src="([^"]+)"', html)
+
+
+def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    from studies.report import _selection_html
+
+    assert "No selection yet" in _selection_html(out)
+    select = [
+        "select",
+        str(out),
+        "--constraint",
+        "max_strain <= 0.3",
+        "--objective",
+        "maximise bend_per_MPa_deg",
+    ]
+    assert main([*select, "--objective", "minimise elongation at p_max"]) == 0
+    assert main(["report", str(out)]) == 0
+    html = (out / "report" / "index.html").read_text()
+    images = _images(html)
+    # error/response vs parameters, heat map (2 factorial parameters), sensitivity, two renders, Pareto plot
+    assert {"vs_parameters.png", "heatmap.png", "sensitivity.png", "pareto.png"} <= set(images)
+    assert len(images) == 6
+    for name in images:
+        data = (out / "report" / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000  # a real, non-empty PNG
+    assert "http://" not in html and "https://" not in html and "<script" not in html  # opens offline
+    assert "|h| must be &lt;= b - min_wall - b_int" in html  # failed designs with their reason
+    assert "Build design" in html and "maximise bend_per_MPa_deg" in html
+    assert "No FEM results" in html  # analytic-only sweep: the parity section says why it is empty
+
+
+def test_design_of_rebuilds_the_swept_design(small_spec, tmp_path):
+    import design
+
+    out = tmp_path / "o"
+    assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    spec = load_spec(small_spec)
+    expected = design.from_dict(variant_table(spec.base_table, expand(spec)[7]))
+    got = design_of(out, 7)
+    assert got.tube == expected.tube and got.tip == expected.tip
+
+
+def test_report_of_non_sweep_directory_is_an_error(tmp_path, capsys):
+    assert main(["report", str(tmp_path)]) == 2
+    assert "no sweep.json" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("n", [40])
+def test_lhs_sweep_report_has_rbd_fast(spec_writer, tmp_path, n):
+    spec = spec_writer(
+        f"""
+        [sweep]
+        pressures_MPa = [1.0]
+        loads = ["cap"]
+        seed = 2
+        [sample]
+        n = {n}
+        [parameters]
+        "tube.h" = {{ lhs = [-0.04, 0.04] }}
+        "tip.bending_length" = {{ lhs = [3.0, 7.0] }}
+        """
+    )
+    out = tmp_path / "o"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    assert main(["report", str(out)]) == 0
+    html = (out / "report" / "index.html").read_text()
+    assert "RBD-FAST" in html and "heatmap.png" not in html  # a sample: no grid to map
+    # Closed form: κ = p A_p (y_p − ȳ)/ΣEI does not depend on the bending length, and rises with h.
+    import pandas as pd
+
+    from studies.report import figures
+
+    df = pd.read_parquet(out / "results.parquet")
+    _, rows = figures.sensitivity(df, ["tube.h", "tip.bending_length"], True, tmp_path / "s.png")
+    src = {p: (s, s1) for p, s, s1 in rows}
+    assert src["tube.h"][0] > 0.95  # κ is nearly linear in h: SRC ≈ 1 (R² ≈ 1)
+    # LHS columns are nearly uncorrelated (|r| ~ 1/sqrt(n)), so a parameter with no effect gets |SRC| ≲ 0.05
+    assert abs(src["tip.bending_length"][0]) < 0.05
+    assert src["tube.h"][1] > 0.8 and src["tip.bending_length"][1] < 0.2
