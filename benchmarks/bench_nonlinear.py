@@ -40,7 +40,9 @@ H, L = 1.0, 10.0
 def run_softcath(n: int, m: int, pressure: float, steps: int) -> tuple[float, float, int]:
     t0 = time.perf_counter()
     mesh = box(size=(H, H, L), cells=(n, n, m))
-    body = HyperelasticBody(mesh, np.zeros(mesh.t.shape[1], int), {0: neo_hookean(shear_modulus=MU, bulk_modulus=KAPPA)})
+    body = HyperelasticBody(
+        mesh, np.zeros(mesh.t.shape[1], int), {0: neo_hookean(shear_modulus=MU, bulk_modulus=KAPPA)}
+    )
     press = FollowerPressure(body, facets_where(mesh, lambda x: x[1] > H / 2 - 1e-9))
     fixed = dofs_of_facets(body.basis, facets_where(mesh, lambda x: x[2] < 1e-9))
     res = solve(body, fixed_dofs=fixed, loads=[(press, pressure)], steps=steps)
@@ -63,8 +65,11 @@ def run_felupe(n: int, m: int, pressure: float, steps: int) -> tuple[float, floa
     field_top.link(field)
     press = fe.SolidBodyPressure(field=field_top)
     clamp = fe.Boundary(field[0], fz=0.0)
-    step = fe.Step(items=[solid, press], ramp={press: pressure * fe.math.linsteps([0, 1], num=steps)},
-                   boundaries={"clamp": clamp})
+    step = fe.Step(
+        items=[solid, press],
+        ramp={press: pressure * fe.math.linsteps([0, 1], num=steps)},
+        boundaries={"clamp": clamp},
+    )
     disp = []
     job = fe.Job(steps=[step], callback=lambda i, j, res: disp.append(res.x[0].values.copy()))
     job.evaluate(tol=1e-8)
@@ -78,17 +83,23 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cells", type=int, default=3)
     ap.add_argument("--length-cells", type=int, default=20)
-    ap.add_argument("--pressure", type=float, default=0.001, help="MPa on the +y face (0.001: ~40 deg tip rotation)")
+    ap.add_argument(
+        "--pressure", type=float, default=0.001, help="MPa on the +y face (0.001: ~40 deg tip rotation)"
+    )
     ap.add_argument("--steps", type=int, default=5)
     a = ap.parse_args(argv)
     th_s, t_s, n_s = run_softcath(a.cells, a.length_cells, a.pressure, a.steps)
     th_f, t_f, n_f = run_felupe(a.cells, a.length_cells, a.pressure, a.steps)
-    print(f"cantilever {H}x{H}x{L} mm, neo-Hookean E={E} nu={NU}, follower pressure {a.pressure} MPa, "
-          f"{a.steps} load steps")
+    print(
+        f"cantilever {H}x{H}x{L} mm, neo-Hookean E={E} nu={NU}, follower pressure {a.pressure} MPa, "
+        f"{a.steps} load steps"
+    )
     print(f"softcath (P2 tets):      bend angle {np.degrees(th_s):8.3f} deg  time {t_s:7.2f} s  DOFs {n_s}")
     print(f"FElupe   (Q2 hexahedra): bend angle {np.degrees(th_f):8.3f} deg  time {t_f:7.2f} s  DOFs {n_f}")
-    print(f"angle ratio softcath/FElupe = {th_s / th_f:.4f} (target within 2 %); "
-          f"time ratio softcath/FElupe = {t_s / t_f:.2f} (target <= 1)")
+    print(
+        f"angle ratio softcath/FElupe = {th_s / th_f:.4f} (target within 2 %); "
+        f"time ratio softcath/FElupe = {t_s / t_f:.2f} (target <= 1)"
+    )
     return 0
 
 

@@ -110,7 +110,9 @@ class _Model:
     def __init__(self, design, cmesh: CatheterMesh, *, load: str, mixed: bool, hoop_cap=HOOP_CAP) -> None:
         self.design = design
         self.cmesh = cmesh
-        self.body = HyperelasticBody(cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=hoop_cap), mixed=mixed)
+        self.body = HyperelasticBody(
+            cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=hoop_cap), mixed=mixed
+        )
         facets = cmesh.lumen_facets if load == "lumen" else cmesh.cap_facets
         self.pressure = FollowerPressure(self.body, facets)
         self.fixed = dofs_of_facets(self.body.basis, cmesh.base_facets)
@@ -189,8 +191,10 @@ def bend_curve(
         raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
         raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
-    cmesh = mesh if mesh is not None else mesh_catheter(
-        design, size=size, layers=layers, curvature_points=curvature_points
+    cmesh = (
+        mesh
+        if mesh is not None
+        else mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
     )
     model = _Model(design, cmesh, load=load, mixed=mixed)
     p_max = float(p[-1])
@@ -217,8 +221,12 @@ def bend_curve(
         curvature = np.where(arc > 0, theta / arc, 0.0)
     lin = model.linear_unit_angle() * p
     ana = analytic.response(design, p, load=load).bend_angle
-    log.info("bend curve: %d pressures, %d Newton iterations, final angle %.4g rad", p.size, res.newton_iterations,
-             theta[-1])
+    log.info(
+        "bend curve: %d pressures, %d Newton iterations, final angle %.4g rad",
+        p.size,
+        res.newton_iterations,
+        theta[-1],
+    )
     return BendCurve(
         pressure=p,
         bend_angle=theta,

@@ -229,8 +229,14 @@ class FollowerPressure:
         Facet quadrature order (4 integrates the P2 load exactly at the start).
     """
 
-    def __init__(self, body: HyperelasticBody, facets: np.ndarray, *, profile: Callable | None = None,
-                 intorder: int = 4) -> None:
+    def __init__(
+        self,
+        body: HyperelasticBody,
+        facets: np.ndarray,
+        *,
+        profile: Callable | None = None,
+        intorder: int = 4,
+    ) -> None:
         from skfem import FacetBasis
 
         facets = np.asarray(facets, dtype=np.int64).ravel()
@@ -246,7 +252,11 @@ class FollowerPressure:
         self.values = np.stack([np.asarray(fb.basis[a][0]) for a in range(10)]).transpose(1, 2, 0).copy()
         self.grads = np.stack([fb.basis[a][0].grad for a in range(10)]).transpose(2, 3, 0, 1).copy()
         self.normals = np.asarray(fb.normals).transpose(1, 2, 0).copy()  # (n, q, 3)
-        factor = np.ones(fb.dx.shape) if profile is None else np.asarray(profile(np.asarray(fb.global_coordinates())))
+        factor = (
+            np.ones(fb.dx.shape)
+            if profile is None
+            else np.asarray(profile(np.asarray(fb.global_coordinates())))
+        )
         self.weights = np.asarray(fb.dx) * factor
         self.pattern_index = body.pattern.index_of(self.gdofs)
 

@@ -197,7 +197,9 @@ def mesh_catheter(
     from skfem import MeshTet
 
     if not (np.isfinite(size) and 0 < size <= design.coil.outer_diameter / 2):
-        raise NonlinearError(f"size = {size!r}: must be in (0, coil outer radius = {design.coil.outer_diameter / 2:g}] mm")
+        raise NonlinearError(
+            f"size = {size!r}: must be in (0, coil outer radius = {design.coil.outer_diameter / 2:g}] mm"
+        )
     if not (isinstance(layers, (int, np.integer)) and layers >= 2):
         raise NonlinearError(f"layers = {layers!r}: must be an integer >= 2")
     if not (0 <= contact < 0.2):
@@ -209,8 +211,9 @@ def mesh_catheter(
     z = np.concatenate([z_body, np.linspace(length - cap, length, n_cap + 1)[1:]])
     if not (isinstance(curvature_points, (int, np.integer)) and curvature_points >= 8):
         raise NonlinearError(f"curvature_points = {curvature_points!r}: must be an integer >= 8")
-    pts2, tri, cls = _section_triangles(design.section, size=size, contact=contact,
-                                        curvature_points=int(curvature_points))
+    pts2, tri, cls = _section_triangles(
+        design.section, size=size, contact=contact, curvature_points=int(curvature_points)
+    )
     has_filler = design.filler is not None
 
     def keep(c, zmid):
@@ -232,9 +235,12 @@ def mesh_catheter(
     cap_f = bfac[in_lumen & np.isclose(fc[2], length - cap)]
     if lumen.size == 0 or cap_f.size == 0:
         raise NonlinearError("mesh: no lumen facets found; refine size")
-    log.info("catheter mesh: %d vertices, %d tets, %d lumen facets", mesh.p.shape[1], mesh.t.shape[1], lumen.size)
-    return CatheterMesh(mesh=mesh, labels=labels, base_facets=base, lumen_facets=lumen, cap_facets=cap_f,
-                        length=length)
+    log.info(
+        "catheter mesh: %d vertices, %d tets, %d lumen facets", mesh.p.shape[1], mesh.t.shape[1], lumen.size
+    )
+    return CatheterMesh(
+        mesh=mesh, labels=labels, base_facets=base, lumen_facets=lumen, cap_facets=cap_f, length=length
+    )
 
 
 #: The coils' transverse (hoop) modulus is capped at this multiple of the stiffest silicone.
@@ -272,7 +278,9 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
         )
 
     def silicone(m):
-        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=m.poisson_ratio, yeoh=m.yeoh)
+        return isotropic_from_young(
+            youngs_modulus=m.youngs_modulus, poisson_ratio=m.poisson_ratio, yeoh=m.yeoh
+        )
 
     laws = {
         REGIONS["coil"]: coil_law(design.coil),
@@ -301,5 +309,11 @@ def from_tip_mesh(tip_mesh) -> CatheterMesh:
     unknown = sorted(set(np.unique(labels).tolist()) - set(REGIONS.values()))
     if unknown:
         raise NonlinearError(f"tip mesh labels {unknown}: not coil/tube/channel/filler (1-4)")
-    return CatheterMesh(mesh=mesh, labels=labels, base_facets=tags["base"], lumen_facets=lumen,
-                        cap_facets=tags["cap"], length=float(tip_mesh.geometry.length))
+    return CatheterMesh(
+        mesh=mesh,
+        labels=labels,
+        base_facets=tags["base"],
+        lumen_facets=lumen,
+        cap_facets=tags["cap"],
+        length=float(tip_mesh.geometry.length),
+    )

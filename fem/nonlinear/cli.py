@@ -45,14 +45,21 @@ def add_cli_arguments(parser: argparse.ArgumentParser) -> None:
     add("--nonlinear", action="store_true", help="geometrically nonlinear FEM with hyperelastic silicone")
     add("--pressure", type=float, default=None, help="largest pressure [MPa] (nonlinear: default 1.0)")
     add("--steps", type=int, default=8, help="pressure steps of the sweep (default 8)")
-    add("--load", choices=("lumen", "cap"), default="lumen",
-                   help="pressure on lumen wall + cap (real load) or cap only (paper's formula)")
+    add(
+        "--load",
+        choices=("lumen", "cap"),
+        default="lumen",
+        help="pressure on lumen wall + cap (real load) or cap only (paper's formula)",
+    )
     add("--mesh-size", type=float, default=0.15, help="largest section triangle edge [mm]")
     add("--layers", type=int, default=4, help="element layers along the bending length (default 4)")
     add("--curvature-points", type=int, default=12, help="mesh segments per full circle (default 12)")
     add("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
-    add("--compare-linear", action="store_true",
-                   help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%")
+    add(
+        "--compare-linear",
+        action="store_true",
+        help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%",
+    )
 
 
 def _get(args, name, default=None):
@@ -94,7 +101,9 @@ def run_cli(args: argparse.Namespace, echo=None) -> int:
         progress=True,
     )
     seconds = time.perf_counter() - t_start
-    summary = write_outputs(curve, out, design_name=d.name, compare_linear=bool(_get(args, "compare_linear", False)))
+    summary = write_outputs(
+        curve, out, design_name=d.name, compare_linear=bool(_get(args, "compare_linear", False))
+    )
     _add_linear_check_keys(out / "fem.json", curve, d, seconds)
     echo(
         f"softcath fem --nonlinear: {d.name}, {curve.load} load, {curve.ndofs} DOFs, "
@@ -175,19 +184,41 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
     if compare_linear:
         dep = curve.departure(0.05)
         summary["departure_5pct_rad"] = dep
-        summary["departure_5pct_deg"] = {kk: (None if v is None else float(np.degrees(v))) for kk, v in dep.items()}
+        summary["departure_5pct_deg"] = {
+            kk: (None if v is None else float(np.degrees(v))) for kk, v in dep.items()
+        }
     (out / "fem.json").write_text(json.dumps(summary, indent=2))
     with open(out / "pressure_sweep.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["pressure_MPa", "bend_angle_rad", "bend_angle_deg", "curvature_per_mm", "elongation",
-                    "tip_x_mm", "tip_y_mm", "newton_iterations", "linear_fem_bend_angle_rad",
-                    "analytic_bend_angle_rad"])
+        w.writerow(
+            [
+                "pressure_MPa",
+                "bend_angle_rad",
+                "bend_angle_deg",
+                "curvature_per_mm",
+                "elongation",
+                "tip_x_mm",
+                "tip_y_mm",
+                "newton_iterations",
+                "linear_fem_bend_angle_rad",
+                "analytic_bend_angle_rad",
+            ]
+        )
         for i in range(curve.pressure.size):
-            w.writerow([f"{curve.pressure[i]:.9g}", f"{curve.bend_angle[i]:.9g}",
-                        f"{np.degrees(curve.bend_angle[i]):.6g}", f"{curve.curvature[i]:.9g}",
-                        f"{curve.elongation[i]:.9g}", f"{curve.tip_x[i]:.9g}", f"{curve.tip_y[i]:.9g}",
-                        int(curve.newton_iterations[i]), f"{curve.linear_bend_angle[i]:.9g}",
-                        f"{curve.analytic_bend_angle[i]:.9g}"])
+            w.writerow(
+                [
+                    f"{curve.pressure[i]:.9g}",
+                    f"{curve.bend_angle[i]:.9g}",
+                    f"{np.degrees(curve.bend_angle[i]):.6g}",
+                    f"{curve.curvature[i]:.9g}",
+                    f"{curve.elongation[i]:.9g}",
+                    f"{curve.tip_x[i]:.9g}",
+                    f"{curve.tip_y[i]:.9g}",
+                    int(curve.newton_iterations[i]),
+                    f"{curve.linear_bend_angle[i]:.9g}",
+                    f"{curve.analytic_bend_angle[i]:.9g}",
+                ]
+            )
     if curve.model is not None:
         write_vtu_series(curve, out)
         plot_deformed(curve, out / "deformed_tip.png")
@@ -261,8 +292,11 @@ def plot_curve(curve, path: Path) -> None:
 
     p = np.concatenate([[0.0], curve.pressure])
     fig, ax = plt.subplots(figsize=(5, 3.5))
-    for y, lab, st in ((curve.bend_angle, "nonlinear FEM", "o-"), (curve.linear_bend_angle, "linear FEM", "--"),
-                       (curve.analytic_bend_angle, "analytic", ":")):
+    for y, lab, st in (
+        (curve.bend_angle, "nonlinear FEM", "o-"),
+        (curve.linear_bend_angle, "linear FEM", "--"),
+        (curve.analytic_bend_angle, "analytic", ":"),
+    ):
         ax.plot(p, np.degrees(np.concatenate([[0.0], y])), st, label=lab)
     ax.set_xlabel("pressure [MPa]")
     ax.set_ylabel("bend angle [deg]")

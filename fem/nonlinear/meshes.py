@@ -24,7 +24,12 @@ def box(*, size: tuple[float, float, float], cells: tuple[int, int, int], centre
 
 
 def hollow_cylinder(
-    *, inner_radius: float, outer_radius: float, length: float, cells: tuple[int, int, int], angle: float = np.pi / 2
+    *,
+    inner_radius: float,
+    outer_radius: float,
+    length: float,
+    cells: tuple[int, int, int],
+    angle: float = np.pi / 2,
 ):
     """A sector (0..angle) of a hollow cylinder along z, ``cells`` = (radial, circumferential, axial).
 
@@ -34,7 +39,9 @@ def hollow_cylinder(
 
     nr, nt, nz = cells
     m = MeshTet.init_tensor(
-        np.linspace(inner_radius, outer_radius, nr + 1), np.linspace(0, angle, nt + 1), np.linspace(0, length, nz + 1)
+        np.linspace(inner_radius, outer_radius, nr + 1),
+        np.linspace(0, angle, nt + 1),
+        np.linspace(0, length, nz + 1),
     )
     r, t, z = m.p
     return MeshTet(np.vstack([r * np.cos(t), r * np.sin(t), z]), m.t)

@@ -185,9 +185,16 @@ def solve(
         targets = np.arange(1, steps + 1) / steps
     else:
         targets = np.asarray(load_factors, float)
-        if targets.ndim != 1 or targets.size == 0 or np.any(np.diff(targets) <= 0) or targets[0] <= 0 \
-                or not np.isclose(targets[-1], 1.0):
-            raise NonlinearError(f"load_factors = {targets!r}: must increase strictly within (0, 1] and end at 1")
+        if (
+            targets.ndim != 1
+            or targets.size == 0
+            or np.any(np.diff(targets) <= 0)
+            or targets[0] <= 0
+            or not np.isclose(targets[-1], 1.0)
+        ):
+            raise NonlinearError(
+                f"load_factors = {targets!r}: must increase strictly within (0, 1] and end at 1"
+            )
         targets[-1] = 1.0
     fixed = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
     if fixed.size == 0:
@@ -240,11 +247,24 @@ def solve(
                 trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
             dfixed = (target - lam) * values[fixed]
             ok, its, res = _newton(
-                body, trial, target, free, mask, tmpl, lin, residual, max_iter, rtol, fixed=fixed, dfixed=dfixed
+                body,
+                trial,
+                target,
+                free,
+                mask,
+                tmpl,
+                lin,
+                residual,
+                max_iter,
+                rtol,
+                fixed=fixed,
+                dfixed=dfixed,
             )
             if not ok:
                 cutbacks += 1
-                log.info("step to load factor %.4g failed (%s); cutting back", target, res[-1] if res else "-")
+                log.info(
+                    "step to load factor %.4g failed (%s); cutting back", target, res[-1] if res else "-"
+                )
                 if cutbacks > max_cutbacks:
                     last = f"{res[-1]:.3g}" if res else "n/a"
                     raise ConvergenceError(
@@ -347,7 +367,11 @@ def _newton(body, u, lam, free, mask, tmpl, lin, residual, max_iter, rtol, *, fi
                 alpha = float(np.clip(a_new, 0.05, 1.0))
                 if alpha == a_prev:
                     break
-            if it > 1 and res[-1] <= 1e-5 and np.linalg.norm(alpha * du) <= _DU_ROUNDOFF * np.linalg.norm(u[free]):
+            if (
+                it > 1
+                and res[-1] <= 1e-5
+                and np.linalg.norm(alpha * du) <= _DU_ROUNDOFF * np.linalg.norm(u[free])
+            ):
                 # the correction is at round-off: the residual has hit its floor (stiff coil next
                 # to soft silicone), further iterations cannot lower it
                 return True, it, res

@@ -22,8 +22,15 @@ def best_rotation(reference: np.ndarray, deformed: np.ndarray) -> np.ndarray:
     return u @ np.diag([1.0, 1.0, d]) @ vt
 
 
-def bend_angle(nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis: int = 2, toward: int = 1,
-               sign: float = -1.0) -> float:
+def bend_angle(
+    nodes: np.ndarray,
+    u: np.ndarray,
+    end_mask: np.ndarray,
+    *,
+    axis: int = 2,
+    toward: int = 1,
+    sign: float = -1.0,
+) -> float:
     """Bend angle [rad] of the section at ``end_mask``: rotation of the axis ``axis`` toward ``sign·e_toward``.
 
     Default: the catheter axis z turning toward −y (positive curvature, the

@@ -109,7 +109,9 @@ def closed_cylinder(
         inner_radius=inner_radius, outer_radius=outer_radius, length=length, cells=(cells[0], cells[1], 1)
     )
     nu = poisson_ratio
-    law = neo_hookean(shear_modulus=shear_modulus, bulk_modulus=2 * shear_modulus * (1 + nu) / (3 * (1 - 2 * nu)))
+    law = neo_hookean(
+        shear_modulus=shear_modulus, bulk_modulus=2 * shear_modulus * (1 + nu) / (3 * (1 - 2 * nu))
+    )
     body = HyperelasticBody(mesh, np.zeros(mesh.t.shape[1], int), {0: law}, mixed=mixed)
     bore = facets_where(mesh, lambda x: np.hypot(x[0], x[1]) < inner_radius * (1 + 1e-9))
     press = FollowerPressure(body, bore)
@@ -173,8 +175,9 @@ def end_moment_cantilever(
     body = HyperelasticBody(mesh, np.zeros(mesh.t.shape[1], int), {0: law})
     inertia = h**4 / 12
     moment = bend_angle * youngs_modulus * inertia / length
-    press = FollowerPressure(body, facets_where(mesh, lambda x: x[2] > length * (1 - 1e-9)),
-                             profile=lambda x: -x[1] / inertia)
+    press = FollowerPressure(
+        body, facets_where(mesh, lambda x: x[2] > length * (1 - 1e-9)), profile=lambda x: -x[1] / inertia
+    )
     fixed = dofs_of_facets(body.basis, facets_where(mesh, lambda x: x[2] < 1e-9))
     res = solve(body, fixed_dofs=fixed, loads=[(press, moment)], steps=steps)
     x = body.nodes

@@ -11,7 +11,9 @@ from fem.nonlinear.meshes import box, facets_where
 from fem.nonlinear.newton import solve
 
 SOFT = neo_hookean(shear_modulus=0.3, bulk_modulus=5.0)
-COIL = AnisotropicSVK(transversely_isotropic(axial_modulus=2.0, transverse_modulus=200.0, axial_shear_modulus=1.0))
+COIL = AnisotropicSVK(
+    transversely_isotropic(axial_modulus=2.0, transverse_modulus=200.0, axial_shear_modulus=1.0)
+)
 
 
 def _two_region_body(mixed):
@@ -52,7 +54,12 @@ def test_homogeneous_deformation_is_in_equilibrium_inside():
     x = body.nodes
     u = (x @ (fmat - np.eye(3)).T).ravel()
     f, _ = body.internal(u)
-    interior = (np.abs(x[:, 0]) < 0.5 - 1e-9) & (np.abs(x[:, 1]) < 0.5 - 1e-9) & (x[:, 2] > 1e-9) & (x[:, 2] < 1 - 1e-9)
+    interior = (
+        (np.abs(x[:, 0]) < 0.5 - 1e-9)
+        & (np.abs(x[:, 1]) < 0.5 - 1e-9)
+        & (x[:, 2] > 1e-9)
+        & (x[:, 2] < 1 - 1e-9)
+    )
     assert interior.sum() > 10
     scale = np.abs(f).max()
     assert np.abs(f.reshape(-1, 3)[interior]).max() <= 1e-12 * scale

@@ -26,7 +26,9 @@ def coarse(paper):
 
 def _volumes(mesh):
     v = mesh.p[:, mesh.t]
-    return np.einsum("ij,ij->j", np.cross((v[:, 1] - v[:, 0]).T, (v[:, 2] - v[:, 0]).T).T, v[:, 3] - v[:, 0]) / 6
+    return (
+        np.einsum("ij,ij->j", np.cross((v[:, 1] - v[:, 0]).T, (v[:, 2] - v[:, 0]).T).T, v[:, 3] - v[:, 0]) / 6
+    )
 
 
 def test_mesh_regions_match_the_section(paper, coarse):
@@ -89,7 +91,9 @@ def test_departure_angle_interpolates():
 
 
 def test_bad_inputs_are_named(paper):
-    with pytest.raises(NonlinearError, match=r"pressures = \[1.0, 0.5\]: must be finite, > 0 MPa and strictly"):
+    with pytest.raises(
+        NonlinearError, match=r"pressures = \[1.0, 0.5\]: must be finite, > 0 MPa and strictly"
+    ):
         bend_curve(paper, [1.0, 0.5])
     with pytest.raises(NonlinearError, match=r"load = 'wall': must be one of"):
         bend_curve(paper, [1.0], load="wall")
@@ -120,14 +124,38 @@ def _parser():
 
 @pytest.mark.slow
 def test_cli_writes_json_csv_vtu_series_and_png(tmp_path):
-    args = _parser().parse_args(["paper", "--nonlinear", "--pressure", "0.02", "--steps", "2", "--load", "cap",
-                                 "--layers", "2", "--compare-linear", "--out", str(tmp_path)])
+    args = _parser().parse_args(
+        [
+            "paper",
+            "--nonlinear",
+            "--pressure",
+            "0.02",
+            "--steps",
+            "2",
+            "--load",
+            "cap",
+            "--layers",
+            "2",
+            "--compare-linear",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     lines = []
     assert run_cli(args, echo=lines.append) == 0
     assert any("Newton iterations" in ln for ln in lines)
     summary = json.loads((tmp_path / "fem.json").read_text())
-    for key in ("bend_angle_rad", "curvature_per_mm", "elongation", "tip_x_mm", "tip_y_mm", "steps",
-                "newton_iterations", "departure_5pct_rad", "pressure_MPa"):
+    for key in (
+        "bend_angle_rad",
+        "curvature_per_mm",
+        "elongation",
+        "tip_x_mm",
+        "tip_y_mm",
+        "steps",
+        "newton_iterations",
+        "departure_5pct_rad",
+        "pressure_MPa",
+    ):
         assert key in summary
     assert summary["pressure_MPa"] == pytest.approx(0.02)
     assert summary["newton_iterations"] == sum(s["iterations"] for s in summary["steps"])

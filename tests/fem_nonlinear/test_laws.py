@@ -40,11 +40,12 @@ def test_stress_and_tangent_are_derivatives(name, volumetric):
         for m in range(3):
             d = np.zeros((3, 3))
             d[k, m] = h
-            p_fd[..., k, m] = (law.energy(f + d, volumetric=volumetric) - law.energy(f - d, volumetric=volumetric)) / (
-                2 * h
-            )
+            p_fd[..., k, m] = (
+                law.energy(f + d, volumetric=volumetric) - law.energy(f - d, volumetric=volumetric)
+            ) / (2 * h)
             a_fd[..., k, m] = (
-                law.stress_tangent(f + d, volumetric=volumetric)[0] - law.stress_tangent(f - d, volumetric=volumetric)[0]
+                law.stress_tangent(f + d, volumetric=volumetric)[0]
+                - law.stress_tangent(f - d, volumetric=volumetric)[0]
             ) / (2 * h)
     # central differences: truncation ~h^2 |W'''| plus round-off ~eps |W| / h, both far below 1e-6 relative
     assert np.abs(p - p_fd).max() <= 1e-6 * np.abs(p).max()
@@ -112,7 +113,10 @@ def test_neo_hookean_uniaxial_incompressible_closed_form():
     [
         (lambda: Yeoh(c1=-1.0, bulk_modulus=1.0), "c1 = -1: must be finite and > 0"),
         (lambda: Yeoh(c1=1.0, bulk_modulus=0.0), "bulk_modulus = 0: must be finite and > 0"),
-        (lambda: isotropic_from_young(youngs_modulus=1.0, poisson_ratio=0.5), r"poisson_ratio = 0.5: must be in"),
+        (
+            lambda: isotropic_from_young(youngs_modulus=1.0, poisson_ratio=0.5),
+            r"poisson_ratio = 0.5: must be in",
+        ),
         (
             lambda: transversely_isotropic(
                 axial_modulus=1.0, transverse_modulus=1e5, axial_shear_modulus=1.0, coupling_poisson=0.6

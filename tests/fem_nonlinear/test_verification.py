@@ -54,7 +54,9 @@ def _linear_reference(mesh, labels, clamp, side, pressure):
 def _nonlinear(mesh, labels, clamp, side, pressure):
     body = HyperelasticBody(mesh, labels, {0: SILICONE, 1: AnisotropicSVK(COIL_C)})
     press = FollowerPressure(body, side)
-    res = solve(body, fixed_dofs=dofs_of_facets(body.basis, clamp), loads=[(press, pressure)], steps=1, rtol=1e-9)
+    res = solve(
+        body, fixed_dofs=dofs_of_facets(body.basis, clamp), loads=[(press, pressure)], steps=1, rtol=1e-9
+    )
     return res.u
 
 
@@ -95,8 +97,13 @@ def test_objectivity_of_isotropic_body_under_general_rotation():
     out = []
     for m in (mesh, MeshTet(q @ mesh.p, mesh.t)):
         body = HyperelasticBody(m, np.zeros_like(labels), {0: SILICONE})
-        res = solve(body, fixed_dofs=dofs_of_facets(body.basis, clamp), loads=[(FollowerPressure(body, side), 0.005)],
-                    steps=2, rtol=1e-9)
+        res = solve(
+            body,
+            fixed_dofs=dofs_of_facets(body.basis, clamp),
+            loads=[(FollowerPressure(body, side), 0.005)],
+            steps=2,
+            rtol=1e-9,
+        )
         out.append(res.u)
     np.testing.assert_allclose(out[1], out[0] @ q.T, atol=1e-8 * np.abs(out[0]).max())
 
@@ -140,7 +147,9 @@ def test_closed_form_cylinder_is_self_consistent():
 
 
 def test_pressurised_closed_cylinder_matches_finite_strain_neo_hookean():
-    a_ex, _, n_ex = closed_cylinder_exact(inner_radius=1.0, outer_radius=2.0, shear_modulus=1.0, pressure=0.25)
+    a_ex, _, n_ex = closed_cylinder_exact(
+        inner_radius=1.0, outer_radius=2.0, shear_modulus=1.0, pressure=0.25
+    )
     assert a_ex > 1.2  # a finite-strain case: the bore opens by more than 20 %
     r = closed_cylinder(poisson_ratio=0.4999, mixed=True)
     # near-incompressible (kappa/mu = 5000) against the incompressible closed form: O(mu/kappa) = 2e-4,
