@@ -132,6 +132,15 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
                     "no parity plot.")  # fmt: skip
     sections.append(("Analytic vs FEM", body))
 
+    bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
+    if bpath:
+        sections.append(
+            ("Large bends",
+             figure(prefix + bpath.name,
+                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic (dotted). "
+                    "Where they part, the small-rotation models stop being trustworthy."))
+        )  # fmt: skip
+
     epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
     sections.append(
         ("Against each swept parameter",

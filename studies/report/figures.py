@@ -317,3 +317,38 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.legend(fontsize=8)
     ax.set_title(f"Selection ({selection.get('load')} load)")
     return _save(fig, path)
+
+
+def bend_curves(df, path: Path, *, max_designs: int = 6) -> Path | None:
+    """Bend angle vs pressure per design and load: analytic, linear FEM and finite-strain FEM."""
+    if "nonlinear_bend_angle_rad" not in df.columns:
+        return None
+    ok = df[(df.status == "ok") & np.isfinite(df["nonlinear_bend_angle_rad"].astype(float))]
+    if ok.empty:
+        return None
+    loads = sorted(ok.load.unique())
+    ids = list(dict.fromkeys(ok.design_id))[:max_designs]
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(loads), figsize=(6 * len(loads), 4.2), squeeze=False)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, load in zip(axes[0], loads, strict=True):
+        for n, did in enumerate(ids):
+            g = ok[(ok.design_id == did) & (ok.load == load)].sort_values("pressure_MPa")
+            if g.empty:
+                continue
+            c = colors[n % len(colors)]
+            p = g.pressure_MPa.to_numpy(float)
+            ax.plot(p, np.degrees(g["nonlinear_bend_angle_rad"].to_numpy(float)), "-o", color=c, ms=3,
+                    label=f"design {did}: nonlinear FEM")  # fmt: skip
+            if "bend_angle_fem_rad" in g and np.isfinite(g["bend_angle_fem_rad"].astype(float)).any():
+                ax.plot(
+                    p, np.degrees(g["bend_angle_fem_rad"].to_numpy(float)), "--", color=c, label="linear FEM"
+                )
+            ax.plot(
+                p, np.degrees(g["bend_angle_analytic_rad"].to_numpy(float)), ":", color=c, label="analytic"
+            )
+        ax.set_title(f"{load} load")
+        ax.set_xlabel("pressure [MPa]")
+        ax.set_ylabel("bend angle [deg]")
+        ax.legend(fontsize=7)
+    return _save(fig, path)

@@ -160,6 +160,23 @@ def fem_records(result: Any, load: str | None = None, defaults: dict | None = No
     return out
 
 
+def _nonlinear_angles(design, pressures: np.ndarray, load: str) -> tuple[np.ndarray, np.ndarray]:
+    """Finite-strain bend angle [rad] and curvature [1/mm] at ``pressures`` (0 MPa gives 0)."""
+    from fem.nonlinear import bend_curve
+
+    positive = np.unique(pressures[pressures > 0])
+    angle, kappa = np.zeros(pressures.size), np.zeros(pressures.size)
+    if positive.size:
+        curve = bend_curve(design, positive, load=load)
+        idx = np.searchsorted(positive, pressures)
+        pos = pressures > 0
+        angle[pos] = np.asarray(curve.bend_angle)[idx[pos]]
+        kappa[pos] = np.asarray(curve.curvature)[idx[pos]]
+    if np.any(pressures < 0):
+        angle[pressures < 0] = kappa[pressures < 0] = np.nan  # the finite-strain sweep loads upward only
+    return angle, kappa
+
+
 def _nan_block(n_d: int, n_p: int) -> np.ndarray:
     return np.full((n_d, n_p), np.nan)
 
@@ -233,6 +250,20 @@ def evaluate_task(task: dict) -> pd.DataFrame:
                     for k in _FEM_KEYS:
                         fem_cols[load][f"fem_{k}"][i, j] = row[k]
 
+    nl_cols = {load: {k: _nan_block(n_d, n_p) for k in ("nonlinear_bend_angle_rad", "nonlinear_curvature_per_mm")}
+               for load in loads}  # fmt: skip
+    if "nonlinear" in task["evaluators"]:
+        for i in ok:
+            for load in loads:
+                try:
+                    angle, kappa = _nonlinear_angles(designs[i], pressures, load)
+                except Exception as exc:  # a failed Newton solve is reported per design, never ends the sweep
+                    log.warning("nonlinear FEM failed for design %s: %s", ids[i], exc)
+                    fem_reason[i] = f"nonlinear failed ({load}): {type(exc).__name__}: {exc}"
+                    continue
+                nl_cols[load]["nonlinear_bend_angle_rad"][i] = angle
+                nl_cols[load]["nonlinear_curvature_per_mm"][i] = kappa
+
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
     frames = []
     for load in loads:
@@ -250,6 +281,8 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         for k, v in per_load[load].items():
             cols[k] = v.ravel()
         for k, v in fem_cols[load].items():
+            cols[k] = v.ravel()
+        for k, v in nl_cols[load].items():
             cols[k] = v.ravel()
         status, reason = [], []
         for i in range(n_d):

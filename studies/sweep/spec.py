@@ -7,7 +7,7 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["analytic"]      # and/or "fem"
+    evaluators = ["analytic"]      # and/or "fem", "nonlinear" (finite-strain FEM, slow)
     seed = 7                       # Latin hypercube seed
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
@@ -44,7 +44,7 @@ from design.errors import DesignError
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
-EVALUATORS = ("analytic", "fem")
+EVALUATORS = ("analytic", "fem", "nonlinear")
 LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
     "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
@@ -122,7 +122,7 @@ class SweepSpec:
 
     @property
     def uses_fem(self) -> bool:
-        return "fem" in self.evaluators
+        return "fem" in self.evaluators or "nonlinear" in self.evaluators
 
     @property
     def p_max(self) -> float:
