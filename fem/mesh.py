@@ -341,11 +341,33 @@ def _label(geometry: TipGeometry, points: np.ndarray, tets: np.ndarray) -> np.nd
 
 
 # ---------------------------------------------------------------- gmsh ------
+def restore_sigpipe_ignored() -> None:
+    """Ignore SIGPIPE again at the C level after ``gmsh.initialize()``.
+
+    gmsh resets SIGPIPE to its default (terminate) behind Python's back, and
+    ``finalize`` does not undo it. Python ignores SIGPIPE so that a write to a
+    closed pipe raises ``BrokenPipeError``; without this, a later write to a dead
+    worker's pipe kills the whole process (it killed a test run of a sweep whose
+    worker was SIGKILLed). ``signal.signal`` only works in the main thread and
+    believes SIGPIPE is still ignored, so the libc call restores what it believes.
+    """
+    if os.name != "posix":
+        return
+    import ctypes
+    import signal
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.signal.restype = ctypes.c_void_p
+    libc.signal.argtypes = (ctypes.c_int, ctypes.c_void_p)
+    libc.signal(int(signal.SIGPIPE), ctypes.c_void_p(1))  # 1 = SIG_IGN
+
+
 @contextlib.contextmanager
 def _gmsh_session():
     import gmsh
 
     gmsh.initialize(interruptible=False)
+    restore_sigpipe_ignored()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)

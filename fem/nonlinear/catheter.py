@@ -85,6 +85,9 @@ def _section_triangles(section, *, size: float, contact: float, curvature_points
     init_here = not gmsh.isInitialized()
     if init_here:
         gmsh.initialize(interruptible=False)
+        from fem.mesh import restore_sigpipe_ignored
+
+        restore_sigpipe_ignored()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("softcath_section")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -110,3 +112,41 @@ def test_tetwild_mesh_regions_and_volumes(paper_geometry, tmp_path, monkeypatch)
         assert abs(err) < 0.01, name
     assert not (tmp_path / "__tracked_surface.stl").exists()  # ran in a temp dir
     assert m.quality.min_scaled_jacobian > 0
+
+
+_SIGPIPE_PROBE = """
+import sys
+def ignored():
+    with open("/proc/self/status") as fh:
+        mask = next(int(line.split()[1], 16) for line in fh if line.startswith("SigIgn"))
+    return bool(mask & (1 << 12))  # SIGPIPE = 13
+if sys.argv[1] == "raw":
+    import gmsh
+    gmsh.initialize()
+    gmsh.finalize()
+else:
+    from fem.mesh import _gmsh_session
+    with _gmsh_session():
+        pass
+print(ignored())
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads the Linux signal mask")
+def test_meshing_leaves_sigpipe_ignored():
+    """gmsh.initialize() resets SIGPIPE to terminate (first call per process); after our gmsh session the
+    process ignores it again, or a write to a dead sweep worker's pipe would kill the whole process
+    instead of raising BrokenPipeError. Fresh interpreters, because gmsh does it only once per process."""
+    import subprocess
+    import sys
+
+    root = Path(__file__).parents[2]
+
+    def probe(mode: str) -> str:
+        r = subprocess.run([sys.executable, "-c", _SIGPIPE_PROBE, mode], capture_output=True, text=True,
+                           cwd=root, env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"}, timeout=120)  # fmt: skip
+        assert r.returncode == 0, r.stderr
+        return r.stdout.strip().splitlines()[-1]
+
+    assert probe("raw") == "False"  # the hazard: plain gmsh leaves SIGPIPE at its default
+    assert probe("session") == "True"

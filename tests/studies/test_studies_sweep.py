@@ -348,13 +348,14 @@ def test_killed_worker_loses_only_unsaved_tasks(spec_writer, tmp_path):
     )
     out = tmp_path / "o"
     result = {}
+    before = {p.pid for p in multiprocessing.active_children()}  # children of earlier tests are not ours
     thread = threading.Thread(target=lambda: result.update(s=run_sweep(spec, out, workers=2, progress=False)))
     thread.start()
     store = SweepStore(out)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and not (store.tasks_dir.is_dir() and len(store.finished()) >= 5):
         time.sleep(0.005)
-    workers = multiprocessing.active_children()
+    workers = [p for p in multiprocessing.active_children() if p.pid not in before]
     assert workers and thread.is_alive()
     os.kill(workers[0].pid, signal.SIGKILL)
     thread.join(120)
