@@ -8,6 +8,7 @@ File layout: one table per component (``[coil]``, ``[tube]``, ``[channel]``,
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import MISSING as _MISSING
@@ -110,8 +111,6 @@ def from_dict(data: Mapping[str, Any]) -> TipDesign:
 
 
 def _material_key(m: Material) -> str:
-    import re
-
     return re.sub(r"[^a-z0-9]+", "_", m.name.lower()).strip("_") or "material"
 
 

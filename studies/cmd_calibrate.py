@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
             time_s=m.time_s,
             pressure_MPa=filtfilt(m.pressure_MPa),
             curvature_per_mm=filtfilt(m.curvature_per_mm),
+            run=m.run,
             source=m.source,
             **opt,
         )
