@@ -59,7 +59,7 @@ COLUMN_UNITS = {
     "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|fem", "feasible_strain": "bool",
     "feasible": "bool", "status": "ok|failed", "reason": "text", "analytic_seconds": "s",
     "fem_mesh_seconds": "s", "fem_solve_seconds": "s", "cpu_seconds": "s",
-    "nonlinear_bend_angle_rad": "rad", "nonlinear_curvature_per_mm": "1/mm",
+    "nonlinear_bend_angle_rad": "rad", "nonlinear_curvature_per_mm": "1/mm", "nonlinear_max_strain": "-",
 }  # fmt: skip
 
 

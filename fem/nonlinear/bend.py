@@ -12,6 +12,7 @@ studies package calls.
 from __future__ import annotations
 
 import logging
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,9 +20,11 @@ import numpy as np
 from fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
 from fem.nonlinear.errors import NonlinearError
+from fem.nonlinear.linsolve import TangentSolver
 from fem.nonlinear.meshes import dofs_of_facets
-from fem.nonlinear.newton import NonlinearResult, linear_solver, solve
-from fem.nonlinear.post import bend_angle, bend_angles, tip_pose
+from fem.nonlinear.newton import NonlinearResult, solve
+from fem.nonlinear.post import bend_angle, bend_angles, curvature_variation, max_principal_strain, tip_pose
+from fem.section import FILLER, TUBE
 
 __all__ = ["BendCurve", "bend_curve", "departure_angle", "LOADS"]
 
@@ -30,6 +33,7 @@ log = logging.getLogger(__name__)
 #: "lumen": pressure on the lumen wall and the cap (the real load); "cap": on the cap face only
 #: (the end-cap force of the paper's formula).
 LOADS = ("lumen", "cap")
+SILICONE_LABELS = (TUBE, FILLER)
 
 
 @dataclass(frozen=True)
@@ -56,8 +60,16 @@ class BendCurve:
         Newton iterations spent reaching each pressure (since the previous one).
     load
         ``"lumen"`` or ``"cap"``.
-    ndofs, n_tets
-        Model size.
+    ndofs, n_tets, n_nodes
+        Model size (n_nodes: P2 nodes).
+    max_strain
+        Largest principal stretch strain λ_max − 1 in the silicone, more than two
+        coil radii from the clamp (as the linear check), at each pressure [-].
+    curvature_variation
+        (max − min)/|mean| of the local curvature along the middle of the tip at
+        each pressure (:func:`~fem.nonlinear.post.curvature_variation`).
+    mesh_seconds
+        Time spent meshing [s] (0 when a mesh was passed in).
     result
         The full load path (every accepted step); not serialised.
     """
@@ -74,6 +86,10 @@ class BendCurve:
     load: str
     ndofs: int
     n_tets: int
+    n_nodes: int
+    max_strain: np.ndarray
+    curvature_variation: np.ndarray
+    mesh_seconds: float
     result: NonlinearResult = field(repr=False, compare=False)
     model: object = field(repr=False, compare=False, default=None)
 
@@ -118,6 +134,18 @@ class _Model:
         self.fixed = dofs_of_facets(self.body.basis, cmesh.base_facets)
         x = self.body.nodes
         self.end = np.isclose(x[:, 2], cmesh.length)
+        # as the linear check: strain and curvature profile read two coil radii away from the
+        # clamp (the rigid clamp's singular corner) and the cap
+        self.margin = float(design.coil.outer_diameter)
+        zc = x[self.body.basis.element_dofs[:4]].mean(axis=0)[:, 2]
+        self._strain_cells = np.flatnonzero(np.isin(cmesh.labels, SILICONE_LABELS) & (zc > self.margin))
+
+    def silicone_strain(self, u: np.ndarray) -> float:
+        """Largest principal stretch strain in the silicone away from the clamp [-]."""
+        if self._strain_cells.size == 0:
+            return float("nan")
+        f = self.body.deformation_gradient(u.ravel(), self._strain_cells)
+        return float(max_principal_strain(f).max())
 
     def linear_unit_angle(self) -> float:
         """dθ/dp [rad/MPa] of the linear FEM (tangent at zero load, unit pressure)."""
@@ -131,7 +159,8 @@ class _Model:
         k = tmpl.copy()
         k.data = data[mask]
         u = np.zeros(body.ndofs)
-        u[free] = linear_solver(ndofs=free.size)(k, -f[free])
+        with TangentSolver(tmpl) as lin:
+            u[free] = lin(k, -f[free])
         eps = 1e-6 / max(np.abs(u).max(), 1e-300)  # probe the rotation in the small-rotation range
         return bend_angle(body.nodes, eps * u.reshape(-1, 3), self.end) / eps
 
@@ -191,11 +220,13 @@ def bend_curve(
         raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
         raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
+    t0 = time.perf_counter()
     cmesh = (
         mesh
         if mesh is not None
         else mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
     )
+    mesh_seconds = time.perf_counter() - t0 if mesh is None else 0.0
     model = _Model(design, cmesh, load=load, mixed=mixed)
     p_max = float(p[-1])
     edges = np.concatenate([[0.0], p / p_max])
@@ -240,6 +271,17 @@ def bend_curve(
         load=load,
         ndofs=model.body.ndofs,
         n_tets=int(cmesh.mesh.t.shape[1]),
+        n_nodes=int(model.body.n_nodes),
+        max_strain=np.array([model.silicone_strain(res.displacements[k]) for k in pick]),
+        curvature_variation=np.array(
+            [
+                curvature_variation(
+                    model.body.nodes, res.displacements[k], length=length, margin=model.margin
+                )
+                for k in pick
+            ]
+        ),
+        mesh_seconds=float(mesh_seconds),
         result=res,
         model=model,
     )

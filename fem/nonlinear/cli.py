@@ -121,6 +121,11 @@ def run_cli(args: argparse.Namespace, echo=None) -> int:
     return 0
 
 
+def _finite_or_none(x) -> float | None:
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
 def _add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
     """Give fem.json the keys of the linear check (``softcath fem``) at the final pressure."""
     import analytic
@@ -138,12 +143,11 @@ def _add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
             "solve_seconds": seconds,
             "analytic": {"curvature_per_mm": k_ref, "elongation": float(ref.elongation)},
             "ratio_fem_over_analytic": float(curve.curvature[-1]) / k_ref if k_ref else None,
-            # the finite-strain path reports the end-section pose, not a field fit along the tip
-            "curvature_variation": None,
-            "max_strain": None,
-            "n_nodes": None,
-            "mesh_seconds": None,
-            "not_computed": ["curvature_variation", "max_strain", "n_nodes", "mesh_seconds"],
+            # finite-strain counterparts: section-rotation profile, principal stretch strain
+            "curvature_variation": _finite_or_none(curve.curvature_variation[-1]),
+            "max_strain": _finite_or_none(curve.max_strain[-1]),
+            "n_nodes": int(curve.n_nodes),
+            "mesh_seconds": float(curve.mesh_seconds),
         }
     )
     path.write_text(json.dumps(doc, indent=2), encoding="utf-8")

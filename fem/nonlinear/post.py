@@ -10,7 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["best_rotation", "bend_angle", "bend_angles", "TipPose", "tip_pose"]
+__all__ = [
+    "best_rotation",
+    "bend_angle",
+    "bend_angles",
+    "TipPose",
+    "tip_pose",
+    "curvature_variation",
+    "max_principal_strain",
+]
 
 
 def best_rotation(reference: np.ndarray, deformed: np.ndarray) -> np.ndarray:
@@ -77,3 +85,38 @@ def tip_pose(nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis_poi
     chord = float(np.hypot(tip_x - 0.0, tip_y))
     arc = chord if abs(theta) < 1e-9 else chord * (theta / 2) / np.sin(theta / 2)
     return TipPose(theta, float(tip_x), float(tip_y), float(arc))
+
+
+def curvature_variation(nodes: np.ndarray, u: np.ndarray, *, length: float, margin: float) -> float:
+    """(max − min)/|mean| of the local curvature along the middle of the tip (``fem.json`` key).
+
+    The sections at each z level of the (extruded) mesh between ``margin`` and
+    ``length − margin`` are fitted with rigid rotations (Kabsch); the local
+    curvature of each interval is the change of the bend angle over the
+    distance between the deformed section centroids, the finite-rotation
+    counterpart of the linear check's windowed fits.
+    """
+    z = np.round(nodes[:, 2], 9)
+    levels = np.unique(z[(z >= margin - 1e-9) & (z <= length - margin + 1e-9)])
+    if levels.size < 3:
+        return float("nan")
+    theta, cent = [], []
+    for lv in levels:
+        sel = z == lv
+        theta.append(bend_angle(nodes, u, sel))
+        cent.append((nodes[sel] + u[sel]).mean(axis=0))
+    dtheta = np.diff(np.unwrap(theta))
+    ds = np.linalg.norm(np.diff(np.asarray(cent), axis=0), axis=1)
+    kappa = dtheta / ds
+    mean = kappa.mean()
+    return float((kappa.max() - kappa.min()) / abs(mean)) if mean != 0 else float("nan")
+
+
+def max_principal_strain(f: np.ndarray) -> np.ndarray:
+    """Largest principal (Biot) strain λ_max − 1 of deformation gradients ``f`` (..., 3, 3).
+
+    The stretch-based strain equals the linear check's principal strain to
+    first order, so the two ``max_strain`` values compare directly.
+    """
+    c = np.einsum("...aI,...aJ->...IJ", f, f)
+    return np.sqrt(np.linalg.eigvalsh(c)[..., -1]) - 1.0

@@ -262,8 +262,14 @@ def run_sweep(
             import dask
 
             # The workers' statistical profiler samples every thread every 10 ms: about 10 % more CPU
-            # per FEM design measured here, for a profile nobody reads in a batch sweep.
-            with dask.config.set({"distributed.worker.profile.enabled": False}):
+            # per FEM design measured here, for a profile nobody reads in a batch sweep. The nanny's
+            # MALLOC_TRIM_THRESHOLD_ costs ~30 % more CPU per FEM design (evaluators.restore_malloc_thresholds);
+            # the workers keep glibc's dynamic thresholds and one BLAS thread each.
+            environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()
+                       if k != "MALLOC_TRIM_THRESHOLD_"}  # fmt: skip
+            with dask.config.set(
+                {"distributed.worker.profile.enabled": False, "distributed.nanny.pre-spawn-environ": environ}
+            ):
                 cluster = LocalCluster(
                     n_workers=dask_local, threads_per_worker=1, processes=True,
                     host="127.0.0.1", dashboard_address=None,

@@ -158,6 +158,11 @@ def test_cli_writes_json_csv_vtu_series_and_png(tmp_path):
     ):
         assert key in summary
     assert summary["pressure_MPa"] == pytest.approx(0.02)
+    # the linear check's keys, filled with their finite-strain counterparts
+    assert "not_computed" not in summary
+    assert summary["n_nodes"] * 3 == summary["dofs"] and summary["mesh_seconds"] > 0
+    assert 0 < summary["max_strain"] < 0.05  # 0.02 MPa on silicone with E ~ 1 MPa
+    assert 0 <= summary["curvature_variation"] < 1
     assert summary["newton_iterations"] == sum(s["iterations"] for s in summary["steps"])
     with open(tmp_path / "pressure_sweep.csv") as fh:
         rows = list(csv.DictReader(fh))

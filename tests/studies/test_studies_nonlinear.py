@@ -28,6 +28,8 @@ def test_nonlinear_evaluator_and_bend_curve_report(spec_writer, tmp_path):
     assert (df.status == "ok").all(), df.reason.unique()
     angle = df.nonlinear_bend_angle_rad.to_numpy(float)
     assert angle[0] == 0.0 and np.all(np.diff(angle) > 0)
+    strain = df.nonlinear_max_strain.to_numpy(float)
+    assert strain[0] == 0.0 and np.all(np.diff(strain) > 0)
     # At small load the finite-strain angle follows fem.check's linear FEM, within what separates the two
     # models (docs/nonlinear.md): the nonlinear default mesh is coarse (12 segments per circle, the coil
     # area under-filled ~2 %, the tube grown 3 % to flatten its tangent contacts) and it reports the end-

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 
 import numpy as np
 import pandas as pd
@@ -365,3 +366,21 @@ def test_killed_worker_loses_only_unsaved_tasks(spec_writer, tmp_path):
     second = run_sweep(spec, out, workers=2, progress=False)
     assert second.skipped_tasks == len(saved) and second.evaluated_tasks == n - len(saved)
     assert second.lost_tasks == 0 and second.ok_designs == n
+
+
+def test_dask_malloc_threshold_is_undone_in_a_worker_process():
+    # Dask's nanny sets MALLOC_TRIM_THRESHOLD_, which measured ~30 % more CPU per FEM design; the evaluator
+    # restores glibc's thresholds once in such a process and leaves other processes alone.
+    import subprocess
+    import sys
+
+    code = "from studies.sweep.evaluators import restore_malloc_thresholds as r; print(r(), r())"
+    env = {k: v for k, v in os.environ.items() if k != "MALLOC_TRIM_THRESHOLD_"}
+    plain = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert plain.stdout.split() == ["False", "False"]
+    nanny = subprocess.run(
+        [sys.executable, "-c", code], env={**env, "MALLOC_TRIM_THRESHOLD_": "65536"},
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    expected = ["True", "False"] if sys.platform.startswith("linux") else ["False", "False"]
+    assert nanny.stdout.split() == expected
