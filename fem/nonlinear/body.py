@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -41,6 +42,19 @@ def _vector_dofs(element_dofs: np.ndarray) -> np.ndarray:
     """(n, 30) global vector DOFs ordered (node a, component i) from scalar (10, n) DOFs."""
     ed = np.asarray(element_dofs).T
     return (3 * ed[:, :, None] + np.arange(3)).reshape(ed.shape[0], -1)
+
+
+@dataclass(frozen=True)
+class _Chunk:
+    """Element data of a block of cells sharing one law."""
+
+    law: object
+    cells: np.ndarray
+    dofs: np.ndarray
+    grads: np.ndarray
+    weighted_grads: np.ndarray
+    weights: np.ndarray
+    pattern_pos: np.ndarray
 
 
 class SparsePattern:
@@ -130,6 +144,24 @@ class HyperelasticBody:
         self.volumes = self.weights.sum(axis=1)
         self.pattern = SparsePattern(self.gdofs, self.ndofs)
         self.groups = {lab: np.flatnonzero(labels == lab) for lab in self.laws}
+        # per (law, chunk of cells): the gathered element data, made once instead of at every residual
+        self._chunks = []
+        for lab, law in self.laws.items():
+            cells_all = self.groups[lab]
+            for start in range(0, cells_all.size, _CHUNK):
+                cells = cells_all[start : start + _CHUNK]
+                g, w = self.grads[cells], self.weights[cells]
+                self._chunks.append(
+                    _Chunk(
+                        law=law,
+                        cells=cells,
+                        dofs=self.gdofs[cells],
+                        grads=g,
+                        weighted_grads=g * w[:, :, None, None],
+                        weights=w,
+                        pattern_pos=self.pattern.volume_index.reshape(-1, 900)[cells].ravel(),
+                    )
+                )
 
     @property
     def nodes(self) -> np.ndarray:
@@ -150,29 +182,24 @@ class HyperelasticBody:
         """Internal force vector [N] (ndofs,) and tangent data aligned with ``pattern``."""
         f = np.zeros(self.ndofs)
         data = np.zeros(self.pattern.keys.size)
-        for lab, law in self.laws.items():
-            cells_all = self.groups[lab]
-            split = self.mixed and law.splits_volume
-            for start in range(0, cells_all.size, _CHUNK):
-                cells = cells_all[start : start + _CHUNK]
-                fe, ke = self._kernel(u, cells, law, split)
-                np.add.at(f, self.gdofs[cells].ravel(), fe.ravel())
-                pos = self.pattern.volume_index.reshape(-1, 900)[cells].ravel()
-                data += np.bincount(pos, weights=ke.ravel(), minlength=data.size)
+        for ch in self._chunks:
+            fe, ke = self._kernel(u, ch, self.mixed and ch.law.splits_volume)
+            f += np.bincount(ch.dofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
+            data += np.bincount(ch.pattern_pos, weights=ke.ravel(), minlength=data.size)
         return f, data
 
-    def _kernel(self, u, cells, law, split):
-        F = self.deformation_gradient(u, cells)
-        g, w = self.grads[cells], self.weights[cells]
+    def _kernel(self, u, ch: _Chunk, split: bool):
+        ue = u[ch.dofs].reshape(ch.cells.size, 10, 3)
+        F = np.eye(3) + np.einsum("eai,eqaJ->eqiJ", ue, ch.grads, optimize=True)
+        w, g, gw, law = ch.weights, ch.grads, ch.weighted_grads, ch.law
         p, a = law.stress_tangent(F, volumetric=not split)
         if split:
             cof = cofactor(F)
-            vol = self.volumes[cells]
+            vol = self.volumes[ch.cells]
             jbar = np.einsum("eq,eq->e", det(F), w) / vol
             _, u1, u2 = law.volumetric(jbar)
             p = p + u1[:, None, None, None] * cof
             a = a + u1[:, None, None, None, None, None] * dcofactor(F, cof)
-        gw = g * w[:, :, None, None]
         fe = np.einsum("eqiJ,eqaJ->eai", p, gw, optimize=True)
         ke = _stiffness(gw, a, g)
         if split:
@@ -258,7 +285,12 @@ class FollowerPressure:
             else np.asarray(profile(np.asarray(fb.global_coordinates())))
         )
         self.weights = np.asarray(fb.dx) * factor
-        self.pattern_index = body.pattern.index_of(self.gdofs)
+        # compact scatter targets: the loaded faces touch a small part of the pattern, so the
+        # sums run over their own entries instead of pattern-sized arrays (9 ms -> 2 ms per call)
+        self.pattern_entries, self._entry_of = np.unique(
+            body.pattern.index_of(self.gdofs), return_inverse=True
+        )
+        self.dof_entries, self._dof_of = np.unique(self.gdofs.ravel(), return_inverse=True)
 
     def deformed_force(self, u: np.ndarray, pressure: float) -> np.ndarray:
         """Total force of the pressure on the deformed surface [N] (3,)."""
@@ -285,5 +317,7 @@ class FollowerPressure:
         if pressure == 0.0:
             return
         fe, ke = self._kernel(u, pressure)
-        np.add.at(f, self.gdofs.ravel(), fe.ravel())
-        data += np.bincount(self.pattern_index, weights=ke.ravel(), minlength=data.size)
+        f[self.dof_entries] += np.bincount(self._dof_of, weights=fe.ravel(), minlength=self.dof_entries.size)
+        data[self.pattern_entries] += np.bincount(
+            self._entry_of, weights=ke.ravel(), minlength=self.pattern_entries.size
+        )
