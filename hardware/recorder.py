@@ -153,10 +153,13 @@ class _Series:
         self.width = width
         self.finished = False
         self.last_arrival = time.monotonic()
+        self.first_arrival: float | None = None
 
     def add(self, t: float, v) -> None:
         if self.t and t <= self.t[-1]:
             return  # out of order or duplicate: keep the series monotonic
+        if self.first_arrival is None:
+            self.first_arrival = time.monotonic()
         self.t.append(t)
         self.v.append(np.atleast_1d(np.asarray(v, float)))
         self.last_arrival = time.monotonic()
@@ -363,9 +366,17 @@ class Recorder:
                 p = devs[0].series
                 done = p.finished or self._stop.is_set()
                 if k is None and p.t:
-                    # host clock: the first row is the first tick at or after the first
-                    # pressure sample (device clock: that sample is t = 0)
-                    k = k0 = int(math.ceil(p.t[0] / dt - 1e-9))
+                    # the first row is the first tick at or after the first sample of every serial
+                    # source (device clock: each device's first sample is t = 0), so no row starts
+                    # with a sensor that has not spoken yet; a source silent for max_wait_s after the
+                    # pressure sensor is not waited for (its column stays empty until it speaks)
+                    others = [d.series for d in devs[1:] if not d.series.finished]
+                    started = [sr.t[0] for sr in others if sr.t]
+                    if (
+                        len(started) == len(others)
+                        or time.monotonic() - p.first_arrival > self.cfg.max_wait_s
+                    ):
+                        k = k0 = int(math.ceil(max([p.t[0], *started]) / dt - 1e-9))
                 end_t = math.inf
                 if duration_s is not None and k0 is not None:
                     end_t = k0 * dt + duration_s

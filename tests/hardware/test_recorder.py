@@ -205,3 +205,45 @@ def test_sigint_stops_a_recording_cleanly(tmp_path):
     data = read_measurement_csv(csv_path)
     assert summary["rows"] == len(data["time_s"]) >= 100
     np.testing.assert_allclose(data["pressure_MPa"], 0.2)
+
+
+def test_host_clock_rows_start_when_every_sensor_has_spoken(tmp_path):
+    # The encoder starts 0.2 s after the pressure sensor: no row may carry an encoder gap at the start
+    # (this raced under load before: the first row came before the encoder's first line).
+    press, enc = VirtualLineDevice(), VirtualLineDevice()
+    p_sensor = SerialSensor(press.url, name="pressure sensor", scale=1e-3).open()
+    e_sensor = SerialSensor(enc.url, name="encoder").open()
+    press.start_paced(lambda t: 100.0, rate_hz=200.0)
+    threading.Timer(0.2, lambda: enc.start_paced(lambda t: 7.0, rate_hz=200.0)).start()
+    rec = Recorder(
+        tmp_path / "late.csv",
+        pressure=p_sensor,
+        encoder=e_sensor,
+        config=RecorderConfig(clock="host"),
+    )
+    rec.run(duration_s=0.5)
+    press.close()
+    enc.close()
+    data = read_measurement_csv(tmp_path / "late.csv")
+    assert len(data["time_s"]) == 101  # 0.5 s at 200 Hz, both ends
+    assert np.all(np.isfinite(data["encoder_mm"])) and np.all(np.isfinite(data["pressure_MPa"]))
+    assert data["time_s"][0] >= 0.2  # the clock starts at the encoder's first line, not the pressure's
+
+
+def test_host_clock_does_not_wait_for_a_silent_sensor(tmp_path):
+    press, enc = VirtualLineDevice(), VirtualLineDevice()
+    p_sensor = SerialSensor(press.url, name="pressure sensor", scale=1e-3).open()
+    e_sensor = SerialSensor(enc.url, name="encoder").open()
+    press.start_paced(lambda t: 100.0, rate_hz=200.0)
+    rec = Recorder(
+        tmp_path / "silent.csv",
+        pressure=p_sensor,
+        encoder=e_sensor,
+        config=RecorderConfig(clock="host", max_wait_s=0.2),
+    )
+    rec.run(duration_s=0.3)
+    press.close()
+    enc.close()
+    data = read_measurement_csv(tmp_path / "silent.csv")
+    assert len(data["time_s"]) == 61
+    assert np.all(np.isnan(data["encoder_mm"])) and np.all(np.isfinite(data["pressure_MPa"]))
