@@ -33,11 +33,9 @@ DEFAULT_TOL = 1e-10
 
 def available_methods() -> tuple[str, ...]:
     """Solver back-ends usable here, preferred first."""
-    try:
-        import pypardiso  # noqa: F401
-    except ImportError:
-        return ("superlu",)
-    return ("pardiso", "superlu")
+    from fem.pardiso import available
+
+    return ("pardiso", "superlu") if available() else ("superlu",)
 
 
 class Factorized:
@@ -64,12 +62,17 @@ class Factorized:
         self.matrix = sp.csr_matrix(matrix)
         self._knorm = float(abs(self.matrix).sum(axis=1).max())  # infinity norm
         if method == "pardiso":
-            import pypardiso
+            from fem.pardiso import PardisoError, PardisoHandle
 
-            self._solver = pypardiso.PyPardisoSolver(mtype=2)  # real SPD
             self._upper = sp.triu(self.matrix, format="csr")
             self._upper.sort_indices()
-            self._solver.factorize(self._upper)
+            # freed when this object is garbage-collected or on close(): a dropped pypardiso
+            # solver kept its factors (~0.5 GB per design in a sweep process)
+            self._solver = PardisoHandle(self._upper.indptr, self._upper.indices, mtype=2)  # real SPD
+            try:
+                self._solver.factorise(self._upper.data)
+            except PardisoError as exc:
+                raise SolverError(f"PARDISO factorisation failed: {exc}") from None
         else:
             import scipy.sparse.linalg as spla
 
@@ -104,9 +107,14 @@ class Factorized:
             )
         return u, res
 
+    def close(self) -> None:
+        """Free the factors now (otherwise when this object is garbage-collected)."""
+        if self.method == "pardiso":
+            self._solver.release()
+
     def _raw_solve(self, rhs: np.ndarray) -> np.ndarray:
         if self.method == "pardiso":
-            u = self._solver.solve(self._upper, rhs)
+            u = self._solver.solve(rhs)
         else:
             u = self._lu.solve(rhs)
         return np.asarray(u).reshape(rhs.shape)

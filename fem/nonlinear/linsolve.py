@@ -16,15 +16,13 @@ small), which cost more than the LU.
 
 from __future__ import annotations
 
-import ctypes
 import logging
-import sys
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+import fem.pardiso
 from fem.nonlinear.errors import NonlinearError
 
 __all__ = ["TangentSolver", "PARDISO_MIN_DOFS", "pardiso_available"]
@@ -39,98 +37,14 @@ PARDISO_MIN_DOFS = 3000
 #: Relative residual an LDLᵀ solve must reach (LU on these tangents: 1e-12 to 1e-9).
 SYMMETRIC_RTOL = 1e-8
 
-_MKL = None
-
-
-def _mkl():
-    """The MKL runtime, loaded once (a filesystem search costs ~0.3 s, so it is not repeated)."""
-    global _MKL
-    if _MKL is None:
-        # pip's mkl wheel puts libmkl_rt.so.N in <prefix>/lib; look there before pypardiso's recursive search
-        found = sorted(Path(sys.prefix, "lib").glob("libmkl_rt.so*"))
-        if found:
-            lib = ctypes.CDLL(str(found[0]))
-        else:
-            import pypardiso
-
-            lib = pypardiso.PyPardisoSolver().libmkl
-        fn = lib.pardiso
-        i32p = ctypes.POINTER(ctypes.c_int32)
-        fn.argtypes = [ctypes.POINTER(ctypes.c_int64), i32p, i32p, i32p, i32p, i32p, ctypes.c_void_p]
-        fn.argtypes += [i32p, i32p, i32p, i32p, i32p, i32p, ctypes.c_void_p, ctypes.c_void_p, i32p]
-        fn.restype = None
-        _MKL = fn
-    return _MKL
-
 
 def pardiso_available() -> bool:
     """True when MKL PARDISO can be loaded."""
-    try:
-        import pypardiso  # noqa: F401
-    except ImportError:
-        return False
-    try:
-        _mkl()
-    except (OSError, ImportError):
-        return False
-    return True
+    return fem.pardiso.available()
 
 
-class _Pardiso:
-    """One PARDISO handle on a fixed CSR pattern: analyse once, factorise many times."""
-
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray, mtype: int) -> None:
-        self._fn = _mkl()
-        self.n = indptr.size - 1
-        self.mtype = mtype
-        self.pt = np.zeros(64, np.int64)
-        self.iparm = np.zeros(64, np.int32)  # iparm[0] = 0: PARDISO's defaults for mtype
-        self.ia = np.ascontiguousarray(indptr, np.int32) + 1
-        self.ja = np.ascontiguousarray(indices, np.int32) + 1
-        self.data = np.zeros(indices.size)
-        self._alive = False
-
-    def _call(self, phase: int, b: np.ndarray) -> np.ndarray:
-        b = np.asfortranarray(b, dtype=np.float64)
-        x = np.zeros_like(b)
-        err = ctypes.c_int32(0)
-        i32 = ctypes.c_int32
-        self._fn(
-            self.pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
-            ctypes.byref(i32(1)),
-            ctypes.byref(i32(1)),
-            ctypes.byref(i32(self.mtype)),
-            ctypes.byref(i32(phase)),
-            ctypes.byref(i32(self.n)),
-            self.data.ctypes.data,
-            self.ia.ctypes.data_as(ctypes.POINTER(i32)),
-            self.ja.ctypes.data_as(ctypes.POINTER(i32)),
-            None,
-            ctypes.byref(i32(1)),
-            self.iparm.ctypes.data_as(ctypes.POINTER(i32)),
-            ctypes.byref(i32(0)),
-            b.ctypes.data,
-            x.ctypes.data,
-            ctypes.byref(err),
-        )
-        if err.value != 0:
-            raise NonlinearError(f"PARDISO phase {phase} (mtype {self.mtype}) failed with error {err.value}")
-        return x
-
-    def factorise(self, data: np.ndarray) -> None:
-        self.data[:] = data
-        # the first call analyses too: the non-symmetric ordering uses a weighted matching on the
-        # values, so analysing a zero matrix gives ~1.7x the fill
-        self._call(22 if self._alive else 12, np.zeros(self.n))
-        self._alive = True
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        return self._call(33, b)
-
-    def release(self) -> None:
-        if self._alive:
-            self._alive = False
-            self._call(-1, np.zeros(self.n))
+def _Pardiso(indptr, indices, *, mtype):
+    return fem.pardiso.PardisoHandle(indptr, indices, mtype=mtype)
 
 
 class TangentSolver:
@@ -195,6 +109,12 @@ class TangentSolver:
                 h.release()
 
     def __call__(self, k: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
+        try:
+            return self._solve(k, b)
+        except fem.pardiso.PardisoError as exc:
+            raise NonlinearError(str(exc)) from None
+
+    def _solve(self, k: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
         self.factorisations += 1
         if self.method == "superlu":
             return spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A").solve(b)
