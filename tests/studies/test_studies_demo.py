@@ -92,6 +92,9 @@ def test_full_demo_subprocess(tmp_path):
     assert all(s["status"] in ("ok", "unavailable") for s in sections), sections
     ok = {s["key"] for s in sections if s["status"] == "ok"}
     assert ok >= {"model", "calibration", "effects", "sweep", "verdict"}
+    if fem_check_function() is not None:
+        assert ok >= {"fem", "large_bends"}
+        assert "large_bends_curve.png" in (out / "index.html").read_text()
     assert (out / "effects" / "report.html").is_file() and "effects/report.html" in (
         out / "index.html"
     ).read_text()
