@@ -207,20 +207,23 @@ def test_sigint_stops_a_recording_cleanly(tmp_path):
     np.testing.assert_allclose(data["pressure_MPa"], 0.2)
 
 
-def test_host_clock_rows_start_when_every_sensor_has_spoken(tmp_path):
-    # The encoder starts 0.2 s after the pressure sensor: no row may carry an encoder gap at the start
-    # (this raced under load before: the first row came before the encoder's first line).
+def _pressure_and_encoder(tmp_path, name: str, **config):
+    """A paced 200 Hz pressure sensor (100 kPa), a quiet encoder device, and a host-clock recorder on both."""
     press, enc = VirtualLineDevice(), VirtualLineDevice()
     p_sensor = SerialSensor(press.url, name="pressure sensor", scale=1e-3).open()
     e_sensor = SerialSensor(enc.url, name="encoder").open()
     press.start_paced(lambda t: 100.0, rate_hz=200.0)
-    threading.Timer(0.2, lambda: enc.start_paced(lambda t: 7.0, rate_hz=200.0)).start()
     rec = Recorder(
-        tmp_path / "late.csv",
-        pressure=p_sensor,
-        encoder=e_sensor,
-        config=RecorderConfig(clock="host"),
+        tmp_path / name, pressure=p_sensor, encoder=e_sensor, config=RecorderConfig(clock="host", **config)
     )
+    return press, enc, rec
+
+
+def test_host_clock_rows_start_when_every_sensor_has_spoken(tmp_path):
+    # The encoder starts 0.2 s after the pressure sensor: no row may carry an encoder gap at the start
+    # (this raced under load before: the first row came before the encoder's first line).
+    press, enc, rec = _pressure_and_encoder(tmp_path, "late.csv")
+    threading.Timer(0.2, lambda: enc.start_paced(lambda t: 7.0, rate_hz=200.0)).start()
     rec.run(duration_s=0.5)
     press.close()
     enc.close()
@@ -231,16 +234,7 @@ def test_host_clock_rows_start_when_every_sensor_has_spoken(tmp_path):
 
 
 def test_host_clock_does_not_wait_for_a_silent_sensor(tmp_path):
-    press, enc = VirtualLineDevice(), VirtualLineDevice()
-    p_sensor = SerialSensor(press.url, name="pressure sensor", scale=1e-3).open()
-    e_sensor = SerialSensor(enc.url, name="encoder").open()
-    press.start_paced(lambda t: 100.0, rate_hz=200.0)
-    rec = Recorder(
-        tmp_path / "silent.csv",
-        pressure=p_sensor,
-        encoder=e_sensor,
-        config=RecorderConfig(clock="host", max_wait_s=0.2),
-    )
+    press, enc, rec = _pressure_and_encoder(tmp_path, "silent.csv", max_wait_s=0.2)
     rec.run(duration_s=0.3)
     press.close()
     enc.close()
