@@ -148,10 +148,10 @@ mesh_size = 0.12
         stamps = sorted(e["t"] for e in SweepStore(s.out_dir).events())
         steady = (len(stamps) - w) / ((stamps[-1] - stamps[w - 1]) / 60) if len(stamps) > w else float("nan")
         rates[label] = (s.ok_designs / (wall / 60), s.failed_designs, steady)
-        cpu = read_results(s.out_dir).drop_duplicates("design_id").cpu_seconds.mean()
+        df = read_results(s.out_dir)
+        cpu = df.drop_duplicates("design_id").cpu_seconds.mean()
         print(f"  {label}: {wall:.1f} s wall, {cpu:.2f} CPU-s per design in its worker")
         if s.failed_designs:
-            df = read_results(s.out_dir)
             print(f"  {label}: first failure: {df[df.status == 'failed'].reason.iloc[0]}")
     base, base_steady = rates["1 worker"][0], rates["1 worker"][2]
     for label, (r, failed, steady) in rates.items():

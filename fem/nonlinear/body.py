@@ -44,6 +44,12 @@ def _vector_dofs(element_dofs: np.ndarray) -> np.ndarray:
     return (3 * ed[:, :, None] + np.arange(3)).reshape(ed.shape[0], -1)
 
 
+def _deformation_gradient(u: np.ndarray, dofs: np.ndarray, grads: np.ndarray) -> np.ndarray:
+    """F = I + Σ_a u_a ⊗ ∇φ_a at the quadrature points; ``dofs`` (e, 30), ``grads`` (e, q, 10, 3)."""
+    ue = u[dofs].reshape(dofs.shape[0], 10, 3)
+    return np.eye(3) + np.einsum("eai,eqaJ->eqiJ", ue, grads, optimize=True)
+
+
 @dataclass(frozen=True)
 class _Chunk:
     """Element data of a block of cells sharing one law."""
@@ -170,8 +176,7 @@ class HyperelasticBody:
 
     def deformation_gradient(self, u: np.ndarray, cells: np.ndarray) -> np.ndarray:
         """F at the quadrature points of ``cells``, shape (n, q, 3, 3)."""
-        ue = u[self.gdofs[cells]].reshape(cells.size, 10, 3)
-        return np.eye(3) + np.einsum("eai,eqaJ->eqiJ", ue, self.grads[cells], optimize=True)
+        return _deformation_gradient(u, self.gdofs[cells], self.grads[cells])
 
     def min_jacobian(self, u: np.ndarray) -> float:
         """Smallest det F over all quadrature points."""
@@ -189,8 +194,7 @@ class HyperelasticBody:
         return f, data
 
     def _kernel(self, u, ch: _Chunk, split: bool):
-        ue = u[ch.dofs].reshape(ch.cells.size, 10, 3)
-        F = np.eye(3) + np.einsum("eai,eqaJ->eqiJ", ue, ch.grads, optimize=True)
+        F = _deformation_gradient(u, ch.dofs, ch.grads)
         w, g, gw, law = ch.weights, ch.grads, ch.weighted_grads, ch.law
         p, a = law.stress_tangent(F, volumetric=not split)
         if split:

@@ -25,7 +25,7 @@ import scipy.sparse.linalg as spla
 import fem.pardiso
 from fem.nonlinear.errors import NonlinearError
 
-__all__ = ["TangentSolver", "PARDISO_MIN_DOFS", "pardiso_available"]
+__all__ = ["TangentSolver", "PARDISO_MIN_DOFS"]
 
 log = logging.getLogger(__name__)
 
@@ -36,15 +36,6 @@ PARDISO_MIN_DOFS = 3000
 
 #: Relative residual an LDLᵀ solve must reach (LU on these tangents: 1e-12 to 1e-9).
 SYMMETRIC_RTOL = 1e-8
-
-
-def pardiso_available() -> bool:
-    """True when MKL PARDISO can be loaded."""
-    return fem.pardiso.available()
-
-
-def _Pardiso(indptr, indices, *, mtype):
-    return fem.pardiso.PardisoHandle(indptr, indices, mtype=mtype)
 
 
 class TangentSolver:
@@ -69,8 +60,8 @@ class TangentSolver:
             raise NonlinearError(f"solver method = {method!r}: must be 'pardiso', 'pardiso-lu' or 'superlu'")
         n = template.shape[0]
         if method is None:
-            method = "pardiso" if n >= PARDISO_MIN_DOFS and pardiso_available() else "superlu"
-        elif method.startswith("pardiso") and not pardiso_available():
+            method = "pardiso" if n >= PARDISO_MIN_DOFS and fem.pardiso.available() else "superlu"
+        elif method.startswith("pardiso") and not fem.pardiso.available():
             raise NonlinearError(f"solver method = {method!r}: pypardiso / MKL is not installed")
         self.method = method
         self.template = template
@@ -125,7 +116,7 @@ class TangentSolver:
         if np.max(np.abs(d_up - d_low), initial=0.0) <= 1e-13 * np.max(np.abs(d_up), initial=0.0):
             # K symmetric up to round-off (no follower load): LDLᵀ of the upper triangle, 0.6× the LU's cost
             if self._sym is None:
-                self._sym = _Pardiso(*self._upper_pattern, mtype=-2)
+                self._sym = fem.pardiso.PardisoHandle(*self._upper_pattern, mtype=-2)
             self._sym.factorise(0.5 * (d_up + d_low))
             x = self._sym.solve(b)
             # PARDISO perturbs tiny pivots; accept only an accurate answer
@@ -136,6 +127,6 @@ class TangentSolver:
 
     def _solve_lu(self, d: np.ndarray, b: np.ndarray) -> np.ndarray:
         if self._lu is None:
-            self._lu = _Pardiso(self.template.indptr, self.template.indices, mtype=11)
+            self._lu = fem.pardiso.PardisoHandle(self.template.indptr, self.template.indices, mtype=11)
         self._lu.factorise(d)
         return self._lu.solve(b)
