@@ -113,41 +113,39 @@ def test_csv_sink_syncs_at_least_every_second(tmp_path):
         RecorderConfig(fsync_interval_s=5.0)
 
 
+def _record_subprocess(press, enc, out, *extra: str, stdout) -> subprocess.Popen:
+    """``softcath record`` on the two virtual devices in a child process, as a user runs it."""
+    cmd = [sys.executable, "-m", "studies", "record", "--pressure-port", press.url, "--encoder-port", enc.url]
+    return subprocess.Popen(
+        [*cmd, *extra, "--out", str(out)],
+        cwd=ROOT,
+        env=dict(os.environ, PYTHONPATH=str(ROOT)),
+        stdout=stdout,
+        stderr=subprocess.PIPE,
+    )
+
+
+def _wait_for_rows(csv_path, rows: int, timeout_s: float = 20.0) -> int:
+    """Data rows in ``csv_path`` once at least ``rows`` are there (or the count at the timeout)."""
+    deadline = time.monotonic() + timeout_s
+    seen = 0
+    while time.monotonic() < deadline:
+        if csv_path.exists():
+            seen = csv_path.read_text().count("\n") - 1
+            if seen >= rows:
+                break
+        time.sleep(0.05)
+    return seen
+
+
 def test_sigkill_leaves_a_valid_csv_with_every_flushed_row(tmp_path):
     press, enc = VirtualLineDevice(), VirtualLineDevice()
     press.start_paced(lambda t: 0.05 + 0.01 * t, rate_hz=200.0)
     enc.start_paced(lambda t: 3.0 * t, rate_hz=200.0)
     out = tmp_path / "rec"
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "studies",
-            "record",
-            "--pressure-port",
-            press.url,
-            "--encoder-port",
-            enc.url,
-            "--clock",
-            "device",
-            "--out",
-            str(out),
-        ],
-        cwd=ROOT,
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
+    proc = _record_subprocess(press, enc, out, "--clock", "device", stdout=subprocess.DEVNULL)
     csv_path = out / "measurements.csv"
-    deadline = time.monotonic() + 20
-    before = 0
-    while time.monotonic() < deadline:
-        if csv_path.exists():
-            before = csv_path.read_text().count("\n") - 1
-            if before >= 300:
-                break
-        time.sleep(0.05)
+    before = _wait_for_rows(csv_path, 300)
     os.kill(proc.pid, signal.SIGKILL)
     _, err = proc.communicate(timeout=10)
     press.close()
@@ -170,31 +168,9 @@ def test_sigint_stops_a_recording_cleanly(tmp_path):
     press.start_paced(lambda t: 0.2, rate_hz=200.0)
     enc.start_paced(lambda t: 1.0, rate_hz=200.0)
     out = tmp_path / "rec"
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "studies",
-            "record",
-            "--pressure-port",
-            press.url,
-            "--encoder-port",
-            enc.url,
-            "--out",
-            str(out),
-        ],
-        cwd=ROOT,
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-    )
+    proc = _record_subprocess(press, enc, out, stdout=subprocess.PIPE)
     csv_path = out / "measurements.csv"
-    deadline = time.monotonic() + 20
-    while time.monotonic() < deadline:
-        if csv_path.exists() and csv_path.read_text().count("\n") > 100:
-            break
-        time.sleep(0.05)
+    _wait_for_rows(csv_path, 100)
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=20)
     press.close()
