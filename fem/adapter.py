@@ -30,7 +30,7 @@ from design.errors import DesignError
 from fem.materials import Isotropic, TransverselyIsotropic
 from fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 
-__all__ = ["geometry_from_design", "laws_from_design", "COIL_MODULI"]
+__all__ = ["geometry_from_design", "laws_from_design", "coil_law", "COIL_MODULI"]
 
 COIL_MODULI = ("tension", "bending")
 
@@ -57,7 +57,8 @@ def geometry_from_design(design: TipDesign, *, land_gap: float = 0.01) -> TipGeo
     )
 
 
-def _coil_law(coil, coil_modulus: str) -> TransverselyIsotropic:
+def coil_law(coil, coil_modulus: str) -> TransverselyIsotropic:
+    """The homogenised transversely isotropic law of ``coil`` (module docstring)."""
     k = coil_stiffness(coil)
     nu = coil.material.poisson_ratio
     e_axial = k.axial_modulus_tension if coil_modulus == "tension" else k.bending_modulus
@@ -82,8 +83,8 @@ def laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dic
         return Isotropic(m.youngs_modulus, min(m.poisson_ratio, 0.49))
 
     laws = {
-        COIL: _coil_law(design.coil, coil_modulus),
-        CHANNEL: _coil_law(design.channel, coil_modulus),
+        COIL: coil_law(design.coil, coil_modulus),
+        CHANNEL: coil_law(design.channel, coil_modulus),
         TUBE: iso(design.tube.material),
     }
     if design.filler is not None:

@@ -376,10 +376,17 @@ def _gmsh_session():
         gmsh.finalize()
 
 
-def section_triangles(geometry: TipGeometry, mesh_size: float, segments_per_turn: int = 0):
+def section_triangles(
+    geometry: TipGeometry, mesh_size: float, segments_per_turn: int = 0, *, fast: bool = False
+):
     """2-D mesh of the whole coil disk.
 
     Every region boundary (including lumens and lands) is a mesh edge.
+    ``fast`` sizes curves by a fixed number of points per full turn
+    (``Mesh.MinimumCirclePoints``) with gmsh's Delaunay algorithm instead of
+    curvature sizing with Frontal-Delaunay: the same boundary resolution, about
+    4x less meshing time (47 vs 190 ms for the paper section), for the 2-D
+    section model where meshing dominates the cost of a design.
 
     Returns
     -------
@@ -446,8 +453,13 @@ def section_triangles(geometry: TipGeometry, mesh_size: float, segments_per_turn
             field.setAsBackgroundMesh(thr)
         gmsh.option.setNumber("Mesh.MeshSizeMax", mesh_size)
         gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", segments_per_turn or _SEGMENTS_PER_TURN)
-        gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
+        if fast:
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+            gmsh.option.setNumber("Mesh.MinimumCirclePoints", segments_per_turn or _SEGMENTS_PER_TURN)
+            gmsh.option.setNumber("Mesh.Algorithm", 5)  # Delaunay
+        else:
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", segments_per_turn or _SEGMENTS_PER_TURN)
+            gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(2)  # midside nodes on the exact curves
         tags, coords, _ = gmsh.model.mesh.getNodes()

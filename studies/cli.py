@@ -22,6 +22,7 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("analytic", "studies.cmd_analytic"),
     ("calibrate", "studies.cmd_calibrate"),
     ("fem", "studies.cmd_fem"),
+    ("section", "studies.cmd_section"),
     ("sweep", "studies.cmd_sweep"),
     ("report", "studies.cmd_report"),
     ("select", "studies.cmd_select"),

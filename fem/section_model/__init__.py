@@ -1,0 +1,21 @@
+"""The section model: 2-D generalised-plane-strain FEM of the tip's cross-section.
+
+The 3-D FEM's bending of a long prismatic tip is a section property: the
+Saint-Venant solution of the cross-section under the cap force and the lumen
+pressure, with the axial strain and two curvatures as global unknowns. This
+package solves it on the same as-assembled section (regions, bonded lands,
+transversely isotropic coils) in a fraction of a second, locking-free up to
+nu = 0.49999.
+
+Modules: ``mesh`` (labelled section meshes), ``laws`` (region laws in
+generalised plane strain), ``assembly`` (the operator, element pair),
+``solve`` (condensation and loads), ``api`` (:func:`section_model`),
+``picture`` (the deformed section coloured by axial stress).
+"""
+
+from __future__ import annotations
+
+from fem.section_model.api import COIL_BENDING, SectionResult, section_model, section_response
+from fem.section_model.solve import LOADS
+
+__all__ = ["COIL_BENDING", "LOADS", "SectionResult", "section_model", "section_response"]

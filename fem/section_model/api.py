@@ -1,0 +1,223 @@
+"""The section model's public API: gains, section stiffness and tip pose of a design.
+
+>>> from fem.section_model import section_model
+>>> r = section_model("paper")
+>>> round(r.curvature_per_mm_per_MPa["lumen"], 3)   # the 3-D FEM gives 0.233 at nu = 0.49
+0.234
+>>> round(r.fem_formula_ratio["lumen"], 2)          # the paper's formula misses 3.1x
+3.09
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from design.errors import DesignError
+from fem.section import CHANNEL, COIL
+from fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from fem.section_model.solve import LOADS
+
+__all__ = ["SectionResult", "section_model", "section_response", "COIL_BENDING"]
+
+#: ``annulus``: the coils bend as their homogenised annuli (the 3-D FEM's assumption);
+#: ``wahl``: each coil additionally carries the rest of its helical-spring (Wahl)
+#: bending stiffness, as the paper's formula assumes.
+COIL_BENDING = ("annulus", "wahl")
+
+
+@dataclass(frozen=True)
+class SectionResult:
+    """Section-model results of one design (per MPa; linear in pressure).
+
+    Attributes
+    ----------
+    curvature_per_mm_per_MPa, elongation_per_MPa, lumen_area_change_mm2_per_MPa
+        Load name -> kappa/p (positive toward the channel), eps/p at the
+        stiffness-weighted centroid (the 3-D FEM's elongation) and dA_lumen/p.
+    fem_formula_ratio
+        Load name -> kappa over the paper's formula (eq. 7, cap load).
+    EA_N, EI_N_mm2, EI_lateral_N_mm2, coupling_N_mm
+        Condensed section stiffness with free in-plane deformation: axial, bending
+        about the neutral axis (in the plane of the lumen offset and across it),
+        and the axial-bending coupling about the origin (coil centre).
+    neutral_axis_mm
+        y where an axial force causes no curvature (coupling / EA).
+    axial_centroid_mm
+        E_z-weighted centroid y (paper eq. 5 on the mesh).
+    stiffness
+        The 3x3 matrix (N, M_x, M_y) per (eps_0, k_1, k_2) about the origin.
+    """
+
+    design_name: str
+    loads: tuple[str, ...]
+    curvature_per_mm_per_MPa: dict[str, float]
+    elongation_per_MPa: dict[str, float]
+    lumen_area_change_mm2_per_MPa: dict[str, float]
+    fem_formula_ratio: dict[str, float]
+    EA_N: float
+    EI_N_mm2: float
+    EI_lateral_N_mm2: float
+    coupling_N_mm: float
+    neutral_axis_mm: float
+    axial_centroid_mm: float
+    lumen_area_mm2: float
+    lumen_centroid_y_mm: float
+    stiffness: tuple[tuple[float, ...], ...]
+    poisson_ratio_silicone: float
+    coil_modulus: str
+    coil_bending: str
+    length_mm: float
+    mesh_size_mm: float
+    segments: int
+    dofs: int
+    n_triangles: int
+    mesh_seconds: float
+    seconds: float
+    backward_error: float
+    fields: object = field(default=None, repr=False, compare=False)
+
+    def gains(self, load: str) -> tuple[float, float]:
+        """(kappa/p [1/(mm MPa)], eps/p [1/MPa]) for ``load``."""
+        self._check(load)
+        return self.curvature_per_mm_per_MPa[load], self.elongation_per_MPa[load]
+
+    def response(self, pressure, load: str = "lumen"):
+        """Curvature, elongation and tip pose (eq. 9) at ``pressure`` [MPa]: an ``analytic.BeamResponse``."""
+        from analytic import BeamResponse
+        from analytic.pose import tip_pose
+
+        k, e = self.gains(load)
+        p = np.asarray(pressure, dtype=float)
+        if not np.all(np.isfinite(p)):
+            raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
+        kappa, eps = k * p, e * p
+        length = self.length_mm * (1 + eps)
+        tip_x, tip_y, theta = tip_pose(kappa, length)
+        return BeamResponse(p, kappa, eps, length, theta, tip_x, tip_y)
+
+    def to_json(self) -> dict:
+        """Plain-JSON summary (``section.json`` keys; no fields)."""
+        d = {k: v for k, v in asdict(self).items() if k != "fields"}
+        d["stiffness"] = [list(r) for r in self.stiffness]
+        return d
+
+    def _check(self, load: str) -> None:
+        if load not in self.loads:
+            raise DesignError("load", load, f"must be one of {self.loads} (computed)")
+
+
+def section_model(
+    design,
+    *,
+    loads: Sequence[str] = LOADS,
+    mesh_size: float = MESH_SIZE,
+    segments: int = SEGMENTS,
+    coil_modulus: str = "tension",
+    coil_bending: str = "annulus",
+    poisson_cap: float | None = None,
+    silicone_poisson: float | None = None,
+    poisson: bool = True,
+    keep_fields: bool = False,
+) -> SectionResult:
+    """Solve the 2-D section model of a design.
+
+    Parameters
+    ----------
+    design
+        A :class:`design.TipDesign`, a preset name or a TOML path.
+    loads
+        Subset of ``("cap", "lumen")``.
+    mesh_size, segments
+        Element size (mm) and boundary points per full turn.
+    coil_modulus
+        Coils' homogenised axial modulus, ``"tension"`` (default, as the 3-D FEM)
+        or ``"bending"``.
+    coil_bending
+        One of :data:`COIL_BENDING`.
+    poisson_cap, silicone_poisson, poisson
+        Poisson-ratio options (``fem.section_model.laws.laws_from_design``).
+    keep_fields
+        Keep the mesh, operator and displacement fields (for pictures).
+    """
+    import design as design_pkg
+    from analytic import gains
+    from design import coil_stiffness
+    from fem.adapter import geometry_from_design
+    from fem.section_model.assembly import assemble
+    from fem.section_model.laws import laws_from_design
+    from fem.section_model.mesh import catheter_section_mesh
+    from fem.section_model.solve import solve
+
+    if coil_bending not in COIL_BENDING:
+        raise DesignError("coil_bending", coil_bending, f"must be one of {COIL_BENDING}")
+    d = design_pkg.resolve(design)
+    t0 = time.perf_counter()
+    geometry = geometry_from_design(d)
+    laws = laws_from_design(
+        d, coil_modulus=coil_modulus, poisson_cap=poisson_cap, silicone_poisson=silicone_poisson,
+        poisson=poisson,
+    )  # fmt: skip
+    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments)
+    op = assemble(mesh, laws)
+    extra = 0.0
+    if coil_bending == "wahl":
+        for coil, label in ((d.coil, COIL), (d.channel, CHANNEL)):
+            k = coil_stiffness(coil)
+            extra += k.bending_stiffness - laws[label].axial_modulus * k.second_moment
+    sol = solve(op, loads, extra_bending=extra)
+    K = sol.stiffness
+    ea = float(K[0, 0])
+    formula_k, _ = gains(d, "cap")
+    kappa, eps, d_area, ratio = {}, {}, {}, {}
+    for ld, s in sol.loads.items():
+        e0, k1, k2 = s.strains
+        kappa[ld] = float(k2)
+        eps[ld] = float(e0 + k2 * op.axial_centroid_y)
+        d_area[ld] = s.lumen_area_change
+        ratio[ld] = float(k2 / formula_k) if formula_k != 0 else math.nan
+    from fem.section import TUBE
+
+    nu_used = float(laws[TUBE].lam / (2 * (laws[TUBE].lam + laws[TUBE].D[3, 3])))
+    return SectionResult(
+        design_name=d.name,
+        loads=tuple(sol.loads),
+        curvature_per_mm_per_MPa=kappa,
+        elongation_per_MPa=eps,
+        lumen_area_change_mm2_per_MPa=d_area,
+        fem_formula_ratio=ratio,
+        EA_N=ea,
+        EI_N_mm2=float(K[2, 2] - K[0, 2] ** 2 / ea),
+        EI_lateral_N_mm2=float(K[1, 1] - K[0, 1] ** 2 / ea),
+        coupling_N_mm=float(K[0, 2]),
+        neutral_axis_mm=float(K[0, 2] / ea),
+        axial_centroid_mm=float(op.axial_centroid_y),
+        lumen_area_mm2=float(op.lumen_area),
+        lumen_centroid_y_mm=float(op.lumen_centroid[1]),
+        stiffness=tuple(tuple(float(v) for v in row) for row in K),
+        poisson_ratio_silicone=nu_used,
+        coil_modulus=coil_modulus,
+        coil_bending=coil_bending,
+        length_mm=float(d.tip.bending_length),
+        mesh_size_mm=float(mesh_size),
+        segments=int(segments),
+        dofs=int(op.ndofs),
+        n_triangles=int(mesh.triangles.shape[0]),
+        mesh_seconds=float(mesh.seconds),
+        seconds=float(time.perf_counter() - t0),
+        backward_error=sol.backward_error,
+        fields=(mesh, op, sol) if keep_fields else None,
+    )
+
+
+def section_response(design, pressure, *, load: str = "lumen", **options):
+    """Curvature, elongation and tip pose of ``design`` at ``pressure`` [MPa] from the section model.
+
+    The section model's counterpart of ``analytic.response`` (an
+    ``analytic.BeamResponse``); ``options`` go to :func:`section_model`.
+    """
+    return section_model(design, loads=(load,), **options).response(pressure, load)

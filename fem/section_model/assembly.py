@@ -1,0 +1,201 @@
+r"""Generalised plane strain of a prismatic section with three beam strains.
+
+The Saint-Venant solution of a long prismatic tip under an axial force,
+bending moments and a lumen pressure uniform along z is
+
+.. math::
+
+    u_x = U_x(x, y) - k_1 z^2/2, \quad u_y = U_y(x, y) - k_2 z^2/2, \quad
+    u_z = z\,(\varepsilon_0 + k_1 x + k_2 y),
+
+so the out-of-plane shears vanish and
+:math:`\varepsilon_{zz} = \varepsilon_0 + k_1 x + k_2 y` — for materials with
+z as an axis of symmetry (isotropic, transversely isotropic about z), which
+is all the catheter has. The unknowns are the in-plane field U and the three
+global strains g = (eps_0, k_1, k_2); k_2 is the project's curvature
+(positive toward -y, the channel, as ``fem.post``). The virtual work of the
+section forces (N, M_1, M_2) = (int s_zz, int s_zz x, int s_zz y) on g closes
+the system.
+
+Element pair: U in the conforming Crouzeix-Raviart space (P2 plus a cubic
+bubble, ``ElementTriCCR``); the volumetric part lambda (tr eps)^2 of isotropic
+regions is projected element by element onto discontinuous P1 pressures. That
+is the mixed P2+/P1disc element with the pressure condensed out exactly
+(inf-sup stable, second order in energy, uniform in lambda), so silicone up to
+nu = 0.49999 does not lock. tr eps includes eps_zz, which is linear and so is
+reproduced exactly by the projection.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+
+from design.errors import DesignError
+from fem.section_model.laws import SectionLaw
+from fem.section_model.mesh import SectionMesh
+
+__all__ = ["SectionOperator", "assemble"]
+
+
+@dataclass(frozen=True)
+class SectionOperator:
+    """The assembled section problem (unit loads, before any solve).
+
+    Attributes
+    ----------
+    K_uu
+        In-plane stiffness (sparse, n x n), N/mm per mm of length.
+    K_ug
+        Coupling with the global strains (n x 3).
+    K_gg
+        Global block (3 x 3): (N, M_1, M_2) per (eps_0, k_1, k_2).
+    f_lumen
+        In-plane load of a unit lumen pressure (n,); also the lumen-area
+        functional: dA_lumen = f_lumen . U.
+    lumen_area, lumen_centroid
+        Area (mm^2) and centroid (x, y) of the meshed lumen.
+    axial_centroid_y
+        E_z-weighted centroid y of the solid (mm), the 3-D FEM's neutral axis.
+    pinned
+        The three DOFs fixed against in-plane rigid motion.
+    """
+
+    mesh: object
+    basis: object
+    K_uu: sparse.csr_matrix
+    K_ug: np.ndarray
+    K_gg: np.ndarray
+    f_lumen: np.ndarray
+    lumen_area: float
+    lumen_centroid: tuple[float, float]
+    axial_centroid_y: float
+    pinned: np.ndarray
+    D: np.ndarray
+    lam: np.ndarray
+
+    @property
+    def ndofs(self) -> int:
+        return int(self.K_uu.shape[0]) + 3
+
+
+def _strains(basis) -> np.ndarray:
+    """(nb, 4, nel, nq): strain (xx, yy, zz, xy) of every local in-plane DOF."""
+    nb = basis.Nbfun
+    g = np.stack([basis.basis[i][0].grad for i in range(nb)])  # (nb, 2, 2, nel, nq)
+    out = np.zeros((nb, 4) + g.shape[3:])
+    out[:, 0] = g[:, 0, 0]
+    out[:, 1] = g[:, 1, 1]
+    out[:, 3] = g[:, 0, 1] + g[:, 1, 0]
+    return out
+
+
+def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOperator:
+    """Assemble the generalised-plane-strain section operator.
+
+    Parameters
+    ----------
+    section
+        The labelled mesh.
+    laws
+        Region label -> :class:`SectionLaw`; every label in the mesh needs one.
+    """
+    from skfem import CellBasis, ElementTriCCR, ElementVector, FacetBasis
+
+    missing = sorted(set(np.unique(section.labels).tolist()) - set(laws))
+    if missing:
+        raise DesignError("laws", missing, "every region label of the section needs a law")
+    mesh = section.skfem_mesh()
+    basis = CellBasis(mesh, ElementVector(ElementTriCCR()), intorder=4)
+    nel = mesh.t.shape[1]
+    table = {k: i for i, k in enumerate(sorted(laws))}
+    which = np.array([table[int(k)] for k in section.labels])
+    D = np.stack([laws[k].D for k in sorted(laws)])[which]  # (nel, 4, 4)
+    lam = np.array([laws[k].lam for k in sorted(laws)])[which]
+    ez = np.array([laws[k].axial_modulus for k in sorted(laws)])[which]
+
+    w = basis.dx  # (nel, nq)
+    xq, yq = basis.global_coordinates().value  # (nel, nq)
+    phi = np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
+    eps = _strains(basis)
+    nb, nq = eps.shape[0], w.shape[1]
+    # Batched products over (element, quadrature point): B is (nel, nq, 4, nb).
+    B = eps.transpose(2, 3, 1, 0)
+    DB = D[:, None] @ B
+    Bw = B * w[:, :, None, None]
+    k_loc = Bw.reshape(nel, nq * 4, nb).transpose(0, 2, 1) @ DB.reshape(nel, nq * 4, nb)
+    phiw = (phi * w).transpose(1, 2, 0)  # (nel, nq, 3)
+    kug_loc = DB[:, :, 2, :].transpose(0, 2, 1) @ phiw  # sigma_zz(U_i) * phi_k: (nel, nb, 3)
+    k_gg = np.einsum("e,eqk,leq->kl", D[:, 2, 2], phiw, phi)
+    # Projected volumetric part: lambda * P(tr eps)^2 with P onto P1 per element.
+    mixed = lam > 0
+    if mixed.any():
+        area = w.sum(axis=1)
+        xc = (w * xq).sum(axis=1) / area
+        yc = (w * yq).sum(axis=1) / area
+        q = np.stack([np.ones_like(xq), xq - xc[:, None], yq - yc[:, None]], axis=-1)[mixed]  # (e, nq, 3)
+        qw = q * w[mixed][:, :, None]
+        m = qw.transpose(0, 2, 1) @ q
+        div = (eps[:, 0] + eps[:, 1]).transpose(1, 2, 0)[mixed]  # (e, nq, nb)
+        gu = qw.transpose(0, 2, 1) @ div  # (e, 3, nb)
+        gg = qw.transpose(0, 2, 1) @ phi.transpose(1, 2, 0)[mixed]  # (e, 3, 3)
+        minv = np.linalg.inv(m) * lam[mixed, None, None]
+        mgu = minv @ gu
+        k_loc[mixed] += gu.transpose(0, 2, 1) @ mgu
+        kug_loc[mixed] += mgu.transpose(0, 2, 1) @ gg
+        k_gg += np.einsum("eak,eal->kl", gg, minv @ gg)
+    dofs = basis.element_dofs  # (nb, nel)
+    n = basis.N
+    rows = np.broadcast_to(dofs.T[:, :, None], k_loc.shape).ravel()
+    cols = np.broadcast_to(dofs.T[:, None, :], k_loc.shape).ravel()
+    k_uu = sparse.coo_matrix((k_loc.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+    k_ug = np.zeros((n, 3))
+    for k in range(3):
+        k_ug[:, k] = np.bincount(dofs.T.ravel(), weights=kug_loc[:, :, k].ravel(), minlength=n)
+
+    # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
+    facets = section.lumen_facets(mesh)
+    fb = FacetBasis(mesh, ElementVector(ElementTriCCR()), facets=facets, intorder=4)
+    nrm = fb.normals.value  # (2, nf, nq)
+    wf = fb.dx
+    vals = np.stack([fb.basis[i][0].value for i in range(fb.Nbfun)])  # (nb, 2, nf, nq)
+    f_loc = -np.einsum("icfq,cfq,fq->fi", vals, nrm, wf)
+    f_lumen = np.bincount(fb.element_dofs.T.ravel(), weights=f_loc.ravel(), minlength=n)
+    xf, yf = fb.global_coordinates().value
+    # Lumen area and centroid by the divergence theorem (lumen normal = -n).
+    a_l = -float((xf * nrm[0] * wf).sum())
+    xl = -float((0.5 * xf**2 * nrm[0] * wf).sum()) / a_l
+    yl = -float((0.5 * yf**2 * nrm[1] * wf).sum()) / a_l
+    wz = (ez[:, None] * w).sum()
+    ybar = float((ez[:, None] * w * yq).sum() / wz)
+    return SectionOperator(
+        mesh=mesh,
+        basis=basis,
+        K_uu=k_uu,
+        K_ug=k_ug,
+        K_gg=k_gg,
+        f_lumen=f_lumen,
+        lumen_area=a_l,
+        lumen_centroid=(xl, yl),
+        axial_centroid_y=ybar,
+        pinned=_rigid_pins(basis, mesh),
+        D=D,
+        lam=lam,
+    )
+
+
+def _rigid_pins(basis, mesh) -> np.ndarray:
+    """Three DOFs that remove in-plane rigid motion (loads are self-equilibrated).
+
+    Both components at the vertex nearest the centroid and the x component at
+    the vertex farthest from it in y: no stress arises from these supports.
+    """
+    nd = basis.nodal_dofs
+    p = np.asarray(mesh.doflocs)[:, : nd.shape[1]]
+    c = p.mean(axis=1)
+    a = int(np.argmin(np.hypot(p[0] - c[0], p[1] - c[1])))
+    b = int(np.argmax(np.abs(p[1] - p[1, a])))
+    return np.array([nd[0, a], nd[1, a], nd[0, b]])
