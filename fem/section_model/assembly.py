@@ -118,7 +118,7 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
     ez = np.array([laws[k].axial_modulus for k in sorted(laws)])[which]
 
     w = basis.dx  # (nel, nq)
-    xq, yq = basis.global_coordinates().value  # (nel, nq)
+    xq, yq = np.asarray(basis.global_coordinates())  # (nel, nq)
     phi = np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
     eps = _strains(basis)
     nb, nq = eps.shape[0], w.shape[1]
@@ -159,12 +159,12 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
     # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
     facets = section.lumen_facets(mesh)
     fb = FacetBasis(mesh, ElementVector(ElementTriCCR()), facets=facets, intorder=4)
-    nrm = fb.normals.value  # (2, nf, nq)
+    nrm = np.asarray(fb.normals)  # (2, nf, nq)
     wf = fb.dx
-    vals = np.stack([fb.basis[i][0].value for i in range(fb.Nbfun)])  # (nb, 2, nf, nq)
+    vals = np.stack([np.asarray(fb.basis[i][0]) for i in range(fb.Nbfun)])  # (nb, 2, nf, nq)
     f_loc = -np.einsum("icfq,cfq,fq->fi", vals, nrm, wf)
     f_lumen = np.bincount(fb.element_dofs.T.ravel(), weights=f_loc.ravel(), minlength=n)
-    xf, yf = fb.global_coordinates().value
+    xf, yf = np.asarray(fb.global_coordinates())
     # Lumen area and centroid by the divergence theorem (lumen normal = -n).
     a_l = -float((xf * nrm[0] * wf).sum())
     xl = -float((0.5 * xf**2 * nrm[0] * wf).sum()) / a_l

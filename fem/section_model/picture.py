@@ -18,7 +18,7 @@ def axial_stress(op, load_solution) -> np.ndarray:
     basis = op.basis
     u = load_solution.U
     e0, k1, k2 = load_solution.strains
-    xq, yq = basis.global_coordinates().value
+    xq, yq = np.asarray(basis.global_coordinates())
     w = basis.dx
     grads = basis.interpolate(u).grad  # (2, 2, nel, nq)
     ezz = e0 + k1 * xq + k2 * yq
