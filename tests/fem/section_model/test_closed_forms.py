@@ -19,7 +19,6 @@ from fem.section_model.assembly import assemble
 from fem.section_model.laws import isotropic
 from fem.section_model.mesh import disk_section_mesh
 from fem.section_model.solve import solve
-
 from tests.fem.section_model._cases import SOLID, VOID, eccentric_tube, eccentric_tube_exact
 
 TOL = 2e-4
