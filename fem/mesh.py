@@ -457,6 +457,7 @@ def section_triangles(
             gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
             gmsh.option.setNumber("Mesh.MinimumCirclePoints", segments_per_turn or _SEGMENTS_PER_TURN)
             gmsh.option.setNumber("Mesh.Algorithm", 5)  # Delaunay
+            gmsh.option.setNumber("Mesh.Smoothing", 0)  # half of the meshing time; Delaunay shapes suffice
         else:
             gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", segments_per_turn or _SEGMENTS_PER_TURN)
             gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles

@@ -26,8 +26,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default="lumen",
         help="lumen: wall pressure + cap force (the real load, default); cap: the paper's cap force only",
     )
-    p.add_argument("--mesh-size", type=float, default=None, help="section element size [mm] (default 0.05)")
-    p.add_argument("--segments", type=int, default=None, help="boundary points per full turn (default 24)")
+    p.add_argument("--mesh-size", type=float, default=None, help="section element size [mm] (default 0.08)")
+    p.add_argument("--segments", type=int, default=None, help="boundary points per full turn (default 20)")
     p.add_argument(
         "--poisson",
         type=float,

@@ -182,7 +182,7 @@ def section_model(
         ratio[ld] = float(k2 / formula_k) if formula_k != 0 else math.nan
     from fem.section import TUBE
 
-    nu_used = float(laws[TUBE].lam / (2 * (laws[TUBE].lam + laws[TUBE].D[3, 3])))
+    nu_used = laws[TUBE].poisson_ratio
     return SectionResult(
         design_name=d.name,
         loads=tuple(sol.loads),

@@ -103,7 +103,7 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
     laws
         Region label -> :class:`SectionLaw`; every label in the mesh needs one.
     """
-    from skfem import CellBasis, ElementTriCCR, ElementVector, FacetBasis
+    from skfem import CellBasis, ElementTriCCR, ElementVector
 
     missing = sorted(set(np.unique(section.labels).tolist()) - set(laws))
     if missing:
@@ -157,18 +157,7 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         k_ug[:, k] = np.bincount(dofs.T.ravel(), weights=kug_loc[:, :, k].ravel(), minlength=n)
 
     # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
-    facets = section.lumen_facets(mesh)
-    fb = FacetBasis(mesh, ElementVector(ElementTriCCR()), facets=facets, intorder=4)
-    nrm = np.asarray(fb.normals)  # (2, nf, nq)
-    wf = fb.dx
-    vals = np.stack([np.asarray(fb.basis[i][0]) for i in range(fb.Nbfun)])  # (nb, 2, nf, nq)
-    f_loc = -np.einsum("icfq,cfq,fq->fi", vals, nrm, wf)
-    f_lumen = np.bincount(fb.element_dofs.T.ravel(), weights=f_loc.ravel(), minlength=n)
-    xf, yf = np.asarray(fb.global_coordinates())
-    # Lumen area and centroid by the divergence theorem (lumen normal = -n).
-    a_l = -float((xf * nrm[0] * wf).sum())
-    xl = -float((0.5 * xf**2 * nrm[0] * wf).sum()) / a_l
-    yl = -float((0.5 * yf**2 * nrm[1] * wf).sum()) / a_l
+    f_lumen, a_l, xl, yl = _lumen_load(section, mesh, basis)
     wz = (ez[:, None] * w).sum()
     ybar = float((ez[:, None] * w * yq).sum() / wz)
     return SectionOperator(
@@ -199,3 +188,54 @@ def _rigid_pins(basis, mesh) -> np.ndarray:
     a = int(np.argmin(np.hypot(p[0] - c[0], p[1] - c[1])))
     b = int(np.argmax(np.abs(p[1] - p[1, a])))
     return np.array([nd[0, a], nd[1, a], nd[0, b]])
+
+
+def _lumen_load(section: SectionMesh, mesh, basis):
+    """Unit lumen-pressure load vector, and the lumen's area and centroid.
+
+    Integrated directly on each lumen edge's parent element: the edge's
+    reference points are known, so no inverse isoparametric map is needed
+    (scikit-fem's ``FacetBasis`` solves one by Newton's method, a third of the
+    assembly time here). Gauss-Legendre with 4 points is exact for the
+    P2-mapped edge geometry times the cubic shape functions up to the
+    curved Jacobian's smooth factor.
+    """
+    le = np.sort(section.lumen_edges, axis=1)
+    t = mesh.t  # (3, nel), local edges (0,1), (1,2), (2,0) counter-clockwise
+    local = [(0, 1), (1, 2), (2, 0)]
+    keys = {}
+    for k, (i, j) in enumerate(local):
+        e = np.sort(t[[i, j]].T, axis=1)
+        for el, (a, b) in enumerate(e):
+            keys[(a, b)] = (el, k)
+    hits = [keys.get((a, b)) for a, b in le]
+    if any(h is None for h in hits):
+        raise DesignError("section.lumen", len(le), "a lumen edge belongs to no triangle")
+    elems = np.array([h[0] for h in hits])
+    which = np.array([h[1] for h in hits])
+    s, ws = np.polynomial.legendre.leggauss(4)
+    s, ws = 0.5 * (s + 1), 0.5 * ws
+    # Reference points along each local edge, traversed from its first to its second vertex.
+    start = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])[which]  # (nf, 2)
+    stop = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])[which]
+    X = start.T[:, :, None] + (stop - start).T[:, :, None] * s[None, None, :]  # (2, nf, nq)
+    xg = mesh.mapping().F(X, tind=elems)  # (2, nf, nq)
+    J = mesh.mapping().DF(X, tind=elems)  # (2, 2, nf, nq)
+    tangent = np.einsum("ijfq,jf->ifq", J, (stop - start).T)
+    length = np.hypot(tangent[0], tangent[1])
+    normal = np.stack([tangent[1], -tangent[0]]) / length  # outward for a counter-clockwise cell
+    centre = np.asarray(mesh.p)[:, t[:, elems]].mean(axis=1)  # (2, nf)
+    flip = np.sign(np.einsum("ifq,if->f", normal, xg.mean(axis=2) - centre))
+    normal = normal * flip[None, :, None]
+    wds = length * ws[None, :]
+    elem = basis.elem
+    f_loc = np.empty((len(elems), basis.Nbfun))
+    for i in range(basis.Nbfun):
+        phi = np.asarray(elem.gbasis(basis.mapping, X, i, tind=elems)[0])  # (2, nf, nq)
+        f_loc[:, i] = -np.einsum("cfq,cfq,fq->f", phi, normal, wds)
+    f = np.bincount(basis.element_dofs[:, elems].T.ravel(), weights=f_loc.ravel(), minlength=basis.N)
+    # Lumen area and centroid by the divergence theorem (lumen normal = -n).
+    a_l = -float((xg[0] * normal[0] * wds).sum())
+    xl = -float((0.5 * xg[0] ** 2 * normal[0] * wds).sum()) / a_l
+    yl = -float((0.5 * xg[1] ** 2 * normal[1] * wds).sum()) / a_l
+    return f, a_l, xl, yl

@@ -43,11 +43,14 @@ class SectionLaw:
         Lamé lambda (MPa) of the projected volumetric part (0 for anisotropic laws).
     axial_modulus
         E_z (MPa), the weight of the stiffness-weighted centroid.
+    poisson_ratio
+        nu of an isotropic law (NaN for anisotropic ones), as given.
     """
 
     D: np.ndarray
     lam: float
     axial_modulus: float
+    poisson_ratio: float = float("nan")
 
 
 def isotropic(youngs_modulus: float, poisson_ratio: float) -> SectionLaw:
@@ -59,7 +62,7 @@ def isotropic(youngs_modulus: float, poisson_ratio: float) -> SectionLaw:
         raise DesignError("poisson_ratio", nu, f"must be in (-1, {NU_MAX}] for the section model")
     lam = e * nu / ((1 + nu) * (1 - 2 * nu))
     mu = e / (2 * (1 + nu))
-    return SectionLaw(np.diag([2 * mu, 2 * mu, 2 * mu, mu]), lam, e)
+    return SectionLaw(np.diag([2 * mu, 2 * mu, 2 * mu, mu]), lam, e, nu)
 
 
 def from_tensor(c: np.ndarray, axial_modulus: float) -> SectionLaw:

@@ -1,0 +1,47 @@
+"""``softcath section`` end to end."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+from studies.cli import main
+
+KEYS = (
+    "curvature_per_mm_per_MPa", "elongation_per_MPa", "EA_N", "EI_N_mm2", "neutral_axis_mm",
+    "lumen_area_change_mm2_per_MPa", "dofs", "seconds", "load", "poisson_ratio_silicone", "fem_formula_ratio",
+)  # fmt: skip
+
+
+def test_section_command_writes_json_csv_png(tmp_path, capsys):
+    out = tmp_path / "s"
+    assert main(["section", "paper", "--pressure", "0:0.5:6", "--poisson", "0.4999", "--out", str(out)]) == 0
+    doc = json.loads((out / "section.json").read_text())
+    assert set(KEYS) <= set(doc)
+    assert doc["load"] == "lumen" and doc["poisson_ratio_silicone"] == 0.4999
+    assert doc["loads"]["curvature_per_mm_per_MPa"]["cap"] < doc["curvature_per_mm_per_MPa"]
+    with (out / "section.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == [
+        "pressure_MPa",
+        "curvature_per_mm",
+        "elongation",
+        "bend_angle_rad",
+        "tip_x_mm",
+        "tip_y_mm",
+    ]
+    assert float(rows[-1]["curvature_per_mm"]) == pytest_approx(0.5 * doc["curvature_per_mm_per_MPa"])
+    assert (out / "section.png").stat().st_size > 10_000
+    assert "section.json" in capsys.readouterr().out
+
+
+def pytest_approx(x):
+    import pytest
+
+    return pytest.approx(x, rel=1e-6)
+
+
+def test_bad_poisson_is_one_line(tmp_path, capsys):
+    assert main(["section", "paper", "--poisson", "0.6", "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "silicone_poisson" in err[0]
