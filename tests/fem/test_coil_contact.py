@@ -124,3 +124,17 @@ def test_axial_tension_preload_gives_the_open_coil(paper):
     kappa, _ = bending_curve(paper.coil, moments=[1e-3], axial_force=0.01)
     r = resolved_coil_stiffness(paper.coil)
     assert 1e-3 / kappa[0] == pytest.approx(r.bending, rel=1e-9)
+
+
+def test_pivoting_coil_with_initial_tension_has_a_moment_offset(paper):
+    # Fully pivoting on the concave edge, the initial tension F₀ acts at arm R about the pivot:
+    # κ = (M − F₀ R) / (EI_open + EA R²) — an exact piecewise-linear law once the last convex pair is open.
+    f0 = 0.05
+    coil = dataclasses.replace(paper.coil, initial_tension=f0)
+    r = resolved_coil_stiffness(paper.coil)
+    moments = np.array([4.0, 8.0]) * f0 * coil.mean_radius
+    kappa, _ = bending_curve(coil, moments=moments)
+    tangent = np.diff(moments)[0] / np.diff(kappa)[0]
+    assert tangent == pytest.approx(r.bending_contact, rel=1e-6)
+    # The pivot pair's penalty spring is compressed by the load: a 0.04 % shift of the offset.
+    assert moments[1] - tangent * kappa[1] == pytest.approx(f0 * coil.mean_radius, rel=1e-3)
