@@ -28,7 +28,14 @@ from design.errors import DesignError
 from fem.coil.frame import WireSection
 from fem.coil.model import CoilModel, LoadState, build_coil_model
 
-__all__ = ["CoilStiffnessResult", "BentCoil", "resolved_coil_stiffness", "coil_wire"]
+__all__ = [
+    "CoilStiffnessResult",
+    "BentCoil",
+    "resolved_coil_stiffness",
+    "bending_curve",
+    "coil_wire",
+    "assemble_coil",
+]
 
 # Straight chords of a curved wire: error ≈ 9/m² in EA, 1.6/m² in EI (tests), 0.4 % at m = 48.
 DEFAULT_ELEMENTS_PER_TURN = 48
@@ -98,7 +105,7 @@ class CoilStiffnessResult:
     n_dofs: int
     contact_iterations: int
     seconds: float
-    bent: BentCoil | None = field(default=None, repr=False)
+    bent: BentCoil | None = field(default=None, repr=False, compare=False)
 
 
 def coil_wire(coil: Coil) -> WireSection:
@@ -110,8 +117,15 @@ def coil_wire(coil: Coil) -> WireSection:
     )
 
 
-def _model(coil: Coil, turns, elements_per_turn, penalty_scale, contact) -> tuple[CoilModel, LoadState, str]:
-    """The assembled coil, its unloaded (possibly preloaded) state and the solve mode."""
+def assemble_coil(
+    coil: Coil,
+    *,
+    turns: int | None = None,
+    elements_per_turn: int = DEFAULT_ELEMENTS_PER_TURN,
+    penalty_scale: float = 1.0,
+    contact: bool = True,
+) -> tuple[CoilModel, LoadState, str]:
+    """The assembled coil, its unloaded (possibly preloaded) state and the solve mode to use."""
     model = build_coil_model(
         radius=coil.mean_radius,
         pitch=coil.pitch,
@@ -141,7 +155,7 @@ def bending_curve(
     moment that opens the convex side, then pivot toward the concave edge: the
     curve is piecewise linear, stiff first.
     """
-    model, base, mode = _model(coil, None, elements_per_turn, penalty_scale, True)
+    model, base, mode = assemble_coil(coil, elements_per_turn=elements_per_turn, penalty_scale=penalty_scale)
     curvature, strain = [], []
     for m_x in np.atleast_1d(np.asarray(moments, dtype=float)):
         state = model.solve(np.array([0, 0, axial_force, m_x, 0, 0]), mode=mode, base=base)
@@ -194,7 +208,9 @@ def resolved_coil_stiffness(
     """
     t0 = time.perf_counter()
     p = coil.pitch
-    model, base, mode = _model(coil, turns, elements_per_turn, penalty_scale, contact)
+    model, base, mode = assemble_coil(
+        coil, turns=turns, elements_per_turn=elements_per_turn, penalty_scale=penalty_scale, contact=contact
+    )
     f0 = coil.initial_tension if contact else 0.0
     free = model.solve(np.array([0, 0, 1.0, 0, 0, 0]), mode="free")
     ea_free = p / model.per_turn(free)[0]  # wire alone, per unit force
@@ -216,9 +232,13 @@ def resolved_coil_stiffness(
         raise DesignError("moment", m_ref, "must be > 0 N mm")
     bent = model.solve(np.array([0, 0, 0, m_ref, 0, 0]), mode=mode, base=base)
     ei_contact = bending_stiffness(bent, m_ref)
-    dc, dtheta = model.per_turn(bent)
-    # Per-turn axial strain ε(x, y) = (Δc_z + Δθ_x y − Δθ_y x)/p; zero on the neutral axis.
-    neutral_y = -dc / dtheta[0] if model.periodic else -(lambda e: e[0] / e[1])(_turn_strain(model, bent))
+    if model.periodic:
+        # Per-turn axial strain ε(x, y) = (Δc_z + Δθ_x y − Δθ_y x)/p; zero on the neutral axis.
+        dc, dtheta = model.per_turn(bent)
+        neutral_y = -dc / dtheta[0]
+    else:
+        e0, kappa = _turn_strain(model, bent)
+        neutral_y = -e0 / kappa
     return CoilStiffnessResult(
         axial_tension=float(ea_t),
         axial_compression=float(ea_c),

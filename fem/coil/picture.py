@@ -21,9 +21,9 @@ def _bent(coil: Coil, turns: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, f
     and the rotation per turn. Turn j adds the increment: u(k + j m) = u(k) +
     j Δc + Δθ × (j x_k + j(j − 1)/2 · p e_z), θ(k + j m) = θ(k) + j Δθ.
     """
-    from fem.coil.api import REFERENCE_CURVATURE, _model
+    from fem.coil.api import REFERENCE_CURVATURE, assemble_coil
 
-    model, base, mode = _model(coil, None, PICTURE_ELEMENTS_PER_TURN, 1.0, True)
+    model, base, mode = assemble_coil(coil, elements_per_turn=PICTURE_ELEMENTS_PER_TURN)
     free = model.solve(np.array([0, 0, 0, 1.0, 0, 0]), mode="free")
     moment = coil.pitch / model.per_turn(free)[1][0] * REFERENCE_CURVATURE
     state = model.solve(np.array([0, 0, 0, moment, 0, 0]), mode=mode, base=base)
