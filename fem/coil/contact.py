@@ -2,7 +2,7 @@
 
 A close-wound coil's turns touch along the wire. Node k and node k + m (one
 turn up, same angle) carry a contact spring along the line joining them
-(+z for a helix): gap g = g₀ + n·(u_{k+m} − u_k), where g₀ = p − d − δ. A
+(+z for a helix): gap g = g₀ + n·(u_{k+m} − u_k), where g₀ = p − d. A
 negative gap is closed: the spring pushes with force k_c·(−g). Rotations do
 not enter the gap to first order (n·(θ × n) = 0), so a centre-line pair is
 exact for the normal gap of two round wires.
@@ -11,18 +11,19 @@ Initial tension is a preload: the unloaded coil is a state of self-stress,
 each pair pressed with force f₀ and the wire pulling the turns together with
 the same force (in linear theory only its nodal resultant −Bᵀf₀ enters). A
 pair's force is then λ = max(0, f₀ − k_c·Bu) = k_c·max(0, −(g₀ − f₀/k_c + Bu))
-(close-wound, g₀ = 0): the same penalty law with the gap shifted by −f₀/k_c and the load −Bᵀf₀, so
-the unloaded coil does not move and a pair opens once a load has taken off
-its preload.
+(close-wound, g₀ = 0): the same penalty law with the gap shifted by −f₀/k_c
+and the load −Bᵀf₀, so the unloaded coil does not move and a pair opens once
+a load has taken off its preload.
 
 Solution: the penalty problem minimises the convex, continuously
 differentiable energy Π(u) = ½ uᵀKu − fᵀu + ½ Σ k_c min(g, 0)². A semismooth
 Newton method (the primal active-set method; Wriggers, *Computational
 Contact Mechanics*, §5.2; Hintermüller, Ito & Kunisch 2002) solves with the
 currently closed pairs as linear springs; a backtracking line search on Π
-keeps it from cycling between active sets (the plain iteration did cycle on
-a pre-tensioned coil in bending). It ends when a full step leaves the active
-set unchanged — then u is the exact solution of the piecewise linear problem.
+guards against cycling between active sets (the plain iteration did not
+settle on an end-plate model with an earlier, since replaced, preload). It
+ends when u is the exact solution for a set that its own gaps reproduce —
+then u solves the piecewise linear problem.
 """
 
 from __future__ import annotations
@@ -107,7 +108,7 @@ def solve_with_contact(
         return solve((stiffness + b.T @ kc @ b).tocsc(), load - b.T @ (kc @ gap0))
 
     closed = (gap0 <= 0) if active is None else active.copy()
-    u = newton_point(closed)
+    u, exact = newton_point(closed), True  # exact: u is the solution for the set ``closed``
     for it in range(1, max_iterations + 1):
         gap = gap0 + b @ u
         # Gaps within round-off of zero (a close-wound coil's untouched pairs) keep their state.
@@ -115,13 +116,14 @@ def solve_with_contact(
             float(np.max(np.abs(gap - gap0), initial=0.0)), float(np.max(np.abs(gap0), initial=0.0))
         )
         now = np.where(gap < -tol, True, np.where(gap > tol, False, closed))
-        if np.array_equal(now, closed):
+        if exact and np.array_equal(now, closed):
             return u, closed, it
         target = newton_point(now)
         step, e0 = target - u, energy(u)
         alpha = 1.0
         while energy(u + alpha * step) > e0 and alpha > 1e-6:
             alpha *= 0.5
-        u = u + alpha * step
+        exact = alpha == 1.0
+        u = target if exact else u + alpha * step
         closed = now
     raise SolverError(f"contact active set did not settle in {max_iterations} iterations")
