@@ -194,8 +194,7 @@ def resolved_coil_stiffness(
     turns
         ``None`` (default): the periodic one-turn cell, the exact middle of a
         long coil. N ≥ 3: N turns between rigid end plates, measured over the
-        middle turns (end effects decay slowly where turns pivot on one
-        contact point; use it for pictures and checks).
+        middle turns (a check of the cell; slower, 20 s for 50 turns).
     contact
         ``False``: no contact between turns (every case is the wire alone).
     elements_per_turn

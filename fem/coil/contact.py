@@ -89,7 +89,7 @@ def solve_with_contact(
     penalty: np.ndarray,
     *,
     active: np.ndarray | None = None,
-    max_iterations: int = 60,
+    max_iterations: int = 200,
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """Displacement, closed-pair mask and iteration count for one load.
 
