@@ -36,6 +36,11 @@ class Coil:
         Axial distance between turns [mm]; defaults to d (close-wound). Must be ≥ d.
     material
         The wire material (isotropic).
+    initial_tension
+        Initial tension [N] of a close-wound coil: the axial force the coil must
+        carry before its turns separate (extension springs are wound with it).
+        The turns press on each other with this force when the coil is unloaded.
+        Default 0; must be 0 unless the coil is close-wound (pitch = wire_diameter).
     """
 
     outer_diameter: float
@@ -43,6 +48,7 @@ class Coil:
     material: Material
     wire_diameter: float | None = None
     pitch: float | None = None
+    initial_tension: float = 0.0
 
     def __post_init__(self) -> None:
         od = _checks.positive("outer_diameter", self.outer_diameter)
@@ -64,7 +70,21 @@ class Coil:
         object.__setattr__(self, "inner_diameter", idia)
         object.__setattr__(self, "wire_diameter", wire)
         object.__setattr__(self, "pitch", pitch)
+        tension = _checks.nonnegative("initial_tension", self.initial_tension)
+        if tension > 0 and pitch > wire * (1 + 1e-9):
+            raise DesignError(
+                "initial_tension",
+                tension,
+                f"must be 0 for an open coil (pitch = {pitch:.6g} > wire_diameter = {wire:.6g}: "
+                "the turns do not touch)",
+            )
+        object.__setattr__(self, "initial_tension", tension)
         _material("material", self.material)
+
+    @property
+    def close_wound(self) -> bool:
+        """Whether neighbouring turns touch (pitch = wire diameter)."""
+        return self.pitch <= self.wire_diameter * (1 + 1e-9)
 
     @property
     def mean_radius(self) -> float:

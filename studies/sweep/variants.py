@@ -29,8 +29,8 @@ __all__ = ["check_path", "set_path", "variant_table", "build_variant", "VariantB
 _SHAPE = ("a", "a_int", "b_int", "h")
 # Fields a design file may set although the base file leaves them out (defaults / nominal rules).
 _OPTIONAL = {
-    "coil": {"wire_diameter", "pitch"},
-    "channel": {"wire_diameter", "pitch"},
+    "coil": {"wire_diameter", "pitch", "initial_tension"},
+    "channel": {"wire_diameter", "pitch", "initial_tension"},
     "tube": {"a", "a_int", "b_int", "h", "min_wall"},
 }
 

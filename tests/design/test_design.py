@@ -105,6 +105,20 @@ def test_toml_round_trip(paper, tmp_path):
     assert again == void and again.filler is None
 
 
+def test_initial_tension_defaults_to_zero_and_round_trips(paper, tmp_path):
+    from dataclasses import replace
+
+    assert paper.coil.initial_tension == 0.0 and paper.channel.initial_tension == 0.0
+    assert paper.coil.close_wound
+    wound = replace(paper, coil=replace(paper.coil, initial_tension=0.02))
+    text = design.dumps(wound)
+    assert "initial_tension = 0.02" in text
+    assert design.loads(text) == wound
+    table = design.to_dict(paper)
+    del table["coil"]["initial_tension"]  # older design files leave it out
+    assert design.from_dict(table).coil.initial_tension == 0.0
+
+
 def _paper_dict():
     return design.to_dict(design.preset("paper"))
 
@@ -145,6 +159,11 @@ BAD = [
     (lambda d: d["tube"].update(a=0.2), r"tube\.a_int = None: give all of a, a_int, b_int, h"),
     (lambda d: d["coil"].update(material="unobtainium"), r"coil\.material = 'unobtainium': must name one of"),
     (lambda d: d["coil"].update(pitch=0.05), r"coil\.pitch = 0\.05: must be >= wire_diameter"),
+    (lambda d: d["coil"].update(initial_tension=-0.1), r"coil\.initial_tension = -0\.1: must be >= 0"),
+    (
+        lambda d: d["channel"].update(pitch=0.1, initial_tension=0.01),
+        r"channel\.initial_tension = 0\.01: must be 0 for an open coil \(pitch = 0\.1 > wire_diameter",
+    ),
     (
         lambda d: d["coil"].update(outer_diameter="wide"),
         r"coil\.outer_diameter = 'wide': must be a real number",

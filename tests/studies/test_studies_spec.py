@@ -206,3 +206,38 @@ def test_fem_result_forms_are_read_the_same():
             np.testing.assert_equal(got[key], row)
     with pytest.raises(KeyError, match="no curvature_per_mm"):
         fem_records({"something": 1})
+
+
+@pytest.mark.parametrize("part", ["coil", "channel"])
+def test_coil_dimensions_pitch_and_initial_tension_are_sweepable(part):
+    """Issue 13: wire diameter, pitch, initial tension, OD and ID of both coils are sweep paths."""
+    base = getattr(design.resolve("paper"), part)
+    od, idia, wire, pitch = base.outer_diameter, base.inner_diameter, base.wire_diameter, base.pitch
+    cases = [
+        ({"wire_diameter": [0.8 * wire]}, {"wire_diameter": 0.8 * wire, "inner_diameter": od - 1.6 * wire}),
+        ({"inner_diameter": [idia + 0.01]}, {"wire_diameter": (od - idia - 0.01) / 2}),
+        ({"outer_diameter": [od + 0.01]}, {"wire_diameter": (od + 0.01 - idia) / 2}),
+        ({"pitch": [1.5 * pitch]}, {"pitch": 1.5 * pitch, "initial_tension": 0.0}),
+        ({"initial_tension": [0.0, 0.02]}, {"pitch": pitch}),
+    ]
+    for params, expected in cases:
+        spec = parse_spec(_spec({f"{part}.{k}": {"values": v} for k, v in params.items()}))
+        builder = VariantBuilder(spec.base_table)
+        for overrides in expand(spec):
+            for built in (
+                builder.build(overrides),
+                design.from_dict(variant_table(spec.base_table, overrides)),
+            ):
+                coil = getattr(built, part)
+                for path, value in overrides.items():
+                    assert getattr(coil, path.split(".")[1]) == pytest.approx(value)
+                for key, value in expected.items():
+                    assert getattr(coil, key) == pytest.approx(value)
+                if "wire_diameter" in params or "inner_diameter" in params or "outer_diameter" in params:
+                    assert coil.pitch == pytest.approx(coil.wire_diameter)  # stays close-wound
+    # An initial tension on an open coil is refused with the path named.
+    spec = parse_spec(
+        _spec({f"{part}.pitch": {"values": [1.5 * pitch]}, f"{part}.initial_tension": {"values": [0.01]}})
+    )
+    with pytest.raises(DesignError, match=rf"{part}\.initial_tension = 0\.01: must be 0 for an open coil"):
+        VariantBuilder(spec.base_table).build(expand(spec)[0])

@@ -1,0 +1,19 @@
+"""Resolved-wire coil (issue 13): the helical wire as a 3-D frame, with contact between turns.
+
+>>> import design
+>>> from fem.coil import resolved_coil_stiffness
+>>> r = resolved_coil_stiffness(design.resolve("paper").coil)
+>>> round(r.bending_contact / r.bending, 2)   # turns pivot on the concave edge
+1.88
+
+numpy/scipy only. Modules: ``helix`` (geometry), ``frame`` (Timoshenko beam
+elements), ``contact`` (penalty contact, active set), ``model`` (periodic
+cell / end plates), ``closed_forms``, ``api``, ``sections`` (homogenised
+models for comparison), ``picture``.
+"""
+
+from __future__ import annotations
+
+from fem.coil.api import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
+
+__all__ = ["CoilStiffnessResult", "bending_curve", "coil_wire", "resolved_coil_stiffness"]
