@@ -48,7 +48,8 @@ class SectionOperator:
     Attributes
     ----------
     K_uu
-        In-plane stiffness (sparse, n x n), N/mm per mm of length.
+        In-plane stiffness (sparse, n x n), N/mm per mm of length, with the
+        element bubbles condensed out (``full_field`` restores them).
     K_ug
         Coupling with the global strains (n x 3).
     K_gg
@@ -76,10 +77,24 @@ class SectionOperator:
     pinned: np.ndarray
     D: np.ndarray
     lam: np.ndarray
+    bubble_from_retained: np.ndarray
+    bubble_from_strains: np.ndarray
 
     @property
     def ndofs(self) -> int:
+        """Unknowns of the condensed system (P2 in-plane DOFs + 3 global strains)."""
         return int(self.K_uu.shape[0]) + 3
+
+    def full_field(self, u: np.ndarray, strains: np.ndarray) -> np.ndarray:
+        """The in-plane field on the whole CCR basis: ``u`` (retained DOFs) plus the bubbles."""
+        dofs = self.basis.element_dofs
+        nb = dofs.shape[0]
+        full = np.zeros(self.basis.N)
+        full[: u.size] = u
+        ue = u[dofs[: nb - 2]].T  # (nel, nb - 2)
+        bub = -(np.einsum("ebr,er->eb", self.bubble_from_retained, ue) + self.bubble_from_strains @ strains)
+        full[dofs[nb - 2 :].T] = bub
+        return full
 
 
 def _strains(basis) -> np.ndarray:
@@ -147,17 +162,31 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         k_loc[mixed] += gu.transpose(0, 2, 1) @ mgu
         kug_loc[mixed] += mgu.transpose(0, 2, 1) @ gg
         k_gg += np.einsum("eak,eal->kl", gg, minv @ gg)
+    # Static condensation of the element bubbles (interior DOFs, the last two local
+    # rows, numbered last globally): the global system keeps only the P2 DOFs.
     dofs = basis.element_dofs  # (nb, nel)
-    n = basis.N
-    rows = np.broadcast_to(dofs.T[:, :, None], k_loc.shape).ravel()
-    cols = np.broadcast_to(dofs.T[:, None, :], k_loc.shape).ravel()
-    k_uu = sparse.coo_matrix((k_loc.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+    ri, bi = np.arange(nb - 2), np.arange(nb - 2, nb)
+    if not np.array_equal(dofs[bi], basis.interior_dofs):
+        raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
+    kbb_inv = np.linalg.inv(k_loc[:, bi][:, :, bi])
+    kbr = k_loc[:, bi][:, :, ri]
+    kbg = kug_loc[:, bi, :]
+    xr, xg = kbb_inv @ kbr, kbb_inv @ kbg  # bubble values per unit retained DOF / global strain
+    k_rr = k_loc[:, ri][:, :, ri] - kbr.transpose(0, 2, 1) @ xr
+    k_rg = kug_loc[:, ri, :] - kbr.transpose(0, 2, 1) @ xg
+    k_gg = k_gg - np.einsum("ebk,ebl->kl", kbg, xg)
+    n = basis.N - basis.interior_dofs.size
+    rdofs = dofs[ri]
+    rows = np.broadcast_to(rdofs.T[:, :, None], k_rr.shape).ravel()
+    cols = np.broadcast_to(rdofs.T[:, None, :], k_rr.shape).ravel()
+    k_uu = sparse.coo_matrix((k_rr.ravel(), (rows, cols)), shape=(n, n)).tocsr()
     k_ug = np.zeros((n, 3))
     for k in range(3):
-        k_ug[:, k] = np.bincount(dofs.T.ravel(), weights=kug_loc[:, :, k].ravel(), minlength=n)
+        k_ug[:, k] = np.bincount(rdofs.T.ravel(), weights=k_rg[:, :, k].ravel(), minlength=n)
 
     # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
-    f_lumen, a_l, xl, yl = _lumen_load(section, mesh, basis)
+    f_full, a_l, xl, yl = _lumen_load(section, mesh, basis)
+    f_lumen = f_full[:n]  # bubbles vanish on edges: no load on them
     wz = (ez[:, None] * w).sum()
     ybar = float((ez[:, None] * w * yq).sum() / wz)
     return SectionOperator(
@@ -173,6 +202,8 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         pinned=_rigid_pins(basis, mesh),
         D=D,
         lam=lam,
+        bubble_from_retained=xr,
+        bubble_from_strains=xg,
     )
 
 
@@ -202,17 +233,18 @@ def _lumen_load(section: SectionMesh, mesh, basis):
     """
     le = np.sort(section.lumen_edges, axis=1)
     t = mesh.t  # (3, nel), local edges (0,1), (1,2), (2,0) counter-clockwise
-    local = [(0, 1), (1, 2), (2, 0)]
-    keys = {}
-    for k, (i, j) in enumerate(local):
-        e = np.sort(t[[i, j]].T, axis=1)
-        for el, (a, b) in enumerate(e):
-            keys[(a, b)] = (el, k)
-    hits = [keys.get((a, b)) for a, b in le]
-    if any(h is None for h in hits):
+    nv = int(t.max()) + 1
+    local = ((0, 1), (1, 2), (2, 0))
+    all_edges = np.sort(np.concatenate([t[[i, j]].T for i, j in local]), axis=1)  # (3 nel, 2)
+    keys = all_edges[:, 0].astype(np.int64) * nv + all_edges[:, 1]
+    order = np.argsort(keys)
+    want = le[:, 0].astype(np.int64) * nv + le[:, 1]
+    pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
+    if not np.array_equal(keys[order][pos], want):
         raise DesignError("section.lumen", len(le), "a lumen edge belongs to no triangle")
-    elems = np.array([h[0] for h in hits])
-    which = np.array([h[1] for h in hits])
+    hit = order[pos]
+    nel = t.shape[1]
+    elems, which = hit % nel, hit // nel
     s, ws = np.polynomial.legendre.leggauss(4)
     s, ws = 0.5 * (s + 1), 0.5 * ws
     # Reference points along each local edge, traversed from its first to its second vertex.

@@ -27,7 +27,7 @@ class LoadSolution:
     """Response to 1 MPa of one load case.
 
     ``strains`` = (eps_0, k_1, k_2) per MPa; ``U`` the in-plane field (mm/MPa)
-    on the operator's basis; ``lumen_area_change`` in mm^2/MPa.
+    on the operator's full CCR basis (bubbles restored); ``lumen_area_change`` in mm^2/MPa.
     """
 
     strains: np.ndarray
@@ -100,5 +100,5 @@ def solve(op: SectionOperator, loads=LOADS, *, extra_bending: float = 0.0) -> Se
         g = np.linalg.solve(k_sec, f_g)
         u = u_p.copy()
         u[free] -= x_g @ g
-        out[ld] = LoadSolution(strains=g, U=u, lumen_area_change=float(op.f_lumen @ u))
+        out[ld] = LoadSolution(strains=g, U=op.full_field(u, g), lumen_area_change=float(op.f_lumen @ u))
     return SectionSolution(stiffness=k_sec, loads=out, backward_error=backward)

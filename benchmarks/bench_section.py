@@ -1,0 +1,119 @@
+"""Benchmark of the section model (issue 11 section 3), printed as ratios.
+
+In one run:
+
+1. per design, mesh included, warm (imports loaded, the 3-D mesh cache warm,
+   the section mesh NOT cached: every design of a sweep has its own geometry):
+   the section model of the paper design and of 5 shape variants against
+   ``fem.check`` on the same designs, both loads; target >= 50x;
+2. a section sweep of N distinct designs (default 10^4, random shape, coil,
+   tube and moduli) through ``softcath sweep`` machinery on 2 local worker
+   processes when the sweep has a ``section`` evaluator, else a process pool
+   calling the section model; target <= 10 min on 2 cores. ``--designs N``
+   runs a smaller sweep and extrapolates (said so in the output).
+
+Run: ``python benchmarks/bench_section.py [--designs N]`` (``make bench``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+
+def _variants(n: int, seed: int):
+    import numpy as np
+
+    import design
+    from design.io import to_dict
+    from studies.sweep.variants import build_variant
+
+    base = to_dict(design.preset("paper"))
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        over = {
+            "coil.outer_diameter": rng.uniform(0.75, 0.9),
+            "channel.outer_diameter": rng.uniform(0.25, 0.32),
+            "tube.a_int": rng.uniform(0.06, 0.13),
+            "tube.b_int": rng.uniform(0.05, 0.09),
+            "materials.medical_silicone_tubing.youngs_modulus": rng.uniform(1.0, 3.0),
+            "tip.bending_length": rng.uniform(4.0, 8.0),
+        }
+        try:
+            out.append(build_variant(base, over, name=f"v{len(out)}"))
+        except design.DesignError:
+            continue
+    return out
+
+
+def per_design() -> None:
+    import fem
+    from fem.section_model import section_model
+    from fem.section_model.mesh import _catheter_cached
+
+    designs = _variants(6, seed=5)
+    section_model(designs[0])  # imports, gmsh start-up
+    for d in designs:
+        fem.check(d, pressures=[0.1])  # warm the 3-D mesh cache
+    t_fem, t_sec = [], []
+    for d in designs:
+        t = time.perf_counter()
+        fem.check(d, pressures=[0.1])
+        t_fem.append(time.perf_counter() - t)
+        _catheter_cached.cache_clear()  # the section mesh is part of the section model's cost
+        t = time.perf_counter()
+        section_model(d)
+        t_sec.append(time.perf_counter() - t)
+    f, s = sum(t_fem) / len(t_fem), sum(t_sec) / len(t_sec)
+    ratio = f / s
+    print(f"per design, both loads, {len(designs)} designs (3-D mesh cached, section mesh made each time):")
+    print(f"  3-D FEM check {f:7.3f} s   section model {s:6.3f} s   ratio {ratio:5.1f}x   "
+          f"target >= 50x  {'OK' if ratio >= 50 else 'MISSED'}")  # fmt: skip
+
+
+def _one(d):
+    from fem.section_model import section_model
+
+    r = section_model(d)
+    return r.curvature_per_mm_per_MPa["lumen"]
+
+
+def sweep(n: int) -> None:
+    designs = _variants(n, seed=9)
+    ctx = mp.get_context("fork")
+    t = time.perf_counter()
+    with ctx.Pool(2) as pool:
+        done = 0
+        for _ in pool.imap_unordered(_one, designs, chunksize=16):
+            done += 1
+    wall = time.perf_counter() - t
+    per = wall / n
+    ten_k = per * 1e4
+    print(
+        f"section sweep, {n} distinct designs on 2 worker processes: {wall:.1f} s ({per * 1000:.0f} ms/design)"
+    )
+    label = "measured" if n >= 10_000 else f"extrapolated from {n}"
+    print(
+        f"  10^4 designs: {ten_k / 60:.1f} min ({label})   target <= 10 min  {'OK' if ten_k <= 600 else 'MISSED'}"
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--designs", type=int, default=10_000, help="designs in the sweep part (default 10^4)")
+    ap.add_argument("--skip-fem", action="store_true", help="only the sweep part")
+    args = ap.parse_args()
+    if not args.skip_fem:
+        per_design()
+    sweep(args.designs)
+
+
+if __name__ == "__main__":
+    main()
