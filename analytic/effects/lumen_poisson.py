@@ -1,15 +1,18 @@
 """Candidate ``lumen_poisson``: the lumen-wall pressure term (reference = FEM).
 
 The cap-load model lets pressure act only on the sealed cap. Pressure on the
-lumen wall also strains the tube axially through Poisson's ratio, a
-``(1 - 2 nu)`` term (see ``analytic.response(..., load="lumen")``). Its
+lumen wall also loads the section through Poisson coupling. Re-expressed: the
+one-material closed form, (1 - 2 nu), has the wrong sign inside a coil (the
+coil's hoop confines the near-incompressible silicone and the wall load bends
+the tip ~2.4x *more*, docs/section.md), so the regressor is now the section
+model's lumen-minus-cap curvature per MPa, ``lumen_minus_cap_gain_per_mm_MPa``
+times p, which the studies layer supplies (analytic does not import fem). Its
 curvature is linear in pressure, so against measured data it is
 indistinguishable from a gain error (calibration absorbs it); against the FEM,
-where the gain is not calibrated, it is a named effect. Its regressor is the
-difference between the lumen-load and cap-load curvature per MPa,
-``lumen_minus_cap_gain_per_mm_MPa`` times p (from ``analytic.gains``), with a
-free coefficient ``scale``: 1 when the reference behaves exactly as the
-lumen-load model, 0 when it behaves as the cap-load model.
+where the gain is not calibrated, it is a named effect with a free coefficient
+``scale``: 1 when the reference behaves as the section model's lumen load.
+Over design sweeps the same physics is the ``confinement`` ingredient of
+``studies.discrepancy.designs``.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from analytic.effects.base import Candidate
 class LumenPoisson(Candidate):
     name = "lumen_poisson"
     kind = "column"
-    meaning = "pressure on the lumen wall, (1 - 2 nu) axial term (FEM reference only)"
+    meaning = "pressure on the coil-confined lumen wall (section model; FEM reference only)"
     coefficient = "scale"
 
     def column(self, dt_s: float, p: np.ndarray, **context: float) -> np.ndarray:

@@ -248,9 +248,9 @@ def run_workflow(
         import analytic
 
         g_cap = analytic.gains(d, "cap")[0]
-        g_lum = analytic.gains(d, "lumen")[0]
+        g_lum, g_sec_cap = _lumen_wall_gains(d)
         fixed_gain = g_cap
-        context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_cap}
+        context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_sec_cap}
         src = data if data is not None else fem
         if src is None:
             raise DataError("reference 'fem' needs a FEM table or a fem callable")
@@ -398,3 +398,16 @@ def run_workflow(
         baseline_fit=baseline_fit,
         final_fit=final_fit,
     )
+
+
+def _lumen_wall_gains(d) -> tuple[float, float]:
+    """(lumen, cap) curvature per MPa of the section model at the 3-D FEM's nu cap.
+
+    The ``lumen_poisson`` candidate's regressor is their difference: the lumen-wall
+    load on the coil-confined silicone. The one-material (1 - 2 nu) closed form it
+    used before has the wrong sign inside a coil (docs/section.md).
+    """
+    from fem.section_model import section_model
+
+    r = section_model(d, poisson_cap=0.49)
+    return r.curvature_per_mm_per_MPa["lumen"], r.curvature_per_mm_per_MPa["cap"]

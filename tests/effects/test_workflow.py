@@ -139,10 +139,14 @@ def test_fem_reference_names_the_lumen_term():
     import analytic
     import design
 
+    from fem.section_model import section_model
+
     d = design.preset("paper")
-    g_cap, g_lum = analytic.gains(d, "cap")[0], analytic.gains(d, "lumen")[0]
+    sec = section_model(d, poisson_cap=0.49).curvature_per_mm_per_MPa
+    g_cap = analytic.gains(d, "cap")[0]
+    g_lum = g_cap + sec["lumen"] - sec["cap"]
     p = np.linspace(0, 2, 15)
-    # a "FEM" that behaves as the lumen-load model: the analytic cap model misses it
+    # a "FEM" with the section model's lumen-wall term on top of the formula: the cap model misses it
     lumen_fem = pd.DataFrame({"pressure_MPa": p, "curvature_per_mm": g_lum * p})
     r = run_workflow(lumen_fem, d, reference="fem")
     assert r.named == ("lumen_poisson",)
