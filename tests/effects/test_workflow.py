@@ -138,7 +138,6 @@ def test_one_frequency_hysteresis_is_flagged_as_ambiguous():
 def test_fem_reference_names_the_lumen_term():
     import analytic
     import design
-
     from fem.section_model import section_model
 
     d = design.preset("paper")

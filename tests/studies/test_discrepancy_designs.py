@@ -99,7 +99,7 @@ n = 10
 [parameters]
 "tube.a_int" = { lhs = [0.07, 0.12] }
 "tube.b_int" = { lhs = [0.05, 0.085] }
-"materials.medical_silicone_tubing.youngs_modulus" = { lhs = [1.2, 3.0] }
+"materials.medical_silicone.youngs_modulus" = { lhs = [1.2, 3.0] }
 "tip.bending_length" = { lhs = [4.0, 7.0] }
 """
     )
