@@ -28,29 +28,9 @@ sys.path.insert(0, str(ROOT))
 
 
 def _variants(n: int, seed: int):
-    import numpy as np
+    from studies.sweep.random_designs import random_designs
 
-    import design
-    from design.io import to_dict
-    from studies.sweep.variants import build_variant
-
-    base = to_dict(design.preset("paper"))
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        over = {
-            "coil.outer_diameter": rng.uniform(0.75, 0.9),
-            "channel.outer_diameter": rng.uniform(0.25, 0.32),
-            "tube.a_int": rng.uniform(0.06, 0.13),
-            "tube.b_int": rng.uniform(0.05, 0.09),
-            "materials.medical_silicone_tubing.youngs_modulus": rng.uniform(1.0, 3.0),
-            "tip.bending_length": rng.uniform(4.0, 8.0),
-        }
-        try:
-            out.append(build_variant(base, over, name=f"v{len(out)}"))
-        except design.DesignError:
-            continue
-    return out
+    return random_designs(n, seed=seed)
 
 
 def per_design() -> None:

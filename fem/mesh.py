@@ -463,17 +463,29 @@ def section_triangles(
             gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(2)  # midside nodes on the exact curves
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        xy = coords.reshape(-1, 3)[:, :2]
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(tags.size)
-        etypes, _, enodes = gmsh.model.mesh.getElements(2)
-        tris = []
-        for et, en in zip(etypes, enodes, strict=True):
-            if et != 9:
-                raise MeshError(f"gmsh returned element type {et}, expected 6-node triangles")
-            tris.append(index[en.astype(np.int64)].reshape(-1, 6))
-        tri6 = np.vstack(tris)
+        return p2_triangles(gmsh)
+
+
+def p2_triangles(gmsh):
+    """The 2-D second-order mesh of an open gmsh session as corner triangles and curved edges.
+
+    Returns
+    -------
+    xy, tri, curved_edges, curved_midpoints
+        Corner vertices (n, 2), triangles (m, 3), the edges lying on curved
+        boundaries (k, 2) and their exact midpoints (k, 2).
+    """
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    xy = coords.reshape(-1, 3)[:, :2]
+    index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(tags.size)
+    etypes, _, enodes = gmsh.model.mesh.getElements(2)
+    tris = []
+    for et, en in zip(etypes, enodes, strict=True):
+        if et != 9:
+            raise MeshError(f"gmsh returned element type {et}, expected 6-node triangles")
+        tris.append(index[en.astype(np.int64)].reshape(-1, 6))
+    tri6 = np.vstack(tris)
     corner = np.unique(tri6[:, :3])
     remap = np.full(xy.shape[0], -1, dtype=np.int64)
     remap[corner] = np.arange(corner.size)

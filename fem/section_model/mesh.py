@@ -189,7 +189,7 @@ def disk_section_mesh(
     mesh_size, segments
         As in :func:`catheter_section_mesh`.
     """
-    from fem.mesh import _ellipse, _gmsh_session
+    from fem.mesh import _ellipse, _gmsh_session, p2_triangles
 
     _check_size(mesh_size, segments)
     t0 = time.perf_counter()
@@ -206,24 +206,7 @@ def disk_section_mesh(
         gmsh.option.setNumber("Mesh.Smoothing", 0)
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        xy = coords.reshape(-1, 3)[:, :2]
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(tags.size)
-        _, _, enodes = gmsh.model.mesh.getElements(2)
-        tri6 = np.vstack([index[en.astype(np.int64)].reshape(-1, 6) for en in enodes])
-    corner = np.unique(tri6[:, :3])
-    remap = np.full(xy.shape[0], -1, dtype=np.int64)
-    remap[corner] = np.arange(corner.size)
-    tri = remap[tri6[:, :3]]
-    pairs = ((0, 1, 3), (1, 2, 4), (2, 0, 5))
-    ends = np.vstack([tri[:, [i, j]] for i, j, _ in pairs])
-    mids = np.vstack([xy[tri6[:, k]] for _, _, k in pairs])
-    straight = 0.5 * (xy[corner][ends[:, 0]] + xy[corner][ends[:, 1]])
-    bent = np.linalg.norm(mids - straight, axis=1) > 1e-12
-    ends, mids = np.sort(ends[bent], axis=1), mids[bent]
-    _, first = np.unique(ends, axis=0, return_index=True)
-    xy = xy[corner]
+        xy, tri, ce, cm = p2_triangles(gmsh)
     cen = xy[tri].mean(axis=1)
     labels = np.asarray(classify(cen[:, 0], cen[:, 1]))
-    return _finish(xy, tri, labels, ends[first], mids[first], in_lumen, time.perf_counter() - t0, "shapes")
+    return _finish(xy, tri, labels, ce, cm, in_lumen, time.perf_counter() - t0, "shapes")

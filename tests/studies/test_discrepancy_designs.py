@@ -13,28 +13,6 @@ from fem.section_model import section_model
 from studies.discrepancy.designs import DesignCase, run_design_workflow
 
 
-def _designs(n, seed):
-    from design.io import to_dict
-    from studies.sweep.variants import build_variant
-
-    base = to_dict(design.preset("paper"))
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        over = {
-            "coil.outer_diameter": rng.uniform(0.75, 0.9),
-            "tube.a_int": rng.uniform(0.06, 0.13),
-            "tube.b_int": rng.uniform(0.05, 0.09),
-            "materials.medical_silicone_tubing.youngs_modulus": rng.uniform(1.0, 3.0),
-            "tip.bending_length": rng.uniform(4.0, 8.0),
-        }
-        try:
-            out.append(build_variant(base, over, name=f"d{len(out)}"))
-        except design.DesignError:
-            continue
-    return out
-
-
 def _cases(designs, reference, seed, noise):
     rng = np.random.default_rng(seed)
     cases = []
@@ -49,7 +27,9 @@ def _cases(designs, reference, seed, noise):
 
 @pytest.fixture(scope="module")
 def designs():
-    return _designs(12, seed=3)
+    from studies.sweep.random_designs import random_designs
+
+    return random_designs(12, seed=3)
 
 
 def test_formula_plus_noise_names_nothing(designs):

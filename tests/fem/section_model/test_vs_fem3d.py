@@ -38,33 +38,10 @@ def test_paper_design_within_1_percent_both_loads():
     assert s.elongation_per_MPa["lumen"] == pytest.approx(eps3, rel=0.02)
 
 
-def _random_designs(n: int, seed: int):
-    from design.io import to_dict
-    from studies.sweep.variants import build_variant
-
-    base = to_dict(design.preset("paper"))
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        over = {
-            "coil.outer_diameter": rng.uniform(0.75, 0.9),
-            "coil.wire_diameter": rng.uniform(0.07, 0.11),
-            "channel.outer_diameter": rng.uniform(0.25, 0.32),
-            "tube.a_int": rng.uniform(0.06, 0.13),
-            "tube.b_int": rng.uniform(0.05, 0.09),
-            "materials.medical_silicone_tubing.youngs_modulus": rng.uniform(1.0, 3.0),
-            "materials.ecoflex_00_30.youngs_modulus": rng.uniform(0.05, 0.3),
-            "tip.bending_length": rng.uniform(4.0, 8.0),
-        }
-        try:
-            out.append(build_variant(base, over, name=f"random {len(out)}"))
-        except design.DesignError:
-            continue
-    return out
-
-
 def test_random_designs_within_2_percent():
-    designs = _random_designs(10, seed=11)
+    from studies.sweep.random_designs import random_designs
+
+    designs = random_designs(10, seed=11)
     worst = 0.0
     for d in designs:
         ref, _ = _fem3d(d)
