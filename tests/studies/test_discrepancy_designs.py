@@ -63,26 +63,11 @@ def test_bad_candidates_are_refused(designs):
 @pytest.mark.slow
 def test_real_fem_sweep_names_the_ingredients(tmp_path):
     """A real 3-D FEM sweep through ``softcath sweep`` and ``softcath discrepancy SWEEP --reference fem``."""
+    from pathlib import Path
+
     from studies.cli import main
 
-    spec = tmp_path / "fem.toml"
-    spec.write_text(
-        """[sweep]
-name = "ingredients"
-base = "paper"
-pressures_MPa = [0.1]
-loads = ["cap", "lumen"]
-evaluators = ["analytic", "fem"]
-seed = 4
-[sample]
-n = 10
-[parameters]
-"tube.a_int" = { lhs = [0.07, 0.12] }
-"tube.b_int" = { lhs = [0.05, 0.085] }
-"materials.medical_silicone.youngs_modulus" = { lhs = [1.2, 3.0] }
-"tip.bending_length" = { lhs = [4.0, 7.0] }
-"""
-    )
+    spec = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / "ingredients_fem.toml"
     sweep = tmp_path / "sweep"
     assert main(["sweep", str(spec), "--out", str(sweep), "--workers", "1"]) == 0
     out = tmp_path / "disc"
