@@ -45,6 +45,9 @@ def design_of(sweep_dir: str | Path, design_id: int):
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
+_MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+
+
 def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
     path = sweep_dir / "selection.json"
     if not path.is_file():
@@ -57,7 +60,10 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
     objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
     rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
     out = (
-        f"<p>Load case <b>{esc(sel['load'])}</b>. Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
+        f"<p>Model <b>{esc(_MODEL_NAMES.get(sel.get('model', 'table'), 'the table as given'))}</b>, load case "
+        f"<b>{esc(sel['load'])}</b>."
+        + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
+        + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
         f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
     )

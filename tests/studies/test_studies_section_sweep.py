@@ -143,3 +143,48 @@ def test_shipped_section_example_parses():
 
     spec = load_spec(Path(__file__).parents[2] / "examples" / "sweeps" / "section.toml")
     assert "section" in spec.evaluators and spec.n_samples >= 200
+
+
+def test_select_ranks_on_the_section_model_under_the_lumen_load_by_default(section_sweep, capsys):
+    from studies.cli import main
+    from studies.selection import SelectionError, select
+
+    _, out, df = section_sweep
+    sel = select(df, objectives=["maximise bend_per_MPa_deg"])
+    assert (sel.model, sel.load, sel.note) == ("section", "lumen", "")
+    at = df[(df.load == "lumen") & (df.pressure_MPa == 1.0) & (df.status == "ok")].set_index("design_id")
+    for r in sel.ranked:
+        assert r["objectives"]["maximise bend_per_MPa_deg"] == pytest.approx(
+            at.at[r["design_id"], "bend_angle_section_deg"] / 1.0, rel=1e-12
+        )
+    paper = select(df, objectives=["maximise bend_per_MPa_deg"], model="paper")
+    assert (paper.model, paper.load) == ("paper", "cap")
+    assert paper.ranked[0]["objectives"]["maximise bend_per_MPa_deg"] == pytest.approx(
+        df[
+            (df.load == "cap") & (df.pressure_MPa == 1.0) & (df.design_id == paper.ranked[0]["design_id"])
+        ].bend_angle_analytic_deg.iloc[0]
+    )
+    with pytest.raises(SelectionError, match="model 'fem': this sweep has no results of the 3-D FEM"):
+        select(df, objectives=["maximise bend_per_MPa_deg"], model="fem")
+    assert main(["select", str(out), "--objective", "maximise bend_per_MPa_deg"]) == 0
+    text = capsys.readouterr().out
+    assert "model: the section model (section), lumen load" in text
+    doc = json.loads((out / "selection.json").read_text())
+    assert (doc["model"], doc["load"]) == ("section", "lumen")
+
+
+def test_select_on_an_analytic_sweep_says_the_papers_formula_was_used(small_spec, tmp_path, capsys):
+    from studies.cli import main
+    from studies.selection import SelectionError, select
+
+    run_sweep(load_spec(small_spec), tmp_path / "old", workers=1, progress=False)
+    df = read_results(tmp_path / "old")
+    sel = select(df, objectives=["maximise bend_per_MPa_deg"])
+    assert (sel.model, sel.load) == ("paper", "cap")
+    assert "no section-model results: ranked on the paper's formula" in sel.note
+    with pytest.raises(
+        SelectionError, match="model 'section': this sweep has no results of the section model"
+    ):
+        select(df, objectives=["maximise bend_per_MPa_deg"], model="section")
+    assert main(["select", str(tmp_path / "old"), "--objective", "maximise bend_per_MPa_deg"]) == 0
+    assert "note: this sweep has no section-model results" in capsys.readouterr().out
