@@ -1,6 +1,7 @@
 """The sweep report: ``DIR/report/index.html``, a static page with its PNGs beside it (opens offline).
 
-Sections: overview, parity (analytic vs FEM curvature, both loads), relative
+Sections: overview, parity (analytic vs FEM curvature, both loads), the three
+tiers side by side (the paper's formula, the section model, the 3-D FEM), relative
 error against each swept parameter, heat maps for 2-D grids, sensitivity
 (standardised regression; RBD-FAST for Latin-hypercube samples), renders of
 the best- and worst-agreeing designs, the failed designs with reasons, and
@@ -138,6 +139,8 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
                     "no parity plot.")  # fmt: skip
     sections.append(("Analytic vs FEM", body))
 
+    sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
+
     bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
     if bpath:
         sections.append(
@@ -162,7 +165,8 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     if spath:
         body = figure(
             prefix + spath.name,
-            "Sensitivity of the analytic curvature at p_max to each parameter: "
+            f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+            "at p_max to each parameter: "
             "standardised regression coefficients"
             + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
         )
@@ -179,6 +183,30 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     sections.append(("Failed designs", body))
     sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
     return sections
+
+
+def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
+    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula)."""
+    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
+    if tpath is None or not (figures.has_section(df) or figures.has_fem(df)):
+        return note(
+            'Only the paper\'s formula ran in this sweep: add <code>"section"</code> (2-D section model, '
+            '3-D-FEM-grade curvature in a fraction of a second per design) or <code>"fem"</code> to the '
+            "sweep's evaluators to compare."
+        )
+    body = figure(
+        prefix + tpath.name,
+        "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
+        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section model "
+        "(their agreement), where each ran.",
+    )
+    body += table(
+        ["load", "rows", "median section / formula", "median FEM / formula", "median |FEM / section − 1|",
+         "max |FEM / section − 1|"],
+        figures.tier_agreement(df),
+        left=1,
+    )  # fmt: skip
+    return body
 
 
 def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
@@ -205,7 +233,7 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
             ("most bending", int(score.idxmax()), score.max()),
             ("least bending", int(score.idxmin()), score.min()),
         ]
-        what = "analytic bend per MPa [deg/MPa]"
+        what = "bend per MPa [deg/MPa] (best estimate: " + ", ".join(sorted(set(ok.source))) + ")"
     out = ""
     for label, did, value in picks:
         d = design_of(sweep_dir, did)
@@ -213,6 +241,8 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
         curv = {}
         for _, r in rows.iterrows():
             curv[f"analytic, {r.load}"] = float(r.curvature_analytic_per_mm)
+            if np.isfinite(r.get("curvature_section_per_mm", np.nan)):
+                curv[f"section, {r.load}"] = float(r.curvature_section_per_mm)
             if np.isfinite(r.curvature_fem_per_mm):
                 curv[f"FEM, {r.load}"] = float(r.curvature_fem_per_mm)
         path = figures.render_design(
