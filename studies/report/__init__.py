@@ -137,7 +137,8 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     else:
         body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
                     "no parity plot.")  # fmt: skip
-    sections.append(("Analytic vs FEM", body))
+    if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
+        sections.append(("Analytic vs FEM", body))
 
     sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
 
