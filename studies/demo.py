@@ -9,7 +9,8 @@ capabilities join the demo by adding a section.
 
 Story: 1. the paper's model (geometry as assembled, composite beam, cap vs
 lumen load); 2. three tiers: the paper's formula, the 2-D section model and
-the 3-D FEM under both loads, and κ/p against the silicone's ν; 3. large bends: the finite-strain FEM against the linear one, and
+the 3-D FEM under both loads, and κ/p against the silicone's ν; 3. large
+bends: the finite-strain FEM against the linear one, and
 the silicone strain; 4. what the measured data add (eq. 8 calibration); 5.
 which missing effect the data point to; 6. a small sweep on the section model,
 the chosen design checked by the 3-D FEM; 7. the design to build.
