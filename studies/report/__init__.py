@@ -61,8 +61,13 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
     objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
     rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
     out = (
-        f"<p>Model <b>{esc(_MODEL_NAMES.get(sel.get('model', 'table'), 'the table as given'))}</b>, load case "
-        f"<b>{esc(sel['load'])}</b>."
+        "<p>"
+        + (
+            f"Model <b>{esc(_MODEL_NAMES.get(sel['model'], 'the table as given'))}</b>, l"
+            if "model" in sel
+            else "L"
+        )
+        + f"oad case <b>{esc(sel['load'])}</b>."
         + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
         + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "

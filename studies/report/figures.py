@@ -410,7 +410,10 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.set_ylabel(objs[1])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"Selection ({selection.get('load')} load)")
+    model = {"paper": "paper's formula", "section": "section model", "fem": "3-D FEM"}.get(
+        selection.get("model")
+    )
+    ax.set_title(f"Selection ({model + ', ' if model else ''}{selection.get('load')} load)")
     return _save(fig, path)
 
 
