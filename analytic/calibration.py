@@ -236,6 +236,7 @@ def calibrate(
     weights: tuple[float, float] | None = None,
     grid: int = 3,
     use_elongation: bool = True,
+    gain_scale: tuple[float, float] = (1.0, 1.0),
 ) -> CalibrationResult:
     """Fit the tube shape x to a measured series (paper eq. 8).
 
@@ -256,6 +257,13 @@ def calibrate(
         Grid points per free parameter for the multistart (interior points of X).
     use_elongation
         Fit elongation too when the measurement has arc length.
+    gain_scale
+        (f_κ, f_ε): the model's gains are the formula's times these factors
+        (Opti parameters, so a new scale costs no rebuild of the problem's
+        expressions). A model whose gains differ from the formula's by
+        slowly varying factors (the section model) is fitted by iterating
+        on them (:func:`fem.section_model.calibration.calibrate_section`).
+        All reported gains and NRMSEs include the scale.
     """
     import casadi as ca
 
@@ -267,6 +275,9 @@ def calibrate(
         raise DesignError("grid", grid, "must be an integer in [1, 9]")
     if load not in ("cap", "lumen"):
         raise DesignError("load", load, "must be cap or lumen")
+    factors = tuple(float(f) for f in gain_scale)
+    if len(factors) != 2 or not all(np.isfinite(f) and f > 0 for f in factors):
+        raise DesignError("gain_scale", gain_scale, "must be two finite factors > 0 (curvature, elongation)")
 
     p = np.asarray(measurement.pressure_MPa, float)
     kap = np.asarray(measurement.curvature_per_mm, float)
@@ -301,8 +312,10 @@ def calibrate(
     stats = ca.SX.sym("stats", 5)  # S_pp, S_pe, S_ee, S_pk, S_kk
     w = ca.SX.sym("w", 2)  # w_e, w_k
     fixed = ca.SX.sym("fixed", 4)  # shape values used for non-free entries
+    fs = ca.SX.sym("scale", 2)  # f_kappa, f_eps: the model's gains over the formula's
     x_sym = {k: (zc[free.index(k)] * r_in if k in free else fixed[i]) for i, k in enumerate(SHAPE_KEYS)}
-    g_k, g_e = _symbolic_gains(ca, x_sym, const)
+    g_k0, g_e0 = _symbolic_gains(ca, x_sym, const)
+    g_k, g_e = fs[0] * g_k0, fs[1] * g_e0
     obj = w[0] * (g_e**2 * stats[0] - 2 * g_e * stats[1] + stats[2]) + w[1] * (
         g_k**2 * stats[0] - 2 * g_k * stats[3] + stats[4]
     )
@@ -312,8 +325,8 @@ def calibrate(
     s_col = ca.DM(s_grid)
     lhs = x_sym["a_int"] ** 2 * (1 - s_col**2) * bm**2 + (x_sym["h"] + x_sym["b_int"] * s_col) ** 2 * am**2
     residual = (lhs - (1 - margin) * am**2 * bm**2) / r_in**4
-    block = ca.Function("calibration_block", [zc, stats, w, fixed], [obj, residual])
-    gain_fn = ca.Function("shape_gains", [zc, fixed], [g_k, g_e])
+    block = ca.Function("calibration_block", [zc, stats, w, fixed, fs], [obj, residual])
+    gain_fn = ca.Function("shape_gains", [zc, fixed, fs], [g_k, g_e])
     lo_z = np.array([bounds[k][0] for k in free]) / r_in
     hi_z = np.array([bounds[k][1] for k in free]) / r_in
 
@@ -342,17 +355,19 @@ def calibrate(
         its KKT points are each block's own; one IPOPT run pays the solver overhead once."""
         opti = ca.Opti()
         z = opti.variable(len(free), n)
-        st, wp, fx = opti.parameter(5), opti.parameter(2), opti.parameter(4)
-        objs, res = block.map(n)(z, st, wp, fx)
+        st, wp, fx, sc = opti.parameter(5), opti.parameter(2), opti.parameter(4), opti.parameter(2)
+        objs, res = block.map(n)(z, st, wp, fx, sc)
         opti.minimize(ca.sum2(objs))
         opti.subject_to(opti.bounded(ca.repmat(ca.DM(lo_z), 1, n), z, ca.repmat(ca.DM(hi_z), 1, n)))
         opti.subject_to(ca.vec(res) <= 0)
         opti.solver("ipopt", IPOPT_OPTIONS)
-        return opti.to_function("calibrate_shape", [z, st, wp, fx], [z])
+        return opti.to_function("calibrate_shape", [z, st, wp, fx, sc], [z])
 
     def solve_all(z0s: list[np.ndarray]) -> list[np.ndarray | None]:
         try:
-            z_opt = np.asarray(opti_solver(len(z0s))(np.column_stack(z0s), p_stats, p_w, p_fixed), float)
+            z_opt = np.asarray(
+                opti_solver(len(z0s))(np.column_stack(z0s), p_stats, p_w, p_fixed, factors), float
+            )
             return [z_opt[:, j] for j in range(len(z0s))]
         except RuntimeError as exc:  # the batch failed: solve the starts one by one
             if len(z0s) == 1:
@@ -362,7 +377,7 @@ def calibrate(
             out = []
             for z0 in z0s:
                 try:
-                    out.append(np.asarray(single(z0, p_stats, p_w, p_fixed), float).ravel())
+                    out.append(np.asarray(single(z0, p_stats, p_w, p_fixed, factors), float).ravel())
                 except RuntimeError as exc1:
                     log.info("calibration start %s failed: %s", z0, exc1)
                     out.append(None)
@@ -376,7 +391,7 @@ def calibrate(
         shape.update({k: float(v * r_in) for k, v in zip(free, z_opt, strict=True)})
         if not _inside(design, shape):
             continue  # never return an x outside X
-        f_opt = float(block(z_opt, p_stats, p_w, p_fixed)[0])
+        f_opt = float(block(z_opt, p_stats, p_w, p_fixed, factors)[0])
         results.append((f_opt, shape, z_opt))
     if not results:
         raise DesignError("free", free, "every multistart solve failed; the data may be degenerate")
@@ -393,10 +408,13 @@ def calibrate(
     f_opt, x_opt, z_best = min(optimal, key=distance)
 
     # --- diagnostics -----------------------------------------------------------------
-    g_k_opt, g_e_opt = (float(v) for v in gain_fn(z_best, p_fixed))
-    g_k_nom, g_e_nom = (float(v) for v in gains_arrays(design_inputs(design), load))
+    g_k_opt, g_e_opt = (float(v) for v in gain_fn(z_best, p_fixed, factors))
+    g_k_nom, g_e_nom = (
+        float(v) * f for v, f in zip(gains_arrays(design_inputs(design), load), factors, strict=True)
+    )
     n_obs = int(w_k > 0) + int(w_e > 0)
-    jac = np.asarray(ca.Function("J", [zc, fixed], [ca.jacobian(ca.vertcat(g_k, g_e), zc)])(z_best, p_fixed))
+    jac = ca.Function("J", [zc, fixed, fs], [ca.jacobian(ca.vertcat(g_k, g_e), zc)])
+    jac = np.asarray(jac(z_best, p_fixed, factors))
     rows = [0] if w_e == 0 else ([1] if w_k == 0 else [0, 1])
     rank = int(np.linalg.matrix_rank(jac[rows, :] / np.maximum(np.abs(jac[rows, :]).max(), 1e-300), tol=1e-8))
     identifiable = rank == len(free) and len(free) <= n_obs

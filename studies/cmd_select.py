@@ -2,7 +2,10 @@
 
 Examples: --constraint "bend_angle_deg >= 90 at p_max" --constraint "max_strain <= 0.3"
 --objective "maximise bend_per_MPa_deg" --objective "minimise elongation at p_max".
-Writes DIR/selection.json (ranked list and Pareto front); `softcath report DIR` shows it.
+Columns such as bend_angle_deg, bend_per_MPa_deg, max_strain resolve to one model: by default the
+section model under the lumen load when the sweep has section-model columns, else the paper's
+formula (cap load); --model and --load choose. Writes DIR/selection.json (ranked list, Pareto
+front, model and load); `softcath report DIR` shows it.
 """
 
 from __future__ import annotations
@@ -20,19 +23,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--objective", action="append", default=[], metavar="EXPR", help="e.g. 'maximise bend_per_MPa_deg'"
     )
-    parser.add_argument("--load", default="cap", choices=("cap", "lumen"), help="load case to select on")
+    parser.add_argument(
+        "--model",
+        default=None,
+        choices=("paper", "section", "fem"),
+        help="model behind bend_angle_deg, max_strain, ... (default: section if the sweep has it, else paper)",
+    )
+    parser.add_argument(
+        "--load",
+        default=None,
+        choices=("cap", "lumen"),
+        help="load case to select on (default: lumen for the section model and FEM, cap for the paper's formula)",
+    )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
 
 
 def run(args: argparse.Namespace) -> int:
     from studies.results import read_results
-    from studies.selection import SelectionError, select, write_selection
+    from studies.selection import MODEL_NAMES, SelectionError, select, write_selection
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
     df = read_results(args.dir)
-    sel = select(df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top)
+    sel = select(
+        df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top,
+        model=args.model,
+    )  # fmt: skip
     path = write_selection(sel, args.dir)
+    print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
+    if sel.note:
+        print(f"note: {sel.note}")
     print(
         f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints (load {sel.load}); "
         f"Pareto front: {len(sel.pareto_front)} designs"

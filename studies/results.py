@@ -9,13 +9,22 @@ One row per design × pressure × load. Columns (unit in the name or below):
 - analytic: ``curvature_analytic_per_mm``, ``elongation_analytic`` [-],
   ``bend_angle_analytic_rad``/``_deg``, ``tip_x_analytic_mm``, ``tip_y_analytic_mm``,
   ``max_strain_analytic`` [-] (Euler–Bernoulli strain at the tube's outer fibres);
+- section model (NaN when not run; evaluator ``section``): ``curvature_section_per_mm``,
+  ``elongation_section``, ``bend_angle_section_rad``/``_deg``, ``tip_x_section_mm``,
+  ``tip_y_section_mm``, ``max_strain_section`` (largest principal silicone strain at
+  mid-span), ``section_formula_ratio`` (section κ over the paper's formula, eq. 7 cap
+  load), ``section_seconds``;
 - FEM (NaN when not run): ``curvature_fem_per_mm``, ``elongation_fem``,
   ``bend_angle_fem_rad``/``_deg``, ``tip_x_fem_mm``, ``tip_y_fem_mm``,
   ``max_strain_fem``, ``curvature_variation_fem``, ``fem_residual``,
   ``fem_n_elements``, ``fem_dofs``;
 - ``rel_diff_curvature``, ``rel_diff_elongation``, ``rel_diff_bend_angle``:
   (FEM − analytic)/|analytic| [-]; ``abs_rel_diff_curvature``;
-- best estimate (FEM where it ran, else analytic; ``source`` says which):
+  ``rel_diff_fem_section_curvature``: (FEM − section)/|section| [-] (the section
+  model's agreement with the 3-D FEM); ``fem_formula_ratio``: FEM κ over the
+  paper's formula;
+- best estimate (FEM where it ran, else the section model, else analytic; ``source``
+  says which):
   ``curvature_per_mm``, ``elongation``, ``bend_angle_deg``, ``max_strain``,
   ``bend_per_MPa_deg`` [deg/MPa];
 - ``feasible_strain`` (max_strain ≤ the spec's limit), ``feasible``;
@@ -34,7 +43,10 @@ import numpy as np
 
 from design.errors import DataError
 
-__all__ = ["add_derived_columns", "read_results", "write_results", "COLUMN_UNITS"]
+__all__ = [
+    "add_derived_columns", "has_model", "model_columns", "read_results", "write_results", "COLUMN_UNITS",
+    "MODEL_COLUMNS", "SECTION_COLUMNS",
+]  # fmt: skip
 
 _FEM_RENAME = {
     "fem_curvature_per_mm": "curvature_fem_per_mm",
@@ -56,10 +68,30 @@ COLUMN_UNITS = {
     "max_strain_fem": "-", "curvature_variation_fem": "-", "fem_residual": "-", "fem_n_elements": "-",
     "fem_dofs": "-", "rel_diff_curvature": "-", "rel_diff_elongation": "-", "rel_diff_bend_angle": "-",
     "abs_rel_diff_curvature": "-", "curvature_per_mm": "1/mm", "elongation": "-", "bend_angle_deg": "deg",
-    "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|fem", "feasible_strain": "bool",
+    "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|section|fem", "feasible_strain": "bool",
     "feasible": "bool", "status": "ok|failed", "reason": "text", "analytic_seconds": "s",
     "fem_mesh_seconds": "s", "fem_solve_seconds": "s", "cpu_seconds": "s",
     "nonlinear_bend_angle_rad": "rad", "nonlinear_curvature_per_mm": "1/mm", "nonlinear_max_strain": "-",
+    "curvature_section_per_mm": "1/mm", "elongation_section": "-", "bend_angle_section_rad": "rad",
+    "bend_angle_section_deg": "deg", "tip_x_section_mm": "mm", "tip_y_section_mm": "mm",
+    "max_strain_section": "-", "section_formula_ratio": "-", "section_seconds": "s",
+    "rel_diff_fem_section_curvature": "-", "fem_formula_ratio": "-",
+}  # fmt: skip
+
+#: Section-model columns; sweeps (or resumed task files) from before the section evaluator lack them.
+SECTION_COLUMNS = (
+    "curvature_section_per_mm", "elongation_section", "bend_angle_section_rad", "tip_x_section_mm",
+    "tip_y_section_mm", "max_strain_section", "section_formula_ratio", "section_seconds",
+)  # fmt: skip
+
+#: Model -> its columns for the best-estimate quantities (see :func:`model_columns`).
+MODEL_COLUMNS = {
+    "paper": {"curvature_per_mm": "curvature_analytic_per_mm", "elongation": "elongation_analytic",
+              "bend_angle_deg": "bend_angle_analytic_deg", "max_strain": "max_strain_analytic"},
+    "section": {"curvature_per_mm": "curvature_section_per_mm", "elongation": "elongation_section",
+                "bend_angle_deg": "bend_angle_section_deg", "max_strain": "max_strain_section"},
+    "fem": {"curvature_per_mm": "curvature_fem_per_mm", "elongation": "elongation_fem",
+            "bend_angle_deg": "bend_angle_fem_deg", "max_strain": "max_strain_fem"},
 }  # fmt: skip
 
 
@@ -71,9 +103,13 @@ def _rel(fem: np.ndarray, ana: np.ndarray) -> np.ndarray:
 def add_derived_columns(df, *, max_strain: float, p_max: float):
     """Add degrees, relative differences, best estimates and feasibility flags; returns the new frame."""
     df = df.rename(columns=_FEM_RENAME)
+    for c in SECTION_COLUMNS:
+        if c not in df.columns:
+            df[c] = np.nan
     df["at_p_max"] = np.isclose(df["pressure_MPa"].to_numpy(float), p_max, rtol=1e-12, atol=0.0)
     df["bend_angle_analytic_deg"] = np.degrees(df["bend_angle_analytic_rad"].to_numpy(float))
     df["bend_angle_fem_deg"] = np.degrees(df["bend_angle_fem_rad"].to_numpy(float))
+    df["bend_angle_section_deg"] = np.degrees(df["bend_angle_section_rad"].to_numpy(float))
     for name, ana, fem in (
         ("curvature", "curvature_analytic_per_mm", "curvature_fem_per_mm"),
         ("elongation", "elongation_analytic", "elongation_fem"),
@@ -81,23 +117,78 @@ def add_derived_columns(df, *, max_strain: float, p_max: float):
     ):
         df[f"rel_diff_{name}"] = _rel(df[fem].to_numpy(float), df[ana].to_numpy(float))
     df["abs_rel_diff_curvature"] = np.abs(df["rel_diff_curvature"].to_numpy(float))
-    has_fem = np.isfinite(df["curvature_fem_per_mm"].to_numpy(float))
-    df["source"] = np.where(has_fem, "fem", "analytic")
-    for best, ana, fem in (
-        ("curvature_per_mm", "curvature_analytic_per_mm", "curvature_fem_per_mm"),
-        ("elongation", "elongation_analytic", "elongation_fem"),
-        ("bend_angle_deg", "bend_angle_analytic_deg", "bend_angle_fem_deg"),
-        ("max_strain", "max_strain_analytic", "max_strain_fem"),
-    ):
-        f = df[fem].to_numpy(float)
-        df[best] = np.where(np.isfinite(f), f, df[ana].to_numpy(float))
-    p = df["pressure_MPa"].to_numpy(float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        df["bend_per_MPa_deg"] = np.where(p > 0, df["bend_angle_deg"].to_numpy(float) / p, np.nan)
+    fem_k = df["curvature_fem_per_mm"].to_numpy(float)
+    df["rel_diff_fem_section_curvature"] = _rel(fem_k, df["curvature_section_per_mm"].to_numpy(float))
+    df["fem_formula_ratio"] = _over_formula(df, fem_k)
+    has_fem, has_sec = np.isfinite(fem_k), np.isfinite(df["curvature_section_per_mm"].to_numpy(float))
+    df["source"] = np.where(has_fem, "fem", np.where(has_sec, "section", "analytic"))
+    for best in MODEL_COLUMNS["paper"]:
+        value = df[MODEL_COLUMNS["paper"][best]].to_numpy(float)
+        for model in ("section", "fem"):  # later models win where they ran
+            v = df[MODEL_COLUMNS[model][best]].to_numpy(float)
+            value = np.where(np.isfinite(v), v, value)
+        df[best] = value
+    _bend_per_mpa(df)
     ok = (df["status"] == "ok").to_numpy()
     strain = df["max_strain"].to_numpy(float)
     df["feasible_strain"] = ok & (strain <= max_strain)
     df["feasible"] = df["feasible_strain"]
+    return df
+
+
+def _bend_per_mpa(df) -> None:
+    p = df["pressure_MPa"].to_numpy(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        df["bend_per_MPa_deg"] = np.where(p > 0, df["bend_angle_deg"].to_numpy(float) / p, np.nan)
+
+
+def _over_formula(df, kappa: np.ndarray) -> np.ndarray:
+    """``kappa`` over the paper's formula (the analytic cap-load curvature of the same design and pressure)."""
+    import pandas as pd
+
+    cap = df[df["load"] == "cap"]
+    if cap.empty:
+        return np.full(len(df), np.nan)
+    formula = pd.Series(
+        cap["curvature_analytic_per_mm"].to_numpy(float),
+        index=pd.MultiIndex.from_arrays([cap["design_id"].to_numpy(), cap["pressure_MPa"].to_numpy(float)]),
+    )
+    idx = pd.MultiIndex.from_arrays([df["design_id"].to_numpy(), df["pressure_MPa"].to_numpy(float)])
+    ref = formula.reindex(idx).to_numpy(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(np.abs(ref) > 0, kappa / ref, np.nan)
+
+
+def has_model(df, model: str) -> bool:
+    """Whether the results hold any value of ``model`` (``paper``, ``section`` or ``fem``)."""
+    col = MODEL_COLUMNS[model]["curvature_per_mm"]
+    return col in df.columns and bool(np.isfinite(df[col].to_numpy(float)).any())
+
+
+def model_columns(df, model: str):
+    """A copy of ``df`` whose best-estimate columns come from one model.
+
+    ``curvature_per_mm``, ``elongation``, ``bend_angle_deg``, ``max_strain`` and
+    ``bend_per_MPa_deg`` are set from ``model``'s own columns (``paper``: the
+    analytic model, ``section``: the section model, ``fem``: the 3-D FEM); rows
+    without that model's value become NaN (so a selection skips them), and
+    ``source`` names the model.
+    """
+    from design.errors import DesignError
+
+    if model not in MODEL_COLUMNS:
+        raise DesignError("model", model, f"must be one of {', '.join(MODEL_COLUMNS)}")
+    df = df.copy()
+    for best, col in MODEL_COLUMNS[model].items():
+        if (
+            col == "bend_angle_section_deg"
+            and col not in df.columns
+            and "bend_angle_section_rad" in df.columns
+        ):
+            df[col] = np.degrees(df["bend_angle_section_rad"].to_numpy(float))
+        df[best] = df[col].to_numpy(float) if col in df.columns else np.nan
+    _bend_per_mpa(df)
+    df["source"] = "analytic" if model == "paper" else model
     return df
 
 

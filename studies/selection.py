@@ -23,6 +23,14 @@ and an objective is taken at p_max. Rows where an expression is undefined
 (NaN, e.g. a per-MPa value at 0 MPa, or FEM columns of an analytic-only
 sweep) are skipped; a design with no defined row fails the constraint.
 
+Model and load: the best-estimate columns ``curvature_per_mm``,
+``elongation``, ``bend_angle_deg``, ``max_strain`` and ``bend_per_MPa_deg``
+resolve to one model's columns (:func:`studies.results.model_columns`). By
+default that is the section model under the lumen load (the real load) when
+the sweep has section-model columns, else the paper's formula (analytic
+model) under the cap load, with a note saying so; ``model`` and ``load``
+choose explicitly (``paper``, ``section`` or ``fem``; ``cap`` or ``lumen``).
+
 Ranking: designs that fail (status) or break a constraint are dropped; the
 rest are ordered Pareto front first (no other design is at least as good in
 every objective and better in one), each group by the first objective.
@@ -49,6 +57,7 @@ __all__ = [
     "parse_constraint",
     "parse_objective",
     "pareto_front",
+    "resolve_model",
     "select",
     "write_selection",
 ]
@@ -311,6 +320,11 @@ class Selection:
     ----------
     load
         The load case whose rows were used.
+    model
+        Which model the best-estimate columns came from (``paper``, ``section``,
+        ``fem``), or ``table`` when the results carry no model columns.
+    note
+        Why that model or load was used when it was not asked for (else empty).
     constraints, objectives
         The expressions as given.
     n_designs, n_feasible
@@ -335,10 +349,14 @@ class Selection:
     ranked: list[dict] = field(default_factory=list)
     pareto_front: list[int] = field(default_factory=list)
     points: list[list[float]] = field(default_factory=list)
+    model: str = "table"
+    note: str = ""
 
     def to_json(self) -> dict:
         return {
             "load": self.load,
+            "model": self.model,
+            "note": self.note,
             "constraints": list(self.constraints),
             "objectives": list(self.objectives),
             "n_designs": self.n_designs,
@@ -350,8 +368,51 @@ class Selection:
         }
 
 
+MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+
+
+def resolve_model(df, model: str | None = None, load: str | None = None):
+    """``(table, model, load, note)``: the results with their best-estimate columns from one model.
+
+    See the module docstring for the defaults; ``note`` says what was chosen
+    for the user when it was not asked for.
+    """
+    from studies.results import has_model, model_columns
+
+    loads = sorted(set(df["load"]))
+    notes = []
+    if model is None:
+        if has_model(df, "section"):
+            model = "section"
+        elif "curvature_analytic_per_mm" in df.columns:
+            model = "paper"
+            notes.append(
+                "this sweep has no section-model results: ranked on the paper's formula (analytic model); "
+                'add "section" to the sweep\'s evaluators for 3-D-FEM-grade curvature'
+            )
+    elif model not in MODEL_NAMES:
+        raise SelectionError(f"model '{model}' is unknown; choose from {', '.join(MODEL_NAMES)}")
+    elif not has_model(df, model):
+        raise SelectionError(f"model '{model}': this sweep has no results of {MODEL_NAMES[model]}")
+    if load is None:
+        load = "cap" if model in (None, "paper") else "lumen"
+        if load not in loads:
+            notes.append(f"the sweep has no {load} load: used {loads[0]}")
+            load = loads[0]
+    if model is not None:
+        df = model_columns(df, model)
+    return df, (model or "table"), load, "; ".join(notes)
+
+
 def select(
-    df, *, constraints=(), objectives=(), load: str = "cap", top: int | None = None, parameters=()
+    df,
+    *,
+    constraints=(),
+    objectives=(),
+    load: str | None = None,
+    top: int | None = None,
+    parameters=(),
+    model: str | None = None,
 ) -> Selection:
     """Rank the designs of a results table (see module docstring).
 
@@ -362,7 +423,9 @@ def select(
     constraints, objectives
         Expression strings.
     load
-        Load case to select on (``cap`` or ``lumen``).
+        Load case to select on (``cap`` or ``lumen``); default: see :func:`resolve_model`.
+    model
+        ``paper``, ``section`` or ``fem``; default: see :func:`resolve_model`.
     top
         Keep only the best ``top`` designs in ``ranked`` (the counts cover all).
     parameters
@@ -372,6 +435,7 @@ def select(
     objs = [parse_objective(o) for o in objectives]
     if not objs:
         raise SelectionError("give at least one --objective, e.g. 'maximise bend_per_MPa_deg'")
+    df, model, load, note = resolve_model(df, model, load)
     _check_columns([*cons, *objs], df.columns)
     loads = sorted(set(df["load"]))
     if load not in loads:
@@ -439,6 +503,8 @@ def select(
     return Selection(
         points=points,
         load=load,
+        model=model,
+        note=note,
         constraints=tuple(constraints),
         objectives=tuple(objectives),
         n_designs=len(all_ids),

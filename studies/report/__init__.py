@@ -1,6 +1,7 @@
 """The sweep report: ``DIR/report/index.html``, a static page with its PNGs beside it (opens offline).
 
-Sections: overview, parity (analytic vs FEM curvature, both loads), relative
+Sections: overview, parity (analytic vs FEM curvature, both loads), the three
+tiers side by side (the paper's formula, the section model, the 3-D FEM), relative
 error against each swept parameter, heat maps for 2-D grids, sensitivity
 (standardised regression; RBD-FAST for Latin-hypercube samples), renders of
 the best- and worst-agreeing designs, the failed designs with reasons, and
@@ -45,6 +46,9 @@ def design_of(sweep_dir: str | Path, design_id: int):
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
+_MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+
+
 def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
     path = sweep_dir / "selection.json"
     if not path.is_file():
@@ -57,7 +61,15 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
     objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
     rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
     out = (
-        f"<p>Load case <b>{esc(sel['load'])}</b>. Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
+        "<p>"
+        + (
+            f"Model <b>{esc(_MODEL_NAMES.get(sel['model'], 'the table as given'))}</b>, l"
+            if "model" in sel
+            else "L"
+        )
+        + f"oad case <b>{esc(sel['load'])}</b>."
+        + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
+        + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
         f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
     )
@@ -130,7 +142,10 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     else:
         body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
                     "no parity plot.")  # fmt: skip
-    sections.append(("Analytic vs FEM", body))
+    if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
+        sections.append(("Analytic vs FEM", body))
+
+    sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
 
     bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
     if bpath:
@@ -156,7 +171,8 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     if spath:
         body = figure(
             prefix + spath.name,
-            "Sensitivity of the analytic curvature at p_max to each parameter: "
+            f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+            "at p_max to each parameter: "
             "standardised regression coefficients"
             + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
         )
@@ -173,6 +189,30 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     sections.append(("Failed designs", body))
     sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
     return sections
+
+
+def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
+    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula)."""
+    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
+    if tpath is None or not (figures.has_section(df) or figures.has_fem(df)):
+        return note(
+            'Only the paper\'s formula ran in this sweep: add <code>"section"</code> (2-D section model, '
+            '3-D-FEM-grade curvature in a fraction of a second per design) or <code>"fem"</code> to the '
+            "sweep's evaluators to compare."
+        )
+    body = figure(
+        prefix + tpath.name,
+        "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
+        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section model "
+        "(their agreement), where each ran.",
+    )
+    body += table(
+        ["load", "rows", "median section / formula", "median FEM / formula", "median |FEM / section − 1|",
+         "max |FEM / section − 1|"],
+        figures.tier_agreement(df),
+        left=1,
+    )  # fmt: skip
+    return body
 
 
 def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
@@ -199,7 +239,7 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
             ("most bending", int(score.idxmax()), score.max()),
             ("least bending", int(score.idxmin()), score.min()),
         ]
-        what = "analytic bend per MPa [deg/MPa]"
+        what = "bend per MPa [deg/MPa] (best estimate: " + ", ".join(sorted(set(ok.source))) + ")"
     out = ""
     for label, did, value in picks:
         d = design_of(sweep_dir, did)
@@ -207,6 +247,8 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
         curv = {}
         for _, r in rows.iterrows():
             curv[f"analytic, {r.load}"] = float(r.curvature_analytic_per_mm)
+            if np.isfinite(r.get("curvature_section_per_mm", np.nan)):
+                curv[f"section, {r.load}"] = float(r.curvature_section_per_mm)
             if np.isfinite(r.curvature_fem_per_mm):
                 curv[f"FEM, {r.load}"] = float(r.curvature_fem_per_mm)
         path = figures.render_design(

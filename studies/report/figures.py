@@ -9,6 +9,8 @@ import numpy as np
 
 __all__ = [
     "parity_plot",
+    "tiers_parity_plot",
+    "tier_agreement",
     "parameter_plots",
     "heat_maps",
     "sensitivity",
@@ -51,6 +53,89 @@ def _numeric_params(df, params: list[str]) -> list[str]:
 
 def has_fem(df) -> bool:
     return bool(np.isfinite(df["curvature_fem_per_mm"].to_numpy(float)).any())
+
+
+def has_section(df) -> bool:
+    return "curvature_section_per_mm" in df and bool(
+        np.isfinite(df["curvature_section_per_mm"].to_numpy(float)).any()
+    )
+
+
+def _formula(ok):
+    """The paper's formula (analytic cap-load curvature) on the rows of ``ok`` (same design and pressure)."""
+    paper = ok[ok.load == "cap"].set_index(["design_id", "pressure_MPa"]).curvature_analytic_per_mm
+    return paper.reindex(pd_index(ok)).to_numpy(float)
+
+
+#: (x column, y column, x label, y label) of the three-tier parity panels; "formula" is the paper's formula.
+_TIER_PANELS = (
+    ("formula", "curvature_section_per_mm", "paper's formula κ [1/mm]", "section model κ [1/mm]"),
+    ("formula", "curvature_fem_per_mm", "paper's formula κ [1/mm]", "3-D FEM κ [1/mm]"),
+    ("curvature_section_per_mm", "curvature_fem_per_mm", "section model κ [1/mm]", "3-D FEM κ [1/mm]"),
+)
+
+
+def tiers_parity_plot(df, path: Path) -> Path | None:
+    """The paper's formula, the section model and the 3-D FEM side by side, where they exist.
+
+    Panels: section model vs formula, FEM vs formula, FEM vs section model
+    (every design and pressure, both loads). The formula is the paper's eq. 7
+    (cap load) for both loads: what the paper would predict.
+    """
+    ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
+    if ok.empty:
+        return None
+    x_formula = _formula(ok)
+    panels = []
+    for xcol, ycol, xl, yl in _TIER_PANELS:
+        x = x_formula if xcol == "formula" else ok[xcol].to_numpy(float) if xcol in ok else None
+        y = ok[ycol].to_numpy(float) if ycol in ok else None
+        if x is not None and y is not None and (np.isfinite(x) & np.isfinite(y)).any():
+            panels.append((x, y, xl, yl))
+    if not panels:
+        return None
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.8 * len(panels), 4.4), squeeze=False)
+    loads = ok.load.to_numpy()
+    for ax, (x, y, xl, yl) in zip(axes[0], panels, strict=True):
+        m = np.isfinite(x) & np.isfinite(y)
+        for load in sorted(set(loads[m])):
+            sel = m & (loads == load)
+            ax.scatter(x[sel], y[sel], s=12, alpha=0.7, label=f"{load} load", color=_LOAD_COLOURS.get(load))
+        lo, hi = min(x[m].min(), y[m].min()), max(x[m].max(), y[m].max())
+        ax.plot([lo, hi], [lo, hi], "k--", lw=1, label="equal")
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        ax.set_title(f"{yl.split(' κ')[0]} vs {xl.split(' κ')[0]}")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def tier_agreement(df) -> list[tuple]:
+    """Per load: rows, median section/formula and FEM/formula ratios, median and max |FEM/section − 1|."""
+    ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
+    if ok.empty:
+        return []
+    ok = ok.assign(_formula=_formula(ok))
+    rows = []
+    for load, g in ok.groupby("load"):
+        f = g._formula.to_numpy(float)
+        sec = g["curvature_section_per_mm"].to_numpy(float) if "curvature_section_per_mm" in g else f * np.nan
+        fem = g["curvature_fem_per_mm"].to_numpy(float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r_sec, r_fem, agree = sec / f, fem / f, np.abs(fem / sec - 1)
+
+        def med(v):
+            v = v[np.isfinite(v)]
+            return float(np.median(v)) if v.size else np.nan
+
+        both = agree[np.isfinite(agree)]
+        rows.append(
+            (load, len(g), med(r_sec), med(r_fem), med(agree), float(both.max()) if both.size else np.nan)
+        )
+    return rows
 
 
 def parity_plot(df, path: Path) -> Path | None:
@@ -104,7 +189,8 @@ def pd_index(g):
 
 
 def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str]:
-    """FEM/analytic curvature ratio (or, without FEM, the analytic bend per MPa) vs each parameter.
+    """FEM/analytic curvature ratio (without FEM: section model / paper's formula, or the analytic
+    bend per MPa) vs each parameter.
 
     With FEM, one row per load: the two loads' ratios differ by orders of magnitude.
     """
@@ -118,6 +204,9 @@ def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str
     if fem:
         col, label = "fem_over_analytic", "κ_FEM / κ_analytic at p_max"
         ok = ok.assign(fem_over_analytic=1.0 + ok.rel_diff_curvature.to_numpy(float))
+        groups = [(load, g) for load, g in ok.groupby("load")]
+    elif has_section(df):
+        col, label = "section_formula_ratio", "κ_section / paper's formula"
         groups = [(load, g) for load, g in ok.groupby("load")]
     else:
         col, label = "bend_per_MPa_deg", "analytic bend per MPa [deg/MPa]"
@@ -156,7 +245,8 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
         fixed.append(f"{o} = {mid:g}")
     fem = has_fem(df)
     col, label = ("rel_diff_curvature", "relative error (FEM − analytic)/|analytic|") if fem else (
-        "bend_per_MPa_deg", "bend per MPa [deg/MPa]")  # fmt: skip
+        ("section_formula_ratio", "section model κ / paper's formula") if has_section(df)
+        else ("bend_per_MPa_deg", "bend per MPa [deg/MPa]"))  # fmt: skip
     loads = sorted(set(df.load))
     xs = np.unique(df[px].astype(float).dropna())
     ys = np.unique(df[py].astype(float).dropna())
@@ -183,7 +273,8 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
 
 
 def sensitivity(df, params: list[str], lhs: bool, path: Path) -> tuple[Path | None, list[tuple]]:
-    """Sensitivity of the analytic curvature at p_max (cap load) to each parameter.
+    """Sensitivity of the curvature at p_max to each parameter: the section model's under the lumen
+    load when the sweep has it, else the analytic model's under the cap load.
 
     Standardised regression coefficients (SRC: the slope of the standardised
     output on the standardised inputs; SRC² sums to R² for a linear response)
@@ -191,12 +282,16 @@ def sensitivity(df, params: list[str], lhs: bool, path: Path) -> tuple[Path | No
     is a Latin-hypercube sample.
     """
     params = _numeric_params(df, params)
-    load = "cap" if "cap" in set(df.load) else sorted(set(df.load))[0]
+    section = has_section(df)
+    want = "lumen" if section else "cap"
+    load = want if want in set(df.load) else sorted(set(df.load))[0]
+    ycol = "curvature_section_per_mm" if section else "curvature_analytic_per_mm"
     sub = df[df.at_p_max & (df.status == "ok") & (df.load == load)]
+    sub = sub[np.isfinite(sub[ycol].to_numpy(float))]
     if len(params) < 1 or len(sub) < len(params) + 3:
         return None, []
     x = sub[params].astype(float).to_numpy()
-    y = sub["curvature_analytic_per_mm"].to_numpy(float)
+    y = sub[ycol].to_numpy(float)
     xs = (x - x.mean(0)) / x.std(0)
     ys = (y - y.mean()) / y.std() if y.std() > 0 else y * 0
     coef, *_ = np.linalg.lstsq(np.column_stack([xs, np.ones(len(ys))]), ys, rcond=None)
@@ -223,7 +318,7 @@ def sensitivity(df, params: list[str], lhs: bool, path: Path) -> tuple[Path | No
         ax.bar(pos + 0.2, s1, width=0.4, label="RBD-FAST S1")
     ax.set_xticks(pos, params, rotation=20)
     ax.axhline(0, color="k", lw=0.8)
-    ax.set_ylabel(f"sensitivity of κ at p_max ({load})")
+    ax.set_ylabel(f"sensitivity of {'section' if section else 'analytic'} κ at p_max ({load})")
     ax.legend()
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
@@ -315,7 +410,10 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.set_ylabel(objs[1])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"Selection ({selection.get('load')} load)")
+    model = {"paper": "paper's formula", "section": "section model", "fem": "3-D FEM"}.get(
+        selection.get("model")
+    )
+    ax.set_title(f"Selection ({model + ', ' if model else ''}{selection.get('load')} load)")
     return _save(fig, path)
 
 

@@ -1,4 +1,4 @@
-"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised) and FEM.
+"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised), section model and FEM.
 
 A task is a plain dict (picklable, so the same function runs in a local
 process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
@@ -19,6 +19,7 @@ import numpy as np
 
 from design.errors import DesignError
 from studies.results import _FEM_RENAME
+from studies.sweep.section_eval import SECTION_KEYS, section_columns
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -230,7 +231,8 @@ def evaluate_task(task: dict) -> pd.DataFrame:
     task
         ``task_id``, ``design_ids``, ``variants`` (dotted path → value per design),
         ``param_paths``, ``base_table``, ``pressures_MPa``, ``loads``, ``evaluators``,
-        ``mesh_size``, ``max_strain``.
+        ``mesh_size``, ``max_strain`` and, for the ``section`` evaluator, ``section``
+        (options of :func:`fem.section_model.section_model`).
     """
     import pandas as pd
 
@@ -305,6 +307,20 @@ def evaluate_task(task: dict) -> pd.DataFrame:
                 for col, v in values.items():
                     nl_cols[load][col][i] = v
 
+    sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}
+    if "section" in task["evaluators"]:
+        for i in ok:
+            try:
+                values = section_columns(designs[i], pressures, loads, task.get("section"))
+            except Exception as exc:  # a section-model failure is reported per design, never ends the sweep
+                log.warning("section model failed for design %s: %s", ids[i], exc)
+                why = f"section failed: {type(exc).__name__}: {exc}"
+                fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+                continue
+            for load in loads:
+                for col, v in values[load].items():
+                    sec_cols[load][col][i] = v
+
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
     frames = []
     for load in loads:
@@ -324,6 +340,8 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         for k, v in fem_cols[load].items():
             cols[k] = v.ravel()
         for k, v in nl_cols[load].items():
+            cols[k] = v.ravel()
+        for k, v in sec_cols[load].items():
             cols[k] = v.ravel()
         status, reason = [], []
         for i in range(n_d):

@@ -94,6 +94,7 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
                 "evaluators": list(spec.evaluators),
                 "mesh_size": spec.mesh_size,
                 "max_strain": spec.max_strain,
+                "section": spec.section_options,
             }
         )
     return tasks

@@ -7,12 +7,17 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["analytic"]      # and/or "fem", "nonlinear" (finite-strain FEM, slow)
+    evaluators = ["analytic"]      # and/or "section" (2-D section model, ~0.2 s/design), "fem",
+                                   # "nonlinear" (finite-strain FEM, slow)
     seed = 7                       # Latin hypercube seed
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
     [sweep.fem]
     mesh_size = 0.12               # mm, section element size passed to fem.check
+
+    [sweep.section]                # options of the section model (all optional)
+    mesh_size = 0.05               # mm, element size of the 2-D section mesh
+    coil_bending = "annulus"       # or "wahl" (+ the coils' helical-spring bending stiffness)
 
     [sweep.feasibility]
     max_strain = 0.3               # silicone strain limit [-]
@@ -44,10 +49,13 @@ from design.errors import DesignError
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
-EVALUATORS = ("analytic", "fem", "nonlinear")
+EVALUATORS = ("analytic", "section", "fem", "nonlinear")
+#: Designs per task at most when the section model runs (~0.2 s each): tasks of a few seconds.
+SECTION_CHUNK = 25
 LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
     "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
+    "section",
 }  # fmt: skip
 _TOP_KEYS = {"sweep", "parameters", "sample"}
 
@@ -93,7 +101,7 @@ class SweepSpec:
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
-        ``("analytic",)`` or ``("analytic", "fem")``: the analytic model always runs.
+        From ``("analytic", "section", "fem", "nonlinear")``: the analytic model always runs.
     n_samples
         Latin-hypercube sample size (0 when no parameter is ``lhs``).
     seed
@@ -104,6 +112,8 @@ class SweepSpec:
         FEM mesh size [mm] or ``None`` for the FEM default.
     max_strain
         Silicone strain limit for the feasibility flag [-].
+    section_mesh_size, section_coil_bending
+        Section-model options (``[sweep.section]``; ``None`` = the model's default).
     """
 
     name: str
@@ -118,11 +128,23 @@ class SweepSpec:
     chunk_size: int = 500
     mesh_size: float | None = None
     max_strain: float = 0.3
+    section_mesh_size: float | None = None
+    section_coil_bending: str | None = None
     source: str = field(default="<string>", compare=False)
 
     @property
     def uses_fem(self) -> bool:
         return "fem" in self.evaluators or "nonlinear" in self.evaluators
+
+    @property
+    def uses_section(self) -> bool:
+        return "section" in self.evaluators
+
+    @property
+    def section_options(self) -> dict:
+        """Keyword options for ``fem.section_model.section_model`` (only those set)."""
+        opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending}
+        return {k: v for k, v in opts.items() if v is not None}
 
     @property
     def p_max(self) -> float:
@@ -142,13 +164,18 @@ class SweepSpec:
             "mesh_size": self.mesh_size,
             "max_strain": self.max_strain,
         }
+        if self.uses_section:  # only then: sweeps written before the section evaluator keep their hash
+            payload["section"] = self.section_options
         text = json.dumps(payload, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     @property
     def effective_chunk_size(self) -> int:
-        """Designs per task: one per task when FEM runs (each FEM design is saved as it completes)."""
-        return 1 if self.uses_fem else self.chunk_size
+        """Designs per task: one when FEM runs (each FEM design is saved as it completes), at most
+        :data:`SECTION_CHUNK` when the section model runs."""
+        if self.uses_fem:
+            return 1
+        return min(self.chunk_size, SECTION_CHUNK) if self.uses_section else self.chunk_size
 
     def to_json(self) -> dict:
         return {
@@ -166,6 +193,7 @@ class SweepSpec:
             "chunk_size": self.effective_chunk_size,
             "mesh_size": self.mesh_size,
             "max_strain": self.max_strain,
+            "section": self.section_options,
             "fingerprint": self.fingerprint(),
         }
 
@@ -276,6 +304,8 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
     if mesh_size is not None and _real("sweep.fem.mesh_size", mesh_size) <= 0:
         raise DesignError("sweep.fem.mesh_size", mesh_size, "must be > 0 mm")
 
+    section_mesh, coil_bending = _section_table(sweep.get("section", {}))
+
     feas = sweep.get("feasibility", {})
     if not isinstance(feas, dict) or set(feas) - {"max_strain"}:
         raise DesignError("sweep.feasibility", feas, "must be a table with only max_strain")
@@ -311,8 +341,26 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         chunk_size=chunk,
         mesh_size=None if mesh_size is None else float(mesh_size),
         max_strain=max_strain,
+        section_mesh_size=section_mesh,
+        section_coil_bending=coil_bending,
         source=source,
     )
+
+
+def _section_table(table: Any) -> tuple[float | None, str | None]:
+    """``[sweep.section]``: mesh_size [mm] and coil_bending, both optional."""
+    from fem.section_model.api import COIL_BENDING
+
+    allowed = {"mesh_size", "coil_bending"}
+    if not isinstance(table, dict) or set(table) - allowed:
+        raise DesignError("sweep.section", table, f"must be a table with only {', '.join(sorted(allowed))}")
+    mesh = table.get("mesh_size")
+    if mesh is not None and not 0.005 <= _real("sweep.section.mesh_size", mesh) <= 0.5:
+        raise DesignError("sweep.section.mesh_size", mesh, "must be in [0.005, 0.5] mm")
+    bending = table.get("coil_bending")
+    if bending is not None and bending not in COIL_BENDING:
+        raise DesignError("sweep.section.coil_bending", bending, f"must be one of {list(COIL_BENDING)}")
+    return (None if mesh is None else float(mesh)), bending
 
 
 def _flatten(table: dict, prefix: str = ""):

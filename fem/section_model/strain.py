@@ -1,0 +1,69 @@
+"""Silicone strain of the section model: the largest principal strain per MPa.
+
+The generalised-plane-strain solution has, at every point, the in-plane
+strains (xx, yy, xy) of the section's displacement and the axial strain
+eps_0 + k_1 x + k_2 y; there is no transverse shear (no torsion or shear
+force). Its largest principal strain in the silicone regions (tube and
+filler) is the mid-span counterpart of the 3-D FEM's ``max_strain`` (which
+also sees the clamp and cap zones, so it can be larger).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fem.section import FILLER, TUBE
+
+__all__ = ["principal_strain_range", "silicone_strain_range"]
+
+
+def silicone_strain_range(result, load: str) -> tuple[float, float]:
+    """(smallest, largest) principal strain per MPa in the silicone of one load case.
+
+    The response is linear in pressure, so the largest principal strain at
+    pressure p is ``p * high`` for p >= 0 and ``p * low`` for p < 0.
+
+    Parameters
+    ----------
+    result
+        A :class:`~fem.section_model.SectionResult` computed with ``keep_fields=True``.
+    load
+        A load the result holds.
+    """
+    from design.errors import DesignError
+
+    if result.fields is None:
+        raise DesignError("result.fields", None, "needs section_model(..., keep_fields=True)")
+    result._check(load)
+    mesh, op, sol = result.fields
+    return principal_strain_range(op, sol.loads[load], np.isin(np.asarray(mesh.labels), (TUBE, FILLER)))
+
+
+def principal_strain_range(op, load_solution, elements: np.ndarray) -> tuple[float, float]:
+    """(smallest, largest) principal strain of one load solution over the chosen elements.
+
+    Sampled at the quadrature points (peaks on a boundary are seen a fraction
+    of an element inside it).
+
+    Parameters
+    ----------
+    op
+        The :class:`~fem.section_model.assembly.SectionOperator`.
+    load_solution
+        One load's solution (in-plane field ``U`` and global ``strains``).
+    elements
+        Boolean mask over the mesh's triangles.
+    """
+    e0, k1, k2 = load_solution.strains
+    xq, yq = np.asarray(op.basis.global_coordinates())
+    grads = op.basis.interpolate(load_solution.U).grad  # (2, 2, nel, nq)
+    exx, eyy = grads[0, 0][elements], grads[1, 1][elements]
+    exy = 0.5 * (grads[0, 1] + grads[1, 0])[elements]
+    ezz = (e0 + k1 * xq + k2 * yq)[elements]
+    if exx.size == 0:
+        return 0.0, 0.0
+    # In-plane principal strains (the 2x2 block) and the axial one: the 3x3 tensor is block-diagonal.
+    mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
+    high = np.maximum(mean + radius, ezz)
+    low = np.minimum(mean - radius, ezz)
+    return float(low.min()), float(high.max())

@@ -1,0 +1,82 @@
+"""``softcath analytic --model`` and ``softcath calibrate --model``: the section model behind the same outputs."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import design
+from fem.section_model import section_model
+from studies.cli import main
+
+COLUMNS = ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
+
+
+def _read(path):
+    with path.open() as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+@pytest.mark.parametrize("load", ["cap", "lumen"])
+def test_analytic_model_section_writes_the_same_columns_from_the_section_model(tmp_path, capsys, load):
+    out = tmp_path / load
+    assert (
+        main(
+            [
+                "analytic",
+                "paper",
+                "--model",
+                "section",
+                "--load",
+                load,
+                "--pressure",
+                "0:1:5",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
+    header, a = _read(out / "analytic.csv")
+    assert header == COLUMNS and (out / "analytic.png").is_file()
+    k, e = section_model("paper", loads=(load,)).gains(load)
+    p = a[:, 0]
+    np.testing.assert_allclose(a[:, 1], k * p, rtol=1e-9)
+    np.testing.assert_allclose(a[:, 2], e * p, rtol=1e-9)
+    # Tip pose of a constant-curvature arc of length L (1 + eps) (eq. 9), written out here.
+    length = 5.0 * (1 + a[:, 2])
+    theta = a[:, 1] * length
+    pos = p > 0
+    np.testing.assert_allclose(a[pos, 3], theta[pos], rtol=1e-9)
+    np.testing.assert_allclose(a[pos, 4], (1 - np.cos(theta[pos])) / a[pos, 1], rtol=1e-8)
+    np.testing.assert_allclose(a[pos, 5], np.sin(theta[pos]) / a[pos, 1], rtol=1e-8)
+    assert "section model" in capsys.readouterr().out
+    assert main(["analytic", "paper", "--pressure", "0:1:5", "--out", str(tmp_path / "paper")]) == 0
+    _, b = _read(tmp_path / "paper" / "analytic.csv")
+    assert b[-1, 1] == pytest.approx(0.0756475, rel=1e-5)  # the paper's formula stays the default
+
+
+def test_calibrate_model_section_from_the_cli(tmp_path, capsys):
+    """Section-model data of a known shape through the CLI: the shape comes back (see the API test's tolerance)."""
+    paper = design.preset("paper")
+    shape = dict(paper.tube_shape, a_int=0.12, h=0.015)
+    t = np.arange(0, 8.0, 1 / 100)
+    p = 1.0 - np.cos(2 * np.pi * 0.25 * t)
+    r = section_model(paper.with_tube_shape(**shape), loads=("lumen",)).response(p, "lumen")
+    path = tmp_path / "m.csv"
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["time_s", "pressure_MPa", "curvature_per_mm", "arc_length_mm"])
+        w.writerows(zip(t, p, r.curvature, r.arc_length, strict=True))
+    out = tmp_path / "cal"
+    assert main(["calibrate", str(path), "--model", "section", "--free", "a_int,h", "--out", str(out)]) == 0
+    doc = json.loads((out / "calibration.json").read_text())
+    assert (doc["model"], doc["load"], doc["converged"]) == ("section", "lumen", True)
+    assert doc["x_opt"]["a_int"] == pytest.approx(0.12, rel=1e-3)
+    assert doc["x_opt"]["h"] == pytest.approx(0.015, rel=1e-3)
+    assert (out / "calibration.png").is_file() and (out / "calibrated_design.toml").is_file()
+    assert "space-mapping iteration" in capsys.readouterr().out
