@@ -30,6 +30,7 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("record", "studies.cmd_record"),
     ("bench", "studies.cmd_bench"),
     ("discrepancy", "studies.cmd_discrepancy"),
+    ("predict", "studies.cmd_predict"),
 )
 
 
