@@ -6,12 +6,15 @@ pushes every variant through a model tier (``paper``: the paper's formula;
 ``section``: the 2-D section model; ``fem``: the 3-D linear FEM, a small
 sample) and writes DIR/prediction.json (p5/p50/p95 of κ/p and ε/p, where the
 measured gain falls, RBD-FAST sensitivity indices, the ranges and their
-sources) and DIR/prediction.png (the band of each tier and the measured line).
+sources), DIR/samples.csv (every variant: tier, parameter values, κ/p, ε/p;
+empty gains for variants the design checks reject) and DIR/prediction.png
+(the band of each tier and the measured line).
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 from pathlib import Path
 
@@ -58,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     )  # fmt: skip
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "prediction.json").write_text(json.dumps(doc, indent=2) + "\n")
+    _write_samples(args.out / "samples.csv", tiers)
     band_picture(tiers, args.out / "prediction.png", measured_gain=args.measured_gain,
                  title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
     for t in tiers:
@@ -75,5 +79,18 @@ def run(args: argparse.Namespace) -> int:
             print("  sensitivity S1: " + ", ".join(f"{n} {idx[n]['S1']:.2f}" for n in rank))
         elif "skipped" in t.sensitivity:
             print(f"  sensitivity: {t.sensitivity['skipped']}")
-    print(f"wrote {args.out}/prediction.json, prediction.png")
+    print(f"wrote {args.out}/prediction.json, samples.csv, prediction.png")
     return 0
+
+
+def _write_samples(path: Path, tiers) -> None:
+    """One row per variant and tier; parameters a tier does not use are left empty."""
+    names = list(dict.fromkeys(r.path for t in tiers for r in t.ranges))
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["tier", "load", *names, "curvature_per_mm_per_MPa", "elongation_per_MPa"])
+        for t in tiers:
+            for row, k, e in zip(t.values, t.gains, t.elongations, strict=True):
+                cells = [row.get(n, "") for n in names]
+                cells = [f"{c:.10g}" if isinstance(c, float) else c for c in cells]
+                w.writerow([t.model, t.load, *cells, *("" if v != v else f"{v:.10g}" for v in (k, e))])

@@ -41,6 +41,8 @@ class TierPrediction:
     infeasible_examples: tuple[str, ...]
     seconds: float
     gains: np.ndarray = field(repr=False, compare=False)
+    elongations: np.ndarray = field(repr=False, compare=False)
+    values: tuple[dict[str, Any], ...] = field(repr=False, compare=False)
 
     def to_json(self) -> dict:
         m = self.measured or {}
@@ -128,4 +130,6 @@ def predict_tier(
         infeasible_examples=result.errors,
         seconds=float(time.perf_counter() - t0),
         gains=result.gain,
+        elongations=result.elongation,
+        values=tuple(values),
     )

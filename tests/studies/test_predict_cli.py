@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import tomllib
 
@@ -117,3 +118,8 @@ def test_cli_end_to_end_writes_json_keys_and_png(tmp_path, capsys):
     png = (tmp_path / "prediction.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
     assert "measured 0.388 at percentile" in capsys.readouterr().out
+    rows = list(csv.DictReader((tmp_path / "samples.csv").read_text().splitlines()))
+    assert [r["tier"] for r in rows] == ["section"] * 4 + ["paper"] * 4
+    section = sorted(float(r["curvature_per_mm_per_MPa"]) for r in rows if r["tier"] == "section")
+    assert np.median(section) == pytest.approx(p["p50"])  # np.percentile(.., 50) of 4 values: the median
+    assert {r["model.coil_modulus"] for r in rows if r["tier"] == "paper"} == {""}
