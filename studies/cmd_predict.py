@@ -41,6 +41,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed of the sample and the bootstrap (default 0)")
     p.add_argument("--measured-gain", type=float, default=None, metavar="K",
                    help="measured curvature per pressure [1/(mm MPa)] to place in the bands")  # fmt: skip
+    p.add_argument("--finite-strain", action="store_true",
+                   help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)")  # fmt: skip
+    p.add_argument("--pressures", default="0.1,0.3,0.6", metavar="P,P,...",
+                   help="pressures of --finite-strain [MPa], increasing (default 0.1,0.3,0.6, the prototype's)")  # fmt: skip
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--out", type=Path, required=True, help="output directory")
 
@@ -50,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     from studies.predict import predict
     from studies.predict.plot import band_picture
 
+    pressures = _pressures(args.pressures) if args.finite_strain else None  # refuse bad input before any run
     compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
     for name, value in (("--samples", args.samples), ("--fem-samples", args.fem_samples)):
         if value is not None and value < 1:
@@ -59,10 +64,20 @@ def run(args: argparse.Namespace) -> int:
         ranges_file=args.ranges, samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
         measured_gain=args.measured_gain, progress=not args.no_progress,
     )  # fmt: skip
+    points = {}
+    if args.finite_strain:
+        from studies.predict.finite_strain import finite_strain_point
+
+        fs = finite_strain_point(
+            args.design, pressures, load=args.load or "lumen",
+            measured_gain=args.measured_gain, progress=not args.no_progress,
+        )  # fmt: skip
+        doc["finite_strain"] = fs
+        points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "prediction.json").write_text(json.dumps(doc, indent=2) + "\n")
     _write_samples(args.out / "samples.csv", tiers)
-    band_picture(tiers, args.out / "prediction.png", measured_gain=args.measured_gain,
+    band_picture(tiers, args.out / "prediction.png", measured_gain=args.measured_gain, points=points,
                  title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
     for t in tiers:
         p = t.gain_percentiles
@@ -79,6 +94,10 @@ def run(args: argparse.Namespace) -> int:
             print("  sensitivity S1: " + ", ".join(f"{n} {idx[n]['S1']:.2f}" for n in rank))
         elif "skipped" in t.sensitivity:
             print(f"  sensitivity: {t.sensitivity['skipped']}")
+    if "finite_strain" in doc:
+        fs = doc["finite_strain"]
+        print(f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
+              f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm")  # fmt: skip
     print(f"wrote {args.out}/prediction.json, samples.csv, prediction.png")
     return 0
 
@@ -94,3 +113,12 @@ def _write_samples(path: Path, tiers) -> None:
                 cells = [row.get(n, "") for n in names]
                 cells = [f"{c:.10g}" if isinstance(c, float) else c for c in cells]
                 w.writerow([t.model, t.load, *cells, *("" if v != v else f"{v:.10g}" for v in (k, e))])
+
+
+def _pressures(text: str) -> list[float]:
+    from design.errors import DesignError
+
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise DesignError("--pressures", text, "must be comma-separated numbers in MPa") from None
