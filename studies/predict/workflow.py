@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -56,9 +57,7 @@ def predict(
     for name in (model, *compare):
         if name not in TIERS:
             raise DesignError("model", name, f"must be one of {', '.join(TIERS)}")
-    if measured_gain is not None and not (
-        measured_gain == measured_gain and abs(measured_gain) < float("inf")
-    ):
+    if measured_gain is not None and not math.isfinite(measured_gain):
         raise DesignError("measured_gain", measured_gain, "must be finite")
     table = base_table(design_ref)
     ranges = resolve_ranges(design_ref, vary, ranges_file)

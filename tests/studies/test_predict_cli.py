@@ -123,3 +123,14 @@ def test_cli_end_to_end_writes_json_keys_and_png(tmp_path, capsys):
     section = sorted(float(r["curvature_per_mm_per_MPa"]) for r in rows if r["tier"] == "section")
     assert np.median(section) == pytest.approx(p["p50"])  # np.percentile(.., 50) of 4 values: the median
     assert {r["model.coil_modulus"] for r in rows if r["tier"] == "paper"} == {""}
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf")])
+def test_non_finite_measured_gain_is_refused(bad):
+    with pytest.raises(DesignError, match=r"measured_gain = .*: must be finite"):
+        predict("paper", model="paper", samples=4, measured_gain=bad)
+
+
+def test_unknown_compare_tier_is_refused():
+    with pytest.raises(DesignError, match=r"model = 'ansys': must be one of paper, section, fem"):
+        predict("paper", model="paper", compare=("ansys",), samples=4)
