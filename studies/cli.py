@@ -31,6 +31,7 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("bench", "studies.cmd_bench"),
     ("discrepancy", "studies.cmd_discrepancy"),
     ("coil", "studies.cmd_coil"),
+    ("predict", "studies.cmd_predict"),
 )
 
 

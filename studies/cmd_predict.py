@@ -1,0 +1,124 @@
+"""Prediction bands of a design's bending gain under parameter uncertainty, against a measured gain.
+
+Samples the uncertain parameters on a seeded Latin hypercube (default: the
+ranges shipped for the design, each with its source; or ``--vary`` items),
+pushes every variant through a model tier (``paper``: the paper's formula;
+``section``: the 2-D section model; ``fem``: the 3-D linear FEM, a small
+sample) and writes DIR/prediction.json (p5/p50/p95 of κ/p and ε/p, where the
+measured gain falls, RBD-FAST sensitivity indices, the ranges and their
+sources), DIR/samples.csv (every variant: tier, parameter values, κ/p, ε/p;
+empty gains for variants the design checks reject) and DIR/prediction.png
+(the band of each tier and the measured line).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+from pathlib import Path
+
+HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
+    p.add_argument("--model", choices=("paper", "section", "fem"), default="section",
+                   help="model tier (default section)")  # fmt: skip
+    p.add_argument("--compare", default="", metavar="TIER,TIER",
+                   help="also run these tiers (e.g. paper,section,fem) and draw them in one picture")  # fmt: skip
+    p.add_argument("--load", choices=("cap", "lumen"), default=None,
+                   help="load case (default: cap for the paper's formula, lumen for section and fem)")  # fmt: skip
+    p.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI",
+                   help="vary a dotted design path: PATH=LO:HI[:uniform|nu-log], model.coil_modulus=tension,bending, "
+                   "or PATH alone for the ranges file's range (repeatable; default: the file's default ranges)")  # fmt: skip
+    p.add_argument(
+        "--ranges", type=Path, default=None, help="ranges TOML (default: the one shipped for a preset)"
+    )
+    p.add_argument("--samples", type=int, default=None,
+                   help="samples of the paper and section tiers (default 4096 and 512)")  # fmt: skip
+    p.add_argument("--fem-samples", type=int, default=None, help="samples of the 3-D FEM tier (default 8)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the sample and the bootstrap (default 0)")
+    p.add_argument("--measured-gain", type=float, default=None, metavar="K",
+                   help="measured curvature per pressure [1/(mm MPa)] to place in the bands")  # fmt: skip
+    p.add_argument("--finite-strain", action="store_true",
+                   help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)")  # fmt: skip
+    p.add_argument("--pressures", default="0.1,0.3,0.6", metavar="P,P,...",
+                   help="pressures of --finite-strain [MPa], increasing (default 0.1,0.3,0.6, the prototype's)")  # fmt: skip
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    p.add_argument("--out", type=Path, required=True, help="output directory")
+
+
+def run(args: argparse.Namespace) -> int:
+    from design.errors import DesignError
+    from studies.predict import predict
+    from studies.predict.plot import band_picture
+
+    pressures = _pressures(args.pressures) if args.finite_strain else None  # refuse bad input before any run
+    compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
+    for name, value in (("--samples", args.samples), ("--fem-samples", args.fem_samples)):
+        if value is not None and value < 1:
+            raise DesignError(name, value, "must be >= 1")
+    doc, tiers = predict(
+        args.design, model=args.model, compare=compare, load=args.load, vary=args.vary,
+        ranges_file=args.ranges, samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
+        measured_gain=args.measured_gain, progress=not args.no_progress,
+    )  # fmt: skip
+    points = {}
+    if args.finite_strain:
+        from studies.predict.finite_strain import finite_strain_point
+
+        fs = finite_strain_point(
+            args.design, pressures, load=args.load or "lumen",
+            measured_gain=args.measured_gain, progress=not args.no_progress,
+        )  # fmt: skip
+        doc["finite_strain"] = fs
+        points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "prediction.json").write_text(json.dumps(doc, indent=2) + "\n")
+    _write_samples(args.out / "samples.csv", tiers)
+    band_picture(tiers, args.out / "prediction.png", measured_gain=args.measured_gain, points=points,
+                 title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
+    for t in tiers:
+        p = t.gain_percentiles
+        line = (f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 {p['p5']:.4g}, "
+                f"p50 {p['p50']:.4g}, p95 {p['p95']:.4g} 1/(mm MPa); nominal {t.nominal_gain:.4g}")  # fmt: skip
+        if t.measured is not None:
+            m = t.measured
+            where = "inside the band" if m["measured_in_band"] else m["measured_outside"]
+            line += f"; measured {t.measured_gain:g} at percentile {m['measured_percentile']:.1f} ({where})"
+        print(line)
+        rank = t.sensitivity.get("ranking", [])
+        if rank:
+            idx = t.sensitivity["indices"]
+            print("  sensitivity S1: " + ", ".join(f"{n} {idx[n]['S1']:.2f}" for n in rank))
+        elif "skipped" in t.sensitivity:
+            print(f"  sensitivity: {t.sensitivity['skipped']}")
+    if "finite_strain" in doc:
+        fs = doc["finite_strain"]
+        print(f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
+              f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm")  # fmt: skip
+    print(f"wrote {args.out}/prediction.json, samples.csv, prediction.png")
+    return 0
+
+
+def _write_samples(path: Path, tiers) -> None:
+    """One row per variant and tier; parameters a tier does not use are left empty."""
+    names = list(dict.fromkeys(r.path for t in tiers for r in t.ranges))
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["tier", "load", *names, "curvature_per_mm_per_MPa", "elongation_per_MPa"])
+        for t in tiers:
+            for row, k, e in zip(t.values, t.gains, t.elongations, strict=True):
+                cells = [row.get(n, "") for n in names]
+                cells = [f"{c:.10g}" if isinstance(c, float) else c for c in cells]
+                w.writerow([t.model, t.load, *cells, *("" if v != v else f"{v:.10g}" for v in (k, e))])
+
+
+def _pressures(text: str) -> list[float]:
+    from design.errors import DesignError
+
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise DesignError("--pressures", text, "must be comma-separated numbers in MPa") from None
