@@ -91,13 +91,15 @@ class BendCurve:
     seconds: float
 
     def to_json(self) -> dict:
-        """Plain-JSON summary."""
+        """Plain-JSON summary (an infinite opening pressure as ``None``)."""
         out = {}
         for k, v in self.__dict__.items():
             if isinstance(v, np.ndarray):
                 v = v.tolist()
             elif isinstance(v, dict):
                 v = {kk: np.asarray(vv).tolist() for kk, vv in v.items()}
+            elif isinstance(v, float) and not np.isfinite(v):
+                v = None
             out[k] = v
         return out
 
