@@ -69,8 +69,8 @@ class BendCurve:
         d(curvature)/dp of the asymptote [1/(mm MPa)] (the F₀ = 0 gain).
     gain_linear
         kappa/p of the linear section model with the same placement, E_c = E_t.
-    initial_tension
-        (outer coil, channel) [N].
+    initial_tension, compression_modulus
+        (outer coil, channel) [N] and [MPa] (NaN: an open coil, linear).
     """
 
     design_name: str
@@ -100,12 +100,16 @@ class BendCurve:
                 v = {kk: np.asarray(vv).tolist() for kk, vv in v.items()}
             elif isinstance(v, float) and not np.isfinite(v):
                 v = None
+            elif isinstance(v, tuple):
+                v = [None if not np.isfinite(x) else x for x in v]
             out[k] = v
         return out
 
 
-def annulus_fibres(op, labels, label: int, *, compression_modulus: float, initial_tension: float) -> Fibres:
-    """The quadrature points of region ``label`` as fibres, E_t from the assembled law."""
+def annulus_fibres(
+    op, labels, label: int, *, compression_modulus: float | None, initial_tension: float
+) -> Fibres:
+    """The quadrature points of region ``label`` as fibres, E_t from the assembled law (E_c = E_t if None)."""
     sel = np.asarray(labels) == label
     w = op.basis.dx[sel]
     x, y = (np.asarray(c)[sel] for c in op.basis.global_coordinates())
@@ -113,24 +117,30 @@ def annulus_fibres(op, labels, label: int, *, compression_modulus: float, initia
     n = np.ones(w.size)
     return Fibres(
         x=x.ravel(), y=y.ravel(), area=w.ravel(), tension_modulus=et.ravel().copy(),
-        compression_modulus=n * compression_modulus, prestress=n * initial_tension / w.sum(),
+        compression_modulus=et.ravel().copy() if compression_modulus is None else n * compression_modulus,
+        prestress=n * initial_tension / w.sum(),
     )  # fmt: skip
 
 
 def _coil_sources(d, initial_tension, compression_modulus):
+    """The coils, their F0 and E_c (None: an open coil, linear: its turns do not touch at small strains)."""
     from design import coil_stiffness
 
     coils = ((d.coil, COIL, "coil"), (d.channel, CHANNEL, "channel"))
     f0 = tuple(c.initial_tension for c, _, _ in coils) if initial_tension is None else tuple(initial_tension)
-    ec = (
-        tuple(coil_stiffness(c).axial_modulus_compression for c, _, _ in coils)
-        if compression_modulus is None
-        else tuple(compression_modulus)
-    )
     if len(f0) != 2 or any(not (np.isfinite(v) and v >= 0) for v in f0):
         raise DesignError("initial_tension", initial_tension, "must be two finite forces >= 0 N")
-    if len(ec) != 2 or any(not (np.isfinite(v) and v > 0) for v in ec):
-        raise DesignError("compression_modulus", compression_modulus, "must be two finite moduli > 0 MPa")
+    for (c, _, name), v in zip(coils, f0, strict=True):
+        if v > 0 and not c.close_wound:
+            raise DesignError(f"initial_tension ({name})", v, "must be 0 for an open coil (pitch > wire)")
+    if compression_modulus is None:
+        ec = tuple(
+            coil_stiffness(c).axial_modulus_compression if c.close_wound else None for c, _, _ in coils
+        )
+    else:
+        ec = tuple(compression_modulus)
+        if len(ec) != 2 or any(not (np.isfinite(v) and v > 0) for v in ec):
+            raise DesignError("compression_modulus", compression_modulus, "must be two finite moduli > 0 MPa")
     return coils, f0, ec
 
 
@@ -163,7 +173,9 @@ def bend_curve(
     initial_tension
         (outer coil, channel) F₀ [N]; default: the design's ``Coil.initial_tension``.
     compression_modulus
-        (outer coil, channel) E_c [MPa]; default E·φ (``design.coil_stiffness``).
+        (outer coil, channel) E_c [MPa]; default E·φ (``design.coil_stiffness``)
+        for a close-wound coil and E_t for an open one (pitch > wire: its turns
+        do not touch until the gap has closed, far beyond these strains).
         Equal to E_t (and F₀ = 0) it reproduces the linear section model.
     ring_points
         Fibres per coil ring (``resolved``).
@@ -200,6 +212,8 @@ def bend_curve(
     groups = []
     for (coil, label, name), force, e_c in zip(coils, f0, ec, strict=True):
         fib = annulus_fibres(op, mesh.labels, label, compression_modulus=e_c, initial_tension=force)
+        if e_c is None:
+            e_c = helix_stiffness(coil)[0] / coil_stiffness(coil).area if coil_model == "resolved" else None
         k_lin = k_lin - fib.linear_stiffness(fib.tension_modulus)  # take the annulus's own axial part out
         if coil_model == "resolved":
             ea, ei = helix_stiffness(coil)
@@ -261,6 +275,6 @@ def bend_curve(
         gain_pivoting=gain_pivot,
         gain_linear=gain_linear,
         initial_tension=(float(f0[0]), float(f0[1])),
-        compression_modulus=(float(ec[0]), float(ec[1])),
+        compression_modulus=tuple(float("nan") if v is None else float(v) for v in ec),
         seconds=time.perf_counter() - t0,
     )

@@ -176,3 +176,19 @@ def test_bad_options_name_the_parameter(kwargs, match):
 def test_bad_pressures():
     with pytest.raises(design.DesignError, match="pressures"):
         bend_curve("paper", [math.nan])
+
+
+def test_open_coils_stay_linear(paper):
+    # Pitch > wire: the turns do not touch at these strains, so the law is the linear one.
+    d = dataclasses.replace(
+        paper,
+        coil=dataclasses.replace(paper.coil, pitch=0.12),
+        channel=dataclasses.replace(paper.channel, pitch=0.09),
+    )
+    p = np.array([0.2, 0.6])
+    c = bend_curve(d, p, load="cap", coil_model="annulus")
+    lin = section_model(d, loads=("cap",)).curvature_per_mm_per_MPa["cap"]
+    np.testing.assert_allclose(c.curvature, lin * p, rtol=1e-12)
+    assert math.isnan(c.compression_modulus[0]) and c.to_json()["compression_modulus"] == [None, None]
+    with pytest.raises(design.DesignError, match="initial_tension"):
+        bend_curve(d, p, initial_tension=(0.01, 0.0))
