@@ -5,6 +5,14 @@ neutral axis, lumen-area change, the ratio to the paper's formula, run facts,
 and both loads under ``loads``), DIR/section.csv (the ``analytic.csv``
 columns over the pressure range) and DIR/section.png (the section deformed at
 the highest pressure, coloured by axial stress).
+
+``--coil-model`` chooses the coils' homogenisation (``annulus``, the 3-D FEM's
+and the default; ``annulus-bending``; ``wahl``; ``resolved``, the resolved
+wire's EA and EI). ``--coil-bound`` makes the coils' axial law bilinear
+(coil-bound in compression, optional ``--initial-tension``): the response is
+then nonlinear in pressure, section.csv holds the bilinear curve,
+section.json a ``coil_bound`` block (threshold pressure, curve) and
+DIR/section_curve.png the curvature against pressure.
 """
 
 from __future__ import annotations
@@ -35,19 +43,77 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="silicone Poisson ratio (tube and filler) instead of the design's, up to 0.49999",
     )
     p.add_argument(
+        "--coil-model",
+        choices=("annulus", "annulus-bending", "wahl", "resolved"),
+        default=None,
+        help="coil homogenisation: annulus (3-D FEM, default), annulus-bending, wahl (+ helical-spring EI), "
+        "resolved (the resolved wire's EA and EI); replaces --coil-modulus/--coil-bending",
+    )
+    p.add_argument(
+        "--coil-bound",
+        action="store_true",
+        help="bilinear coils: coil-bound (E·phi) in compression, spring in tension; with --coil-model "
+        "annulus (bimodular annulus) or resolved (ring at the wire radius, default with this flag)",
+    )
+    p.add_argument(
+        "--initial-tension",
+        default=None,
+        metavar="F0[,F0_CHANNEL]",
+        help="coils' initial tension [N] (outer coil, channel; default the design's); implies --coil-bound",
+    )
+    p.add_argument(
         "--coil-modulus",
         choices=("tension", "bending"),
-        default="tension",
+        default=None,
         help="homogenised coil axial modulus (default tension, as the 3-D FEM)",
     )
     p.add_argument(
         "--coil-bending",
-        choices=("annulus", "wahl"),
-        default="annulus",
-        help="annulus: coils bend as their annuli (3-D FEM, default); wahl: + helical-spring EI",
+        choices=("annulus", "wahl", "resolved"),
+        default=None,
+        help="annulus: coils bend as their annuli (3-D FEM, default); wahl: + helical-spring EI; "
+        "resolved: the resolved wire's EA and EI",
     )
     p.add_argument("--no-png", action="store_true", help="skip the PNG")
     p.add_argument("--out", type=Path, required=True, help="output directory")
+
+
+def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[float, float] | None]:
+    """(section_model coil keywords, bilinear placement or None, initial tension override)."""
+    from design.errors import DesignError
+    from fem.section_model.coil_models import model_options
+
+    if args.coil_model is not None:
+        if args.coil_modulus is not None or args.coil_bending is not None:
+            raise DesignError(
+                "--coil-model", args.coil_model, "replaces --coil-modulus/--coil-bending: give one"
+            )
+        opts = model_options(args.coil_model)
+    else:
+        opts = {
+            "coil_modulus": args.coil_modulus or "tension",
+            "coil_bending": args.coil_bending or "annulus",
+        }
+    f0 = None
+    if args.initial_tension is not None:
+        try:
+            f0 = tuple(float(v) for v in args.initial_tension.split(","))
+        except ValueError:
+            f0 = ()
+        if len(f0) == 1:
+            f0 = (f0[0], 0.0)
+        if len(f0) != 2:
+            raise DesignError("--initial-tension", args.initial_tension, "must be F0 or F0,F0_CHANNEL in N")
+    if not (args.coil_bound or f0 is not None):
+        return opts, None, None
+    if args.coil_model is None and args.coil_modulus is None and args.coil_bending is None:
+        opts = model_options("resolved")
+    placement = {("tension", "annulus"): "annulus", ("tension", "resolved"): "resolved"}.get(
+        (opts["coil_modulus"], opts["coil_bending"])
+    )
+    if placement is None:
+        raise DesignError("--coil-bound", opts["coil_bending"], "needs --coil-model annulus or resolved")
+    return opts, placement, f0
 
 
 def run(args: argparse.Namespace) -> int:
@@ -57,14 +123,13 @@ def run(args: argparse.Namespace) -> int:
     from studies.cmd_analytic import parse_range
 
     pressures = parse_range(args.pressure)
+    coil_opts, placement, f0 = _coil_options(args)
+    mesh = {
+        "mesh_size": MESH_SIZE if args.mesh_size is None else args.mesh_size,
+        "segments": SEGMENTS if args.segments is None else args.segments,
+    }
     r = section_model(
-        args.design,
-        mesh_size=MESH_SIZE if args.mesh_size is None else args.mesh_size,
-        segments=SEGMENTS if args.segments is None else args.segments,
-        silicone_poisson=args.poisson,
-        coil_modulus=args.coil_modulus,
-        coil_bending=args.coil_bending,
-        keep_fields=not args.no_png,
+        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts
     )
     ld = args.load
     full = r.to_json()
@@ -82,9 +147,18 @@ def run(args: argparse.Namespace) -> int:
         "loads": {k: full[k] for k in ("curvature_per_mm_per_MPa", "elongation_per_MPa",
                                        "lumen_area_change_mm2_per_MPa", "fem_formula_ratio")},
     }  # fmt: skip
+    curve = None
+    if placement is not None:
+        from fem.section_model.bilinear import bend_curve
+
+        curve = bend_curve(
+            args.design, pressures, load=ld, coil_model=placement, initial_tension=f0,
+            silicone_poisson=args.poisson, **mesh,
+        )  # fmt: skip
+        doc["coil_bound"] = curve.to_json()
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "section.json").write_text(json.dumps(doc, indent=2) + "\n")
-    resp = r.response(pressures, ld)
+    resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
     with (args.out / "section.csv").open("w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
@@ -98,11 +172,57 @@ def run(args: argparse.Namespace) -> int:
         p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
         section_picture(r, args.out / "section.png", load=ld, pressure=p_show)
         wrote += ", section.png"
+        if curve is not None:
+            _curve_picture(curve, r, args.out / "section_curve.png")
+            wrote += ", section_curve.png"
     print(
         f"{r.design_name}: {ld} load, silicone nu {r.poisson_ratio_silicone:g} -> curvature "
         f"{r.curvature_per_mm_per_MPa[ld]:.4g} 1/mm per MPa ({r.fem_formula_ratio[ld]:.3g}x the paper's "
         f"formula), elongation {r.elongation_per_MPa[ld]:.3g} per MPa; EA {r.EA_N:.4g} N, "
         f"EI {r.EI_N_mm2:.4g} N mm^2, neutral axis y = {r.neutral_axis_mm:.4g} mm"
     )
+    if curve is not None:
+        print(
+            f"coil-bound ({placement}), initial tension {curve.initial_tension[0]:g}/{curve.initial_tension[1]:g} N: "
+            f"threshold {curve.threshold_pressure:.4g} MPa, then {curve.gain_pivoting:.4g} 1/mm per MPa "
+            f"(linear {curve.gain_linear:.4g})"
+        )
     print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {args.out}/{wrote}")
     return 0
+
+
+def _curve_response(curve, length_mm: float):
+    """The bilinear curve as an ``analytic.BeamResponse`` (eq. 9 pose)."""
+    from analytic import BeamResponse
+    from analytic.pose import tip_pose
+
+    length = length_mm * (1 + curve.elongation)
+    tip_x, tip_y, theta = tip_pose(curve.curvature, length)
+    return BeamResponse(curve.pressure, curve.curvature, curve.elongation, length, theta, tip_x, tip_y)
+
+
+def _curve_picture(curve, result, path: Path) -> None:
+    """Curvature against pressure: the bilinear curve, its asymptote and the linear model."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    p = np.sort(curve.pressure)
+    order = np.argsort(curve.pressure)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(p, curve.curvature[order], "o-", label=f"coil-bound ({curve.coil_model})")
+    ax.plot(p, result.curvature_per_mm_per_MPa[curve.load] * p, "--", label=f"linear, {result.coil_bending}")
+    if curve.threshold_pressure > 0:
+        ax.axvline(curve.threshold_pressure, color="0.6", lw=0.8)
+        ax.annotate(
+            f"threshold {curve.threshold_pressure:.3g} MPa", (curve.threshold_pressure, 0), fontsize=8
+        )
+    ax.set_xlabel("pressure [MPa]")
+    ax.set_ylabel("curvature [1/mm]")
+    ax.set_title(f"{curve.design_name}, {curve.load} load, F0 = {curve.initial_tension[0]:g} N")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)

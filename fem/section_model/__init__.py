@@ -10,12 +10,26 @@ nu = 0.49999.
 Modules: ``mesh`` (labelled section meshes), ``laws`` (region laws in
 generalised plane strain), ``assembly`` (the operator, element pair),
 ``solve`` (condensation and loads), ``api`` (:func:`section_model`),
-``picture`` (the deformed section coloured by axial stress).
+``picture`` (the deformed section coloured by axial stress), ``coil_models``
+(coil homogenisations against the resolved wire), ``fibres`` and
+``bilinear`` (coil-bound compression and initial tension:
+:func:`bend_curve`).
 """
 
 from __future__ import annotations
 
 from fem.section_model.api import COIL_BENDING, SectionResult, section_model, section_response
+from fem.section_model.bilinear import BendCurve, bend_curve
+from fem.section_model.coil_models import COIL_MODELS
 from fem.section_model.solve import LOADS
 
-__all__ = ["COIL_BENDING", "LOADS", "SectionResult", "section_model", "section_response"]
+__all__ = [
+    "COIL_BENDING",
+    "COIL_MODELS",
+    "LOADS",
+    "BendCurve",
+    "SectionResult",
+    "bend_curve",
+    "section_model",
+    "section_response",
+]

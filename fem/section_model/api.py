@@ -18,7 +18,6 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from design.errors import DesignError
-from fem.section import CHANNEL, COIL
 from fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from fem.section_model.solve import LOADS
 
@@ -26,8 +25,9 @@ __all__ = ["SectionResult", "section_model", "section_response", "COIL_BENDING"]
 
 #: ``annulus``: the coils bend as their homogenised annuli (the 3-D FEM's assumption);
 #: ``wahl``: each coil additionally carries the rest of its helical-spring (Wahl)
-#: bending stiffness, as the paper's formula assumes.
-COIL_BENDING = ("annulus", "wahl")
+#: bending stiffness, as the paper's formula assumes; ``resolved``: the coil's EA and
+#: open-coil EI of the resolved wire (``fem.section_model.coil_models``).
+COIL_BENDING = ("annulus", "wahl", "resolved")
 
 
 @dataclass(frozen=True)
@@ -138,7 +138,8 @@ def section_model(
         Coils' homogenised axial modulus, ``"tension"`` (default, as the 3-D FEM)
         or ``"bending"``.
     coil_bending
-        One of :data:`COIL_BENDING`.
+        One of :data:`COIL_BENDING`; ``resolved`` sets the coils' axial moduli
+        itself and needs ``coil_modulus="tension"``.
     poisson_cap, silicone_poisson, poisson
         Poisson-ratio options (``fem.section_model.laws.laws_from_design``).
     keep_fields
@@ -146,15 +147,17 @@ def section_model(
     """
     import design as design_pkg
     from analytic import gains
-    from design import coil_stiffness
     from fem.adapter import geometry_from_design
     from fem.section_model.assembly import assemble
+    from fem.section_model.coil_models import coil_terms
     from fem.section_model.laws import laws_from_design
     from fem.section_model.mesh import catheter_section_mesh
     from fem.section_model.solve import solve
 
     if coil_bending not in COIL_BENDING:
         raise DesignError("coil_bending", coil_bending, f"must be one of {COIL_BENDING}")
+    if coil_bending == "resolved" and coil_modulus != "tension":
+        raise DesignError("coil_modulus", coil_modulus, "must be 'tension' with coil_bending='resolved'")
     d = design_pkg.resolve(design)
     t0 = time.perf_counter()
     geometry = geometry_from_design(d)
@@ -162,14 +165,10 @@ def section_model(
         d, coil_modulus=coil_modulus, poisson_cap=poisson_cap, silicone_poisson=silicone_poisson,
         poisson=poisson,
     )  # fmt: skip
+    laws, extra = coil_terms(d, coil_bending, laws)
     mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments)
     op = assemble(mesh, laws)
-    extra = 0.0
-    if coil_bending == "wahl":
-        for coil, label in ((d.coil, COIL), (d.channel, CHANNEL)):
-            k = coil_stiffness(coil)
-            extra += k.bending_stiffness - laws[label].axial_modulus * k.second_moment
-    sol = solve(op, loads, extra_bending=extra)
+    sol = solve(op, loads, extra_bending=sum(extra.values()))
     K = sol.stiffness
     ea = float(K[0, 0])
     formula_k, _ = gains(d, "cap")

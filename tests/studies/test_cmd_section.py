@@ -45,3 +45,51 @@ def test_bad_poisson_is_one_line(tmp_path, capsys):
     assert main(["section", "paper", "--poisson", "0.6", "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "silicone_poisson" in err[0]
+
+
+def test_coil_models_and_coil_bound(tmp_path, capsys):
+    import pytest
+
+    from fem.section_model import bend_curve, section_model
+
+    out = tmp_path / "r"
+    assert main(["section", "paper", "--coil-model", "resolved", "--no-png", "--out", str(out)]) == 0
+    doc = json.loads((out / "section.json").read_text())
+    assert doc["coil_bending"] == "resolved" and "coil_bound" not in doc
+    lin = section_model("paper", coil_bending="resolved").curvature_per_mm_per_MPa["lumen"]
+    assert doc["curvature_per_mm_per_MPa"] == pytest.approx(lin, rel=1e-9)
+
+    out = tmp_path / "b"
+    args = ["section", "paper", "--pressure", "0:0.6:7", "--initial-tension", "0.005", "--out", str(out)]
+    assert main(args) == 0
+    doc = json.loads((out / "section.json").read_text())
+    curve = bend_curve("paper", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6], initial_tension=(0.005, 0.0))
+    assert doc["coil_bound"]["threshold_pressure"] == pytest.approx(curve.threshold_pressure, rel=1e-9)
+    with (out / "section.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    got = [float(r["curvature_per_mm"]) for r in rows]
+    assert got == pytest.approx(curve.curvature.tolist(), rel=1e-6, abs=1e-15)
+    assert (out / "section_curve.png").stat().st_size > 10_000
+    assert "threshold" in capsys.readouterr().out
+
+
+def test_coil_options_conflict_is_one_line(tmp_path, capsys):
+    argv = [
+        "section",
+        "paper",
+        "--coil-model",
+        "wahl",
+        "--coil-bending",
+        "wahl",
+        "--out",
+        str(tmp_path / "x"),
+    ]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--coil-model" in err[0]
+    assert (
+        main(["section", "paper", "--coil-model", "wahl", "--coil-bound", "--out", str(tmp_path / "y")]) == 2
+    )
+    assert "--coil-bound" in capsys.readouterr().err
+    assert main(["section", "paper", "--initial-tension", "a,b,c", "--out", str(tmp_path / "z")]) == 2
+    assert "--initial-tension" in capsys.readouterr().err
