@@ -42,10 +42,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic.beam import gains_arrays
-from analytic.io import Measurement
 from analytic.section import design_inputs, section_arrays
 from design import TipDesign
 from design.errors import DataError, DesignError
+from design.measurement import Measurement
 from design.section import check_shape, max_outer_semi_axis
 
 __all__ = ["CalibrationResult", "calibrate", "nrmse", "SHAPE_KEYS", "MIN_LUMEN_SEMI_AXIS"]

@@ -17,6 +17,10 @@ Steps, per run (``run`` column; one run if absent):
    model see identical linear filtering (trap 2);
 5. estimate the noise floor: the raw curvature noise s.d. from what the
    anti-alias filter removes, propagated through both filters.
+
+Quasi-static data (``time_s`` a step index: one point per pressure step, no
+clock) skip all of this: :func:`prepare_quasi_static` keeps each run's points
+unfiltered, and :func:`candidates_for` refuses the time-dependent candidates.
 """
 
 from __future__ import annotations
@@ -26,15 +30,24 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import pandas as pd
 from scipy import signal
 
 from analytic.effects import Scales
 from analytic.effects.fit import Segment
 from design.errors import DataError
+from design.measurement import Measurement
 from hardware.filtering import PAPER_FILTER, PAPER_FS_HZ, FilterSpec, design_sos, filtfilt, resample_uniform
 
-__all__ = ["RunInfo", "Prepared", "prepare", "prepare_static"]
+__all__ = [
+    "RunInfo",
+    "Prepared",
+    "prepare",
+    "prepare_static",
+    "prepare_quasi_static",
+    "candidates_for",
+    "EXCITATIONS",
+    "TIME_DEPENDENT",
+]
 
 log = logging.getLogger(__name__)
 
@@ -47,6 +60,12 @@ log = logging.getLogger(__name__)
 DECIMATED_OVER_PASSBAND = 40.0
 #: trimmed at each end of a run in fits and scores: two filter settling times
 TRIM_OVER_PASSBAND = 1.0
+#: runs shorter than this are not a time series the filters can work on
+MIN_RUN_SAMPLES = 50
+#: what ``prepare(..., excitation=)`` accepts; "auto" recognises it from the data
+EXCITATIONS = ("auto", "time-series", "quasi-static")
+#: candidates that need a clock (a time constant or a latency): meaningless on a step index
+TIME_DEPENDENT = ("lag", "delay", "viscoelastic")
 
 
 @dataclass(frozen=True)
@@ -54,7 +73,7 @@ class RunInfo:
     """What the preparation found in one run."""
 
     label: str
-    kind: str  # "sine" or "step"
+    kind: str  # "sine", "step" or "quasi-static" ("static": a FEM reference)
     frequency_hz: float  # dominant excitation frequency (sine runs), else 0
     duration_s: float
     noise_sd_per_mm: float  # raw curvature noise s.d. estimate
@@ -90,6 +109,10 @@ class Prepared:
             if not distinct or f >= 1.5 * distinct[-1]:
                 distinct.append(f)
         return len(distinct) + any(r.kind == "step" for r in self.runs)
+
+    def kinds(self) -> set[str]:
+        """The excitation kinds present ("sine", "step", "quasi-static", "static")."""
+        return {r.kind for r in self.runs}
 
 
 def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
@@ -149,28 +172,53 @@ def _noise_gain(aa: FilterSpec, data: FilterSpec, fs: float) -> float:
     return float(np.sqrt(np.trapezoid(power, f) / (fs / 2)))
 
 
-def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Prepared:
-    """Filtered, decimated segments of a validated measurement table.
+def _as_measurement(data) -> Measurement:
+    return data if isinstance(data, Measurement) else Measurement.from_table(data)
+
+
+def is_quasi_static(m: Measurement) -> bool:
+    """``time_s`` counts steps and every run is too short to be a time series."""
+    lengths = [int(np.sum(m.run_labels() == r)) for r in m.runs]
+    return m.is_step_index() and max(lengths) < MIN_RUN_SAMPLES
+
+
+def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "auto") -> Prepared:
+    """Filtered, decimated segments of a measurement.
 
     Parameters
     ----------
-    table
-        Columns ``time_s``, ``pressure_MPa``, ``curvature_per_mm``, ``run``
-        (see ``studies.measurement_csv``).
+    data
+        A :class:`design.measurement.Measurement` or a table with its columns.
     filter_spec
         Force the data low-pass (default: chosen from the excitation, see above).
+    excitation
+        ``"auto"`` (default): quasi-static when ``time_s`` is a step index in
+        runs shorter than 50 points, otherwise a time series whose runs are
+        classified as sine or step-and-hold. ``"time-series"`` or
+        ``"quasi-static"`` force the choice.
     """
+    m = _as_measurement(data)
+    if excitation not in EXCITATIONS:
+        raise DataError(f"excitation = {excitation!r}: must be one of {', '.join(EXCITATIONS)}")
+    if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
+        return prepare_quasi_static(m)
     raw = []
-    for label, g in table.groupby("run", sort=False):
-        t = g["time_s"].to_numpy(float)
-        p = g["pressure_MPa"].to_numpy(float)
-        k = g["curvature_per_mm"].to_numpy(float)
-        if t.size < 50:
-            raise DataError(f"run {label!r}: {t.size} samples, need at least 50")
+    labels = m.run_labels()
+    for label in m.runs:
+        sel = labels == label
+        t, p, k = m.time_s[sel], m.pressure_MPa[sel], m.curvature_per_mm[sel]
+        if t.size < MIN_RUN_SAMPLES:
+            raise DataError(
+                f"{m.source}: run {label!r}: {t.size} samples, need at least {MIN_RUN_SAMPLES} "
+                "for a time series (quasi-static points: time_s as a step index 0, 1, 2, ...)"
+            )
         dt = np.diff(t)
         if np.ptp(dt) > 1e-6 * np.median(dt):
-            tu, p = resample_uniform(t, p, fs_hz=PAPER_FS_HZ)
-            _, k = resample_uniform(t, k, fs_hz=PAPER_FS_HZ)
+            # onto the paper's 200 Hz, or the run's own rate when it is slower (a 25 Hz
+            # camera log gains nothing from 8x linear interpolation)
+            rate = min(PAPER_FS_HZ, round(float(1 / np.median(dt)), 3))
+            tu, p = resample_uniform(t, p, fs_hz=rate)
+            _, k = resample_uniform(t, k, fs_hz=rate)
             t = tu
         raw.append((str(label), t, p, k))
     # rounded to 1 mHz: time stamps like 107.985 carry 1e-12 s of binary noise
@@ -229,6 +277,8 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
         noise.append(sd)
     targets = np.concatenate([s.target[s.mask] for s in segments])
     pressures = np.concatenate([s.pressure_MPa for s in segments])
+    if not np.ptp(targets) > 0:
+        raise DataError(f"{m.source}: curvature is constant after filtering: there is no response to compare")
     return Prepared(
         segments=tuple(segments),
         runs=tuple(infos),
@@ -276,3 +326,98 @@ def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Pr
         times=(np.arange(p.size, dtype=float),),
         static=True,
     )
+
+
+def _has_unloading(p: np.ndarray) -> bool:
+    """The pressure comes down by more than 10 % of its span after its peak."""
+    return bool(np.ptp(p) > 0 and p.max() - p[int(np.argmax(p)) :].min() > 0.1 * np.ptp(p))
+
+
+def prepare_quasi_static(m: Measurement) -> Prepared:
+    """Quasi-static measured points (``time_s`` a step index): one unfiltered segment per run.
+
+    The points keep their order (loading, then unloading if recorded); the
+    workflow holds out every third point of every run. There is no clock, so no
+    filter and no noise-floor estimate (the floor is reported as 0, unknown).
+    """
+    segments, infos, times = [], [], []
+    labels = m.run_labels()
+    for label in m.runs:
+        sel = labels == label
+        p, k = m.pressure_MPa[sel], m.curvature_per_mm[sel]
+        if p.size < 6:
+            raise DataError(f"{m.source}: run {label!r}: {p.size} quasi-static points, need at least 6")
+        if not np.ptp(p) > 0:
+            raise DataError(f"{m.source}: run {label!r}: pressure is constant: there is no excitation")
+        segments.append(
+            Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool), label=str(label))
+        )
+        infos.append(
+            RunInfo(
+                label=str(label),
+                kind="quasi-static",
+                frequency_hz=0.0,
+                duration_s=float(p.size),
+                noise_sd_per_mm=0.0,
+            )
+        )
+        times.append(m.time_s[sel])
+    targets = np.concatenate([s.target for s in segments])
+    if not np.ptp(targets) > 0:
+        raise DataError(f"{m.source}: curvature is constant: there is no response to compare")
+    pressures = np.concatenate([s.pressure_MPa for s in segments])
+    return Prepared(
+        segments=tuple(segments),
+        runs=tuple(infos),
+        data_filter=PAPER_FILTER,
+        fit_filter=PAPER_FILTER,
+        fs_hz=1.0,
+        decimation=1,
+        noise_floor_per_mm=0.0,
+        full_scale_per_mm=float(np.ptp(targets)),
+        scales=Scales(
+            pressure_MPa=float(np.ptp(pressures)), duration_s=float(max(s.target.size for s in segments))
+        ),
+        times=tuple(times),
+        static=True,
+    )
+
+
+def candidates_for(
+    prep: Prepared, requested: tuple[str, ...] | None, default: tuple[str, ...]
+) -> tuple[tuple[str, ...], list[str]]:
+    """The candidates these data can judge, and notes saying what was left out and why.
+
+    On quasi-static measured points ``time_s`` counts steps: a lag, a delay or
+    creep has a time constant, which a step index does not carry. They are left
+    out of the default set, and refused when asked for by name. Hysteresis
+    needs an unloading branch: loading-only points cannot show a loop.
+    """
+    kinds = prep.kinds()
+    if "quasi-static" not in kinds:
+        return tuple(requested or default), []
+    notes = [
+        "quasi-static points carry no noise estimate: the noise floor is reported as 0 "
+        "(unknown), so 'excess removed' is relative to a perfect fit"
+    ]
+    asked = [c for c in (requested or ()) if c in TIME_DEPENDENT]
+    if asked:
+        raise DataError(
+            f"candidate(s) {', '.join(asked)} need a clock, but time_s here is a step index "
+            "(quasi-static points, one per pressure step): a time constant or latency has no "
+            "meaning; leave them out or record the response against time"
+        )
+    cands = [c for c in (requested or default) if c not in TIME_DEPENDENT]
+    if not requested:
+        notes.append(
+            "quasi-static data (time_s is a step index, no clock): the time-dependent candidates "
+            f"{', '.join(TIME_DEPENDENT)} were not tried; to judge them, record the response "
+            "against time (a step-and-hold)"
+        )
+    if "hysteresis" in cands and not any(_has_unloading(s.pressure_MPa) for s in prep.segments):
+        cands.remove("hysteresis")
+        notes.append(
+            "loading only (no unloading branch): hysteresis cannot show a loop and was not "
+            "tried; to judge it, record the unloading steps too"
+        )
+    return tuple(cands), notes

@@ -15,9 +15,9 @@ import pandas as pd
 from analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from analytic.effects.fit import ChainFit
 from design.errors import DataError, DesignError
-from studies.discrepancy.prepare import Prepared, prepare, prepare_static
+from design.measurement import Measurement, read_measurement_csv
+from studies.discrepancy.prepare import Prepared, candidates_for, prepare, prepare_static
 from studies.discrepancy.workflow import RATE_FAMILY, name_effects
-from studies.measurement_csv import read_measurement_csv, validate_table
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference"]
 
@@ -141,7 +141,6 @@ def _shape_calibration(prep: Prepared, design) -> dict:
     parameters are not identifiable from one curvature gain.
     """
     from analytic.calibration import calibrate
-    from analytic.io import Measurement
     from design.errors import SoftcathError
 
     u = np.concatenate([s.pressure_MPa[s.mask] for s in prep.segments])
@@ -180,7 +179,7 @@ def _excess(before: float, after: float, floor: float) -> float:
 
 
 def run_workflow(
-    data: pd.DataFrame | str | Path | None,
+    data: Measurement | pd.DataFrame | str | Path | None,
     design: Any = None,
     *,
     reference: str = "measured",
@@ -191,6 +190,7 @@ def run_workflow(
     max_effects: int = 3,
     candidates: tuple[str, ...] | None = None,
     progress: bool = False,
+    excitation: str = "auto",
 ) -> DiscrepancyResult:
     """Run the missing-effect workflow.
 
@@ -217,6 +217,10 @@ def run_workflow(
         Candidate names to try (default: the measured or FEM set).
     progress
         Show a tqdm bar over candidate fits.
+    excitation
+        ``"auto"``, ``"time-series"`` or ``"quasi-static"`` (measured data; see
+        :func:`studies.discrepancy.prepare.prepare`). On quasi-static data the
+        time-dependent candidates are left out, or refused when named.
     """
     if reference not in ("measured", "fem"):
         raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
@@ -238,9 +242,15 @@ def run_workflow(
     if reference == "measured":
         if data is None:
             raise DataError("reference 'measured' needs a measurement table or CSV")
-        table = validate_table(data) if isinstance(data, pd.DataFrame) else read_measurement_csv(data)
-        prep = prepare(table)
-        cands = candidates or MEASURED_CANDIDATES
+        if isinstance(data, Measurement):
+            meas = data
+        elif isinstance(data, pd.DataFrame):
+            meas = Measurement.from_table(data)
+        else:
+            meas = read_measurement_csv(data)
+        prep = prepare(meas, excitation=excitation)
+        cands, why = candidates_for(prep, candidates, MEASURED_CANDIDATES)
+        notes += why
         shape_cal = _shape_calibration(prep, d) if d is not None else None
     else:
         if d is None:

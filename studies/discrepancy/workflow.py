@@ -69,10 +69,14 @@ def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[
     """(train, test) segment lists; masks select the samples of each side."""
     segs = prep.segments
     if prep.static:
-        # interleaved: every third point held out, so no fold extrapolates in pressure
-        s = segs[0]
-        idx = np.arange(s.target.size)
-        return [([replace(s, mask=idx % 3 != k)], [replace(s, mask=idx % 3 == k)]) for k in range(3)]
+        # interleaved: every third point of every run held out, so no fold extrapolates
+        # in pressure
+        out = []
+        for k in range(3):
+            train = [replace(s, mask=np.arange(s.target.size) % 3 != k) for s in segs]
+            test = [replace(s, mask=np.arange(s.target.size) % 3 == k) for s in segs]
+            out.append((train, test))
+        return out
     if len(segs) >= 2:
         out = []
         for i in range(len(segs)):
@@ -178,11 +182,23 @@ def fit_all(prep: Prepared, effects: Sequence[str], **kw) -> ChainFit:
 
 
 def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
-    """The experiment that would separate ``best`` from ``others`` ("" if none needed)."""
+    """The experiment that would separate ``best`` from ``others`` ("" if none needed).
+
+    Never asks for what the data already contain: a staircase for quasi-static or
+    step-and-hold data, a step-and-hold when there is one, a second frequency when
+    there are two.
+    """
     if not others:
         return ""
+    kinds = prep.kinds()
     rate = [e for e in (best, *others) if e in RATE_FAMILY]
     if len(rate) < 2:
+        if kinds & {"quasi-static", "step"}:
+            return (
+                "more and finer pressure holds where the candidates differ (the first "
+                "few per cent above zero for a threshold or pre-curvature, the top of the "
+                "range for a pressure-dependent gain), repeated to average the noise"
+            )
         return (
             "a slow staircase of pressure holds over the full range, including the first "
             "few per cent above zero: a threshold, a pre-curvature and a pressure-dependent "
@@ -194,13 +210,23 @@ def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
             "filter widened to keep it) or a sharp pressure step recorded and filtered "
             "at >= 5 Hz bandwidth: a delay shifts the step, a lag rounds it"
         )
-    fs = [r.frequency_hz for r in prep.runs if r.kind == "sine"]
-    f = fs[0] if fs else 0.1
+    fs = sorted(r.frequency_hz for r in prep.runs if r.kind == "sine")
+    parts = []
+    if not fs:
+        parts.append(
+            "add sine runs at two frequencies a factor >= 4 apart (e.g. 0.05 and 0.2 Hz) over "
+            "the same pressure range"
+        )
+    elif fs[-1] < 1.5 * fs[0]:
+        parts.append(f"repeat the sine at {fs[0] / 4:.3g} Hz and {min(4 * fs[0], 1.0):.3g} Hz")
+    if "step" not in kinds:
+        parts.append("add a step-and-hold (hold >= 15 s)")
+    if not parts:
+        parts.append("repeat the runs to average the noise (the data have both)")
     return (
-        f"repeat the sine at {f / 4:.3g} Hz and {min(4 * f, 1.0):.3g} Hz and add a "
-        f"step-and-hold (hold >= 15 s): the loop of rate-independent hysteresis keeps "
-        f"its area across frequency, a lag's grows with frequency, a delay shifts the "
-        f"step, creep keeps moving during the hold"
+        " and ".join(parts) + ": the loop of rate-independent hysteresis keeps its area across "
+        "frequency, a lag's grows with frequency, a delay shifts the step, creep keeps moving "
+        "during the hold"
     )
 
 

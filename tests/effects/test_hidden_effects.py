@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 
-from analytic.io import read_measurement_csv as read_with_analytic
 from design.errors import DesignError
+from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
 from studies.discrepancy import run_workflow
 from studies.hidden_effects import Protocol, make_case, paper_demo_case, signature_rms
-from studies.measurement_csv import write_measurement_csv
 
 SHORT = Protocol(frequencies_hz=(0.1, 0.2), cycles=2, step_hold=True, hold_s=5.0)
 
@@ -49,8 +48,8 @@ def test_no_effect_case_is_the_linear_model_plus_noise():
 
 def test_generated_csv_reads_with_the_project_reader(tmp_path):
     case = make_case(("delay",), seed=6, protocol=SHORT)
-    path = write_measurement_csv(case.table, tmp_path / "hidden.csv")
-    m = read_with_analytic(path)  # time increases through the file, runs labelled
+    path = write_measurement_csv(tmp_path / "hidden.csv", Measurement.from_table(case.table))
+    m = read_measurement_csv(path)  # time increases through the file, runs labelled
     assert len(m) == len(case.table) and set(m.runs) == {"sine_0.1Hz", "sine_0.2Hz", "step_hold"}
 
 

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 
 from design.errors import DataError, DesignError
+from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
 from studies.discrepancy import run_workflow, write_report
 from studies.discrepancy.prepare import prepare
 from studies.hidden_effects import Protocol, make_case
-from studies.measurement_csv import read_measurement_csv, validate_table, write_measurement_csv
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_csv_round_trip_and_missing_values_reported(tmp_path):
     case = make_case((), seed=0, protocol=Protocol(frequencies_hz=(0.2,), step_hold=False))
-    path = write_measurement_csv(case.table, tmp_path / "m.csv")
+    path = write_measurement_csv(tmp_path / "m.csv", Measurement.from_table(case.table))
     back = read_measurement_csv(path)
     np.testing.assert_allclose(back["curvature_per_mm"], case.table["curvature_per_mm"], rtol=1e-8)
     lines = path.read_text().splitlines()
@@ -34,22 +34,22 @@ def test_csv_round_trip_and_missing_values_reported(tmp_path):
         lines[i] = ",".join(cells)
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
-    # the file reader (analytic.io) reports count and first line
-    with pytest.raises(DataError, match=r"curvature_per_mm: 3 missing/NaN value\(s\), first at line 6"):
+    # the file reader reports count and first line
+    with pytest.raises(DataError, match=r"curvature_per_mm: 3 missing value\(s\), first at line 6"):
         read_measurement_csv(bad)
-    # an in-memory table reports count and the first line numbers it would have in a file
+    # an in-memory table reports the first line number it would have in a file, and the count
     tab = case.table.copy()
     tab.loc[[4, 8, 11], "curvature_per_mm"] = np.nan
-    with pytest.raises(DataError, match=r"3 row\(s\) with a missing .* line\(s\) 6, 10, 13"):
-        validate_table(tab)
+    with pytest.raises(DataError, match=r"column curvature_per_mm, line 6: nan .* \(3 such value\(s\)\)"):
+        Measurement.from_table(tab)
 
 
 def test_csv_structural_errors():
-    with pytest.raises(DataError, match=r"missing required column\(s\) \['curvature_per_mm'\]"):
-        validate_table(pd.DataFrame({"time_s": [0.0], "pressure_MPa": [0.0]}))
+    with pytest.raises(DataError, match=r"missing required column\(s\) curvature_per_mm"):
+        Measurement.from_table(pd.DataFrame({"time_s": [0.0], "pressure_MPa": [0.0]}))
     df = pd.DataFrame({"time_s": [0.0, 1.0, 1.0], "pressure_MPa": [0.0] * 3, "curvature_per_mm": [0.0] * 3})
-    with pytest.raises(DataError, match=r"time_s must increase within run 'run1'.*line 4"):
-        validate_table(df)
+    with pytest.raises(DataError, match=r"time_s is not strictly increasing at line 4"):
+        Measurement.from_table(df)
     with pytest.raises(DataError, match="file not found"):
         read_measurement_csv("/nonexistent/file.csv")
 
@@ -177,7 +177,7 @@ def test_cli_writes_json_and_report(tmp_path):
         effect_to_noise=4.0,
         protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False),
     )
-    csv = write_measurement_csv(case.table, tmp_path / "bench.csv")
+    csv = write_measurement_csv(tmp_path / "bench.csv", Measurement.from_table(case.table))
     out = tmp_path / "out"
     assert main(["discrepancy", str(csv), "--design", "paper", "--out", str(out)]) == 0
     rec = json.loads((out / "discrepancy.json").read_text())
