@@ -162,7 +162,16 @@ class Measurement:
                 except (TypeError, ValueError):
                     raise DataError(f"{source}: column {c} holds values that are not numbers") from None
         run = None if RUN not in names else np.asarray(table[RUN].fillna("").astype(str), dtype=str)
-        return cls._validated(given, run, source, where="line", min_rows=1)
+        m = cls._validated(given, run, source, where="line", min_rows=1)
+        numbers, text = dict(m.columns), {}
+        for c in names:  # extra columns are kept, numbers as floats, the rest as text
+            if c in numbers or c == RUN:
+                continue
+            try:
+                numbers[c] = np.asarray(table[c], dtype=float)
+            except (TypeError, ValueError):
+                text[c] = np.asarray(table[c].astype(str), dtype=str)
+        return cls(numbers, m.run, text, source)
 
     @classmethod
     def _validated(cls, given: dict, run, source: str, *, where: str, min_rows: int) -> Measurement:

@@ -140,10 +140,10 @@ def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
     return f
 
 
-def _excitation(t: np.ndarray, p: np.ndarray) -> tuple[str, float]:
+def _excitation(t: np.ndarray, p: np.ndarray, where: str = "") -> tuple[str, float]:
     span = np.ptp(p)
     if span <= 0:
-        raise DataError("pressure is constant: there is no excitation to compare against")
+        raise DataError(f"{where}pressure is constant: there is no excitation to compare against")
     # step-and-hold: in most half-second windows the pressure stays within 5 % of its
     # span (a range test, not a slope test: differentiated sensor noise would swamp it)
     fs = 1 / (t[1] - t[0])
@@ -202,8 +202,8 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
         raise DataError(f"excitation = {excitation!r}: must be one of {', '.join(EXCITATIONS)}")
     if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
         return prepare_quasi_static(m)
-    raw = []
     labels = m.run_labels()
+    runs = []
     for label in m.runs:
         sel = labels == label
         t, p, k = m.time_s[sel], m.pressure_MPa[sel], m.curvature_per_mm[sel]
@@ -212,21 +212,26 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
                 f"{m.source}: run {label!r}: {t.size} samples, need at least {MIN_RUN_SAMPLES} "
                 "for a time series (quasi-static points: time_s as a step index 0, 1, 2, ...)"
             )
+        runs.append((str(label), t, p, k))
+    # irregular runs go onto one uniform base: the paper's 200 Hz, or the file's median
+    # rate when it is slower (a 25 Hz camera log gains nothing from 8x interpolation)
+    rate = min(
+        PAPER_FS_HZ, round(float(1 / np.median(np.concatenate([np.diff(t) for _, t, _, _ in runs]))), 3)
+    )
+    raw = []
+    for label, t, p, k in runs:
         dt = np.diff(t)
         if np.ptp(dt) > 1e-6 * np.median(dt):
-            # onto the paper's 200 Hz, or the run's own rate when it is slower (a 25 Hz
-            # camera log gains nothing from 8x linear interpolation)
-            rate = min(PAPER_FS_HZ, round(float(1 / np.median(dt)), 3))
             tu, p = resample_uniform(t, p, fs_hz=rate)
             _, k = resample_uniform(t, k, fs_hz=rate)
             t = tu
-        raw.append((str(label), t, p, k))
+        raw.append((label, t, p, k))
     # rounded to 1 mHz: time stamps like 107.985 carry 1e-12 s of binary noise
     fs_all = {round(float(1 / np.median(np.diff(t))), 3) for _, t, _, _ in raw}
     if len(fs_all) != 1:
         raise DataError(f"runs have different sample rates {sorted(fs_all)} Hz")
     fs = fs_all.pop()
-    exc = [_excitation(t, p) for _, t, p, _ in raw]
+    exc = [_excitation(t, p, f"{m.source}: run {label!r}: ") for label, t, p, _ in raw]
     if filter_spec is None:
         fmax = max([f for kind, f in exc if kind == "sine"], default=0.0)
         spec = FilterSpec(fs_hz=fs) if fs != PAPER_FILTER.fs_hz else PAPER_FILTER

@@ -171,6 +171,24 @@ def _shape_calibration(prep: Prepared, design) -> dict:
     } | {k: v for k, v in r.to_json().items() if k in keep}
 
 
+def _run_gain_notes(prep: Prepared) -> list[str]:
+    """A note when the runs' least-squares gains differ by more than 1.5x: one gain cannot serve."""
+    gains = {}
+    for sgm in prep.segments:
+        p, k = sgm.pressure_MPa[sgm.mask], sgm.target[sgm.mask]
+        if p @ p > 0:
+            gains[sgm.label] = float(p @ k) / float(p @ p)
+    g = np.array(list(gains.values()))
+    if g.size < 2 or not np.all(g > 0) or g.max() / g.min() <= 1.5:
+        return []
+    lo, hi = min(gains, key=gains.get), max(gains, key=gains.get)
+    return [
+        f"the runs do not share one gain ({lo} {gains[lo]:.3g} to {hi} {gains[hi]:.3g} 1/(mm MPa)); "
+        "the workflow fits one gain to all runs, so a difference between devices or set-ups "
+        "reads as misfit: analyse such runs apart"
+    ]
+
+
 def _excess(before: float, after: float, floor: float) -> float:
     den = before**2 - floor**2
     if den <= 0:
@@ -250,7 +268,7 @@ def run_workflow(
             meas = read_measurement_csv(data)
         prep = prepare(meas, excitation=excitation)
         cands, why = candidates_for(prep, candidates, MEASURED_CANDIDATES)
-        notes += why
+        notes += why + _run_gain_notes(prep)
         shape_cal = _shape_calibration(prep, d) if d is not None else None
     else:
         if d is None:
@@ -320,6 +338,13 @@ def run_workflow(
                 "separating_experiment": s.separating_experiment,
             }
         )
+        for k, v in s.fit.params.get(s.named, {}).items():
+            se = s.fit.stderr.get(s.named, {}).get(k)
+            if se is not None and math.isfinite(se) and se >= abs(v):
+                notes.append(
+                    f"step {len(step_records)}: the data do not pin {s.named}'s {k} "
+                    f"({v:.3g} ± {se:.2g}): its size is uncertain, only its presence is supported"
+                )
         if s.ambiguous_with:
             notes.append(
                 f"step {len(step_records)}: the data cannot tell {s.named} from "
@@ -336,7 +361,7 @@ def run_workflow(
     if not named:
         notes.append(
             "no candidate beat the calibrated model by the margin on held-out data: "
-            "nothing is missing at this noise level"
+            + ("nothing is missing at this noise level" if floor > 0 else "none is supported by these points")
         )
     calib = {
         "used": "explicit gain: least squares on the filtered series (refitted in every model)"
