@@ -70,3 +70,35 @@ def test_paper_demo_story_names_hysteresis_and_shrinks_the_gap():
     assert r.nrmse_before / r.nrmse_after >= 2.0
     one = run_workflow(paper_demo_case(two_frequencies=False).table, "paper", max_effects=1)
     assert one.named == ("hysteresis",) and one.ambiguous_with[0]  # the paper's single sine
+
+
+def test_quasi_static_protocol_records_one_point_per_hold():
+    from studies.hidden_effects import quasi_static_protocol
+
+    proto = quasi_static_protocol()
+    case = make_case(("dead_zone",), seed=2, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
+    tab = case.table
+    assert set(tab["run"]) == {"quasi_static_1", "quasi_static_2"}
+    levels = np.r_[0.0, np.arange(1, 11) / 10, np.arange(9, 0, -1) / 10, 0.0] * proto.p_max_MPa
+    for _, g in tab.groupby("run"):
+        np.testing.assert_array_equal(g["time_s"], np.arange(21.0))  # the step index
+        # the end of each 15 s hold: the sensor has settled on the level (noise 0.2 % of p_max)
+        np.testing.assert_allclose(g["pressure_MPa"], levels, atol=5 * 0.002 * proto.p_max_MPa)
+    # the effect-to-noise ratio holds on the recorded points, recomputed from the plant
+    k, p = [], []
+    for label, t, pr in proto.runs():
+        i = proto.recorded(label, t)
+        k.append(case.plant.simulate(t, pr).curvature_per_mm[i])
+        p.append(pr[i])
+    k, p = np.concatenate(k), np.concatenate(p)
+    sigma = 0.01 * case.gain_per_mm_MPa * proto.p_max_MPa
+    assert signature_rms(k, p) / sigma == pytest.approx(1.0, rel=1e-3)
+
+
+def test_step_protocol_holds_only_steps():
+    from studies.discrepancy.prepare import prepare
+    from studies.hidden_effects import step_protocol
+
+    case = make_case((), seed=3, protocol=step_protocol())
+    assert set(case.table["run"]) == {"step_hold", "staircase"}
+    assert prepare(case.table).kinds() == {"step"}

@@ -125,6 +125,55 @@ def test_two_hidden_effects_are_both_named(pair):
     assert r.nrmse_before / r.nrmse_after >= 2.0
 
 
+# ------------------------------------------------------------------ harder cases (issue 12 §4)
+# the full-size numbers (confusion matrices, every pair, false-alarm bounds) come from
+# benchmarks/bench_effects.py; these are small seeded versions
+
+
+@pytest.mark.parametrize("effect", ["hysteresis", "dead_zone", "nonlinear_gain", "offset"])
+def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect):
+    from studies.hidden_effects import quasi_static_protocol
+
+    case = make_case(
+        (effect,), seed=4, noise_fraction=0.01, effect_to_noise=1.0, protocol=quasi_static_protocol()
+    )
+    r = run_workflow(case.table)
+    assert {x["kind"] for x in r.runs} == {"quasi-static"}
+    assert r.named == (effect,)
+    if effect == "dead_zone":  # the threshold pressure, within the notes' 30 %
+        est = r.steps[0]["params"]["threshold_MPa"]
+        assert est == pytest.approx(case.truth_params["dead_zone"]["threshold_MPa"], rel=0.3)
+
+
+def test_quasi_static_points_never_name_a_time_effect():
+    from studies.hidden_effects import quasi_static_protocol
+
+    case = make_case(
+        ("lag",), seed=5, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol()
+    )
+    r = run_workflow(case.table)
+    assert not set(r.named) & {"lag", "delay", "viscoelastic"}
+    assert any("lag, delay, viscoelastic were not tried" in n for n in r.notes)
+
+
+def test_quasi_static_two_effects_are_both_named():
+    from studies.hidden_effects import quasi_static_protocol
+
+    pair = ("hysteresis", "offset")
+    case = make_case(pair, seed=6, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
+    assert set(run_workflow(case.table).named) == set(pair)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("effect", ["hysteresis", "dead_zone"])
+def test_effect_to_noise_1_on_the_default_and_step_protocols(effect):
+    from studies.hidden_effects import step_protocol
+
+    for proto in (None, step_protocol()):
+        case = make_case((effect,), seed=7, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
+        assert run_workflow(case.table).named[:1] == (effect,)
+
+
 def test_one_frequency_hysteresis_is_flagged_as_ambiguous():
     proto = Protocol(frequencies_hz=(0.1,), cycles=6, step_hold=False)
     case = make_case(("hysteresis",), seed=41, noise_fraction=0.01, effect_to_noise=3.0, protocol=proto)
