@@ -267,6 +267,53 @@ def test_cli_bad_input_is_one_line_and_exit_2(tmp_path):
     assert "file not found" in err[0]
 
 
+def _sine_csv(path, *, header="time_s,pressure_MPa,curvature_per_mm", extra="", scale=1.0, bom=False):
+    t = np.arange(400) * 0.05
+    p = scale * (1 - np.cos(2 * np.pi * 0.1 * t))
+    rows = [f"{a:.3f},{b:.6g},{0.08 * b:.6g}{extra}" for a, b in zip(t, p, strict=True)]
+    path.write_bytes(("\ufeff" if bom else "").encode() + (header + "\n" + "\n".join(rows) + "\n").encode())
+    return path
+
+
+@pytest.mark.parametrize(
+    ("kind", "message"),
+    [
+        ("duplicate", r"column curvature_per_mm appears 2 times"),
+        ("huge", r"column pressure_MPa, line 2: 1e\+300 is beyond the plausible bound"),
+        ("constant", r"curvature is constant"),
+    ],
+)
+def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
+    # issue 15: two curvature columns used silently, 1e300 pressures, constant data
+    from studies.cli import main
+
+    if kind == "duplicate":
+        f = _sine_csv(
+            tmp_path / "d.csv", header="time_s,pressure_MPa,curvature_per_mm,curvature_per_mm", extra=",0"
+        )
+    elif kind == "huge":
+        f = _sine_csv(tmp_path / "h.csv")
+        lines = f.read_text().splitlines()
+        lines[1] = "0.000,1e300,0"
+        f.write_text("\n".join(lines) + "\n")
+    else:
+        f = _sine_csv(tmp_path / "c.csv")
+        lines = f.read_text().splitlines()
+        f.write_text("\n".join([lines[0]] + [ln.rsplit(",", 1)[0] + ",0.5" for ln in lines[1:]]) + "\n")
+    assert main(["discrepancy", str(f), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("softcath discrepancy: error:")
+    assert __import__("re").search(message, err[0])
+
+
+def test_excel_bom_file_goes_through_discrepancy(tmp_path, capsys):
+    from studies.cli import main
+
+    f = _sine_csv(tmp_path / "excel.csv", bom=True)
+    assert main(["discrepancy", str(f), "--out", str(tmp_path / "o"), "--max-effects", "1"]) == 0
+    assert "excitation: sine" in capsys.readouterr().out
+
+
 def test_write_report_from_api(tmp_path):
     case = make_case((), seed=61, protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False))
     r = run_workflow(case.table)
