@@ -19,8 +19,7 @@ Steps, per run (``run`` column; one run if absent):
    anti-alias filter removes, propagated through both filters.
 
 Quasi-static data (``time_s`` a step index: one point per pressure step, no
-clock) skip all of this: :func:`prepare_quasi_static` keeps each run's points
-unfiltered, and :func:`candidates_for` refuses the time-dependent candidates.
+clock) skip all of this: ``studies.discrepancy.quasi_static``.
 """
 
 from __future__ import annotations
@@ -38,16 +37,7 @@ from design.errors import DataError
 from design.measurement import Measurement
 from hardware.filtering import PAPER_FILTER, PAPER_FS_HZ, FilterSpec, design_sos, filtfilt, resample_uniform
 
-__all__ = [
-    "RunInfo",
-    "Prepared",
-    "prepare",
-    "prepare_static",
-    "prepare_quasi_static",
-    "candidates_for",
-    "EXCITATIONS",
-    "TIME_DEPENDENT",
-]
+__all__ = ["RunInfo", "Prepared", "prepare", "prepare_static", "EXCITATIONS", "MIN_RUN_SAMPLES"]
 
 log = logging.getLogger(__name__)
 
@@ -64,8 +54,6 @@ TRIM_OVER_PASSBAND = 1.0
 MIN_RUN_SAMPLES = 50
 #: what ``prepare(..., excitation=)`` accepts; "auto" recognises it from the data
 EXCITATIONS = ("auto", "time-series", "quasi-static")
-#: candidates that need a clock (a time constant or a latency): meaningless on a step index
-TIME_DEPENDENT = ("lag", "delay", "viscoelastic")
 
 
 @dataclass(frozen=True)
@@ -176,12 +164,6 @@ def _as_measurement(data) -> Measurement:
     return data if isinstance(data, Measurement) else Measurement.from_table(data)
 
 
-def is_quasi_static(m: Measurement) -> bool:
-    """``time_s`` counts steps and every run is too short to be a time series."""
-    lengths = [int(np.sum(m.run_labels() == r)) for r in m.runs]
-    return m.is_step_index() and max(lengths) < MIN_RUN_SAMPLES
-
-
 def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "auto") -> Prepared:
     """Filtered, decimated segments of a measurement.
 
@@ -200,6 +182,8 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
     m = _as_measurement(data)
     if excitation not in EXCITATIONS:
         raise DataError(f"excitation = {excitation!r}: must be one of {', '.join(EXCITATIONS)}")
+    from studies.discrepancy.quasi_static import is_quasi_static, prepare_quasi_static
+
     if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
         return prepare_quasi_static(m)
     labels = m.run_labels()
@@ -332,98 +316,3 @@ def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Pr
         times=(np.arange(p.size, dtype=float),),
         static=True,
     )
-
-
-def _has_unloading(p: np.ndarray) -> bool:
-    """The pressure comes down by more than 10 % of its span after its peak."""
-    return bool(np.ptp(p) > 0 and p.max() - p[int(np.argmax(p)) :].min() > 0.1 * np.ptp(p))
-
-
-def prepare_quasi_static(m: Measurement) -> Prepared:
-    """Quasi-static measured points (``time_s`` a step index): one unfiltered segment per run.
-
-    The points keep their order (loading, then unloading if recorded); the
-    workflow holds out every third point of every run. There is no clock, so no
-    filter and no noise-floor estimate (the floor is reported as 0, unknown).
-    """
-    segments, infos, times = [], [], []
-    labels = m.run_labels()
-    for label in m.runs:
-        sel = labels == label
-        p, k = m.pressure_MPa[sel], m.curvature_per_mm[sel]
-        if p.size < 6:
-            raise DataError(f"{m.source}: run {label!r}: {p.size} quasi-static points, need at least 6")
-        if not np.ptp(p) > 0:
-            raise DataError(f"{m.source}: run {label!r}: pressure is constant: there is no excitation")
-        segments.append(
-            Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool), label=str(label))
-        )
-        infos.append(
-            RunInfo(
-                label=str(label),
-                kind="quasi-static",
-                frequency_hz=0.0,
-                duration_s=float(p.size),
-                noise_sd_per_mm=0.0,
-            )
-        )
-        times.append(m.time_s[sel])
-    targets = np.concatenate([s.target for s in segments])
-    if not np.ptp(targets) > 0:
-        raise DataError(f"{m.source}: curvature is constant: there is no response to compare")
-    pressures = np.concatenate([s.pressure_MPa for s in segments])
-    return Prepared(
-        segments=tuple(segments),
-        runs=tuple(infos),
-        data_filter=PAPER_FILTER,
-        fit_filter=PAPER_FILTER,
-        fs_hz=1.0,
-        decimation=1,
-        noise_floor_per_mm=0.0,
-        full_scale_per_mm=float(np.ptp(targets)),
-        scales=Scales(
-            pressure_MPa=float(np.ptp(pressures)), duration_s=float(max(s.target.size for s in segments))
-        ),
-        times=tuple(times),
-        static=True,
-    )
-
-
-def candidates_for(
-    prep: Prepared, requested: tuple[str, ...] | None, default: tuple[str, ...]
-) -> tuple[tuple[str, ...], list[str]]:
-    """The candidates these data can judge, and notes saying what was left out and why.
-
-    On quasi-static measured points ``time_s`` counts steps: a lag, a delay or
-    creep has a time constant, which a step index does not carry. They are left
-    out of the default set, and refused when asked for by name. Hysteresis
-    needs an unloading branch: loading-only points cannot show a loop.
-    """
-    kinds = prep.kinds()
-    if "quasi-static" not in kinds:
-        return tuple(requested or default), []
-    notes = [
-        "quasi-static points carry no noise estimate: the noise floor is reported as 0 "
-        "(unknown), so 'excess removed' is relative to a perfect fit"
-    ]
-    asked = [c for c in (requested or ()) if c in TIME_DEPENDENT]
-    if asked:
-        raise DataError(
-            f"candidate(s) {', '.join(asked)} need a clock, but time_s here is a step index "
-            "(quasi-static points, one per pressure step): a time constant or latency has no "
-            "meaning; leave them out or record the response against time"
-        )
-    cands = [c for c in (requested or default) if c not in TIME_DEPENDENT]
-    if not requested:
-        notes.append(
-            "quasi-static data (time_s is a step index, no clock): the time-dependent candidates "
-            f"{', '.join(TIME_DEPENDENT)} were not tried; to judge them, record the response "
-            "against time (a step-and-hold)"
-        )
-    if "hysteresis" in cands and not any(_has_unloading(s.pressure_MPa) for s in prep.segments):
-        cands.remove("hysteresis")
-        notes.append(
-            "loading only (no unloading branch): hysteresis cannot show a loop and was not "
-            "tried; to judge it, record the unloading steps too"
-        )
-    return tuple(cands), notes

@@ -16,7 +16,8 @@ from analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from analytic.effects.fit import ChainFit
 from design.errors import DataError, DesignError
 from design.measurement import Measurement, read_measurement_csv
-from studies.discrepancy.prepare import Prepared, candidates_for, prepare, prepare_static
+from studies.discrepancy.prepare import Prepared, prepare, prepare_static
+from studies.discrepancy.quasi_static import candidates_for
 from studies.discrepancy.workflow import RATE_FAMILY, name_effects
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference", "DEFAULT_MARGIN", "QUASI_STATIC_MARGIN"]

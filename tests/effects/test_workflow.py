@@ -164,6 +164,17 @@ def test_quasi_static_two_effects_are_both_named():
     assert set(run_workflow(case.table).named) == set(pair)
 
 
+def test_a_threshold_and_a_stiffening_that_hide_each_other_are_named_together():
+    from studies.hidden_effects import quasi_static_protocol
+
+    pair = ("dead_zone", "nonlinear_gain")
+    case = make_case(pair, seed=0, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
+    assert case.truth_params["nonlinear_gain"]["beta_per_MPa"] < 0  # stiffening: against the threshold
+    r = run_workflow(case.table)
+    assert set(r.named) == set(pair)
+    assert any("named together" in n for n in r.notes)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("effect", ["hysteresis", "dead_zone"])
 def test_effect_to_noise_1_on_the_default_and_step_protocols(effect):
