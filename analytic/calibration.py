@@ -42,10 +42,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic.beam import gains_arrays
-from analytic.io import Measurement
+from analytic.data_gain import data_gain
 from analytic.section import design_inputs, section_arrays
 from design import TipDesign
 from design.errors import DataError, DesignError
+from design.measurement import Measurement
 from design.section import check_shape, max_outer_semi_axis
 
 __all__ = ["CalibrationResult", "calibrate", "nrmse", "SHAPE_KEYS", "MIN_LUMEN_SEMI_AXIS"]
@@ -100,6 +101,10 @@ class CalibrationResult:
     gains_data, gains_model
         Least-squares gains of the data and the optimised model's gains:
         ``{"curvature_per_mm_per_MPa", "elongation_per_MPa"}``.
+    gain_data_stderr, gain_data_method, gain_data_by_group
+        Standard error of the data's curvature gain from the spread of per-run
+        (or per-block) gains, how the groups were formed, and each group's gain
+        (``analytic.data_gain``).
     reachable
         False when the model family cannot reach the data's gains inside X.
     identifiable
@@ -129,6 +134,9 @@ class CalibrationResult:
     starts_at_optimum: int
     message: str
     design: TipDesign
+    gain_data_stderr: float | None = None
+    gain_data_method: str = ""
+    gain_data_by_group: dict[str, float] | None = None
 
     def to_json(self) -> dict:
         """The JSON document ``softcath calibrate`` writes."""
@@ -149,6 +157,11 @@ class CalibrationResult:
             "reachable": self.reachable,
             "identifiable": self.identifiable,
             "message": self.message,
+            "gain_data_uncertainty": {
+                "curvature_per_mm_per_MPa_stderr": self.gain_data_stderr,
+                "method": self.gain_data_method,
+                "by_group": self.gain_data_by_group,
+            },
             "units": {"x_opt": "mm", "gains": "per MPa"},
         }
 
@@ -440,6 +453,8 @@ def calibrate(
             + (f", elongation {g_e_opt:.5g} vs {data_ge:.5g} 1/MPa ({100 * miss_e:.2g} %)" if w_e > 0 else "")
             + "; this is the best constrained fit"
         )
+    dg = data_gain(measurement)
+    msg += "; " + dg.describe()
     if not identifiable:
         msg += (
             f"; x is not identifiable from {n_obs} gain(s) with {len(free)} free parameter(s): "
@@ -463,6 +478,9 @@ def calibrate(
         starts_at_optimum=len(optimal),
         message=msg,
         design=design.with_tube_shape(**x_opt),
+        gain_data_stderr=dg.stderr,
+        gain_data_method=dg.method,
+        gain_data_by_group=dg.by_group,
     )
 
 

@@ -27,7 +27,7 @@ from _timing import best_of, row  # noqa: E402
 import analytic  # noqa: E402
 import design  # noqa: E402
 from analytic.calibration import N_CONTAINMENT, _bounds, _inside, calibrate  # noqa: E402
-from analytic.io import Measurement  # noqa: E402
+from design.measurement import Measurement  # noqa: E402
 
 
 def bench_evaluations() -> None:

@@ -17,7 +17,7 @@ import numpy as np
 
 import analytic
 import design
-from analytic.io import Measurement, write_measurement_csv
+from design.measurement import Measurement, write_measurement_csv
 
 TRUE_SHAPE = {"a_int": 0.13, "b_int": 0.09, "h": 0.02}
 SEED = 20240521

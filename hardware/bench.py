@@ -34,8 +34,9 @@ from pathlib import Path
 import numpy as np
 
 from design.errors import DesignError
+from design.measurement import read_recording
 from hardware.frames import VideoWriter
-from hardware.recorder import Recorder, RecorderConfig, RecordSummary, read_measurement_csv
+from hardware.recorder import Recorder, RecorderConfig, RecordSummary
 from hardware.render import Scene, render_frame
 from hardware.sensors import SerialSensor
 from hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
@@ -334,7 +335,7 @@ def run_bench(
         enc_dev.close()
 
     # 3. truth and headline numbers
-    data = read_measurement_csv(out / "run.csv")
+    data = read_recording(out / "run.csv")
     k_meas = data["curvature_per_mm"]
     k_true_rows = np.interp(data["time_s"], t, kappa)
     ok = np.isfinite(k_meas)
@@ -418,7 +419,7 @@ def _json_default(o):
 
 
 def _write_truth_csv(path: Path, t, p_true, x_mm, resp) -> None:
-    from hardware.csvio import CsvSink
+    from design.measurement import CsvSink
 
     cols = ("time_s", "pressure_MPa", "stage_mm", "curvature_per_mm", "arc_length_mm")
     sink = CsvSink(path, cols)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hardware.csvio import CsvSink
+from design.measurement import CsvSink
 from hardware.frames import FrameSource, VideoWriter
 from hardware.recorder import CAMERA_COLUMNS
 from hardware.tipvision import Calibration, TipMeasurement, draw_overlay, measure

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from design.errors import DesignError
-from hardware.csvio import CsvSink, read_measurement_csv
+from design.measurement import CsvSink
 from hardware.errors import DeviceError
 from hardware.protocol import SEQ_MODULUS
 from hardware.sensors import SerialSensor
@@ -45,7 +45,6 @@ __all__ = [
     "Status",
     "RecordSummary",
     "Recorder",
-    "read_measurement_csv",
 ]
 
 log = logging.getLogger(__name__)

@@ -77,10 +77,10 @@ def _plot(out, truth_csv, run_csv) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from hardware.recorder import read_measurement_csv
+    from design.measurement import read_recording
 
-    d = read_measurement_csv(run_csv)
-    tr = read_measurement_csv(truth_csv)
+    d = read_recording(run_csv)
+    tr = read_recording(truth_csv)
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     ax[0].plot(d["time_s"], d["curvature_per_mm"], lw=0.8, label="measured (camera)")
     ax[0].plot(tr["time_s"], tr["curvature_per_mm"], "k--", lw=0.8, label="plant truth")

@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     import analytic
     import design
     from analytic.calibration import calibrate
-    from analytic.io import Measurement, read_measurement_csv
+    from design.measurement import Measurement, read_measurement_csv
     from studies.plots import calibration_plot
 
     d = design.resolve(args.design)

@@ -36,11 +36,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--margin",
         type=float,
-        default=0.05,
-        help="required held-out improvement to name an effect (default 0.05)",
+        default=None,
+        help="required held-out improvement to name an effect "
+        "(default 0.05; 0.12 on quasi-static points, which have few samples)",
     )
     parser.add_argument(
         "--max-effects", type=int, default=3, help="stop after naming this many effects (default 3)"
+    )
+    parser.add_argument(
+        "--excitation",
+        choices=("auto", "time-series", "quasi-static"),
+        default="auto",
+        help="what the measurement is: auto (default) recognises quasi-static points "
+        "(time_s a step index 0, 1, 2, ...) from sine and step-and-hold time series",
+    )
+    parser.add_argument(
+        "--candidates",
+        help="comma-separated candidate effects to try (default: all that the data can judge)",
     )
 
 
@@ -62,6 +74,9 @@ def run(args: argparse.Namespace) -> int:
             )
     if args.reference == "measured" and data is None:
         raise DataError("a measurement CSV is required")
+    cands = None
+    if args.candidates:
+        cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
     result = run_workflow(
         data,
         args.design,
@@ -69,7 +84,9 @@ def run(args: argparse.Namespace) -> int:
         fem=fem_fn,
         margin=args.margin,
         max_effects=args.max_effects,
+        candidates=cands,
         progress=True,
+        excitation=args.excitation,
     )
     html = write_report(result, args.out)
     named = " + ".join(result.named) if result.named else "nothing"
@@ -79,6 +96,20 @@ def run(args: argparse.Namespace) -> int:
         f"(noise floor {result.noise_floor_nrmse:.3g}, "
         f"{result.excess_removed:.0%} of excess removed)"
     )
+    kinds = sorted({r["kind"] for r in result.runs})
+    print(f"excitation: {', '.join(kinds)} ({len(result.runs)} run(s))")
+    cal = result.calibration
+    if cal.get("gain_stderr") is not None:
+        print(f"calibrated gain {cal['gain_per_mm_MPa']:.4g} ± {cal['gain_stderr']:.2g} 1/(mm MPa)")
+    for step in result.steps:
+        est = ", ".join(
+            f"{k} {v:.3g}" + (f" ± {step['params_stderr'][k]:.2g}" if step["params_stderr"].get(k) else "")
+            for k, v in step["params"].items()
+        )
+        if step.get("coefficient") is not None:
+            se = step.get("coefficient_stderr")
+            est = f"coefficient {step['coefficient']:.3g}" + (f" ± {se:.2g}" if se else "")
+        print(f"  {step['effect']}: {est}")
     for note in result.notes:
         print(f"note: {note}")
     print(f"wrote {args.out / 'discrepancy.json'} and {html}")

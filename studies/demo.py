@@ -195,7 +195,7 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
 def section_calibration(ctx: DemoContext) -> SectionOutput:
     try:
         from analytic.calibration import calibrate
-        from analytic.io import read_measurement_csv
+        from design.measurement import read_measurement_csv
     except ImportError as exc:
         return _unavailable("the eq. 8 calibration", str(exc))
     if not ctx.data_csv.is_file():

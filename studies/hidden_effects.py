@@ -1,8 +1,9 @@
 """Generate realistic bench data with a hidden effect (or none) from the truth plant.
 
-The data look like what the recorder writes (``ARCHITECTURE.md`` measurement
-CSV, raw, 200 Hz): several sine runs at different frequencies plus a
-step-and-hold run, curvature noise of a stated fraction of full scale, small
+The data look like what the recorder writes (``docs/measurement-csv.md``,
+raw, 200 Hz): by default several sine runs at different frequencies plus a
+step-and-hold run (``studies.hidden_protocols``: also steps only, or
+quasi-static points, one per pressure step), curvature noise of a stated fraction of full scale, small
 pressure-sensor noise, and a true gain that differs from the design's by a
 random calibration error. The effect's strength is set so that its
 *effect-to-noise ratio* hits a target:
@@ -29,67 +30,25 @@ import pandas as pd
 
 from design.errors import DesignError
 from hardware.plant import EFFECT_NAMES, Plant, make_effect
+from studies.hidden_protocols import (
+    Protocol,
+    default_protocol,
+    quasi_static_protocol,
+    step_protocol,
+)
 
 __all__ = [
     "Protocol",
     "HiddenCase",
     "make_case",
     "default_protocol",
+    "step_protocol",
+    "quasi_static_protocol",
     "paper_demo_case",
     "signature_rms",
 ]
 
 log = logging.getLogger(__name__)
-
-FS_HZ = 200.0
-
-
-@dataclass(frozen=True)
-class Protocol:
-    """Excitation of one data set (pressure histories per run).
-
-    Parameters
-    ----------
-    p_max_MPa
-        Peak pressure (MPa).
-    frequencies_hz
-        One sine run (``p_max/2 (1 - cos 2 pi f t)``) per frequency.
-    cycles
-        Cycles per sine run.
-    step_hold
-        Add a step-and-hold run (up to p_max, hold, down to p_max/2, hold, release).
-    hold_s
-        Hold duration of each level (s).
-    fs_hz
-        Sample rate (Hz).
-    """
-
-    p_max_MPa: float = 2.0
-    frequencies_hz: tuple[float, ...] = (0.05, 0.1, 0.2)
-    cycles: int = 3
-    step_hold: bool = True
-    hold_s: float = 15.0
-    fs_hz: float = FS_HZ
-
-    def runs(self) -> list[tuple[str, np.ndarray, np.ndarray]]:
-        """(label, time s, pressure MPa) per run."""
-        out = []
-        for f in self.frequencies_hz:
-            t = np.arange(0, self.cycles / f, 1 / self.fs_hz)
-            out.append((f"sine_{f:g}Hz", t, self.p_max_MPa / 2 * (1 - np.cos(2 * np.pi * f * t))))
-        if self.step_hold:
-            # a syringe pump ramps in about half a second, it cannot jump
-            h = self.hold_s
-            knots_t = [0, 3, 3.5, 3.5 + h, 4 + h, 4 + 2 * h, 4.5 + 2 * h, 4.5 + 3 * h]
-            knots_p = [0, 0, 1, 1, 0.5, 0.5, 0, 0]
-            t = np.arange(0, knots_t[-1], 1 / self.fs_hz)
-            out.append(("step_hold", t, self.p_max_MPa * np.interp(t, knots_t, knots_p)))
-        return out
-
-
-def default_protocol(p_max_MPa: float = 2.0) -> Protocol:
-    """Three sine frequencies (0.05, 0.1, 0.2 Hz) and a step-and-hold: about 160 s."""
-    return Protocol(p_max_MPa=p_max_MPa)
 
 
 @dataclass(frozen=True)
@@ -113,9 +72,10 @@ def signature_rms(kappa_effect: np.ndarray, pressure: np.ndarray) -> float:
 
 
 def _sig(plant_kw, effect, runs):
+    """Signature rms of ``effect`` over the recorded samples of ``runs`` (label, t, p, idx)."""
     plant = Plant(**plant_kw, effects=(effect,))
-    k = np.concatenate([plant.simulate(t, p).curvature_per_mm for _, t, p in runs])
-    p = np.concatenate([p for _, _, p in runs])
+    k = np.concatenate([plant.simulate(t, p).curvature_per_mm[i] for _, t, p, i in runs])
+    p = np.concatenate([p[i] for _, _, p, i in runs])
     return signature_rms(k, p)
 
 
@@ -247,11 +207,11 @@ def make_case(
         raise DesignError("effect_to_noise", effect_to_noise, "must be > 0")
     proto = protocol or default_protocol()
     rng = np.random.default_rng(seed)
-    runs = proto.runs()
+    runs = [(label, t, p, proto.recorded(label, t)) for label, t, p in proto.runs()]
     gain = gain_per_mm_MPa * rng.uniform(1 - gain_error, 1 + gain_error)
     plant_kw = dict(curvature_per_mpa=gain, elongation_per_mpa=elongation_per_MPa, length_mm=length_mm)
     clean = Plant(**plant_kw)
-    fs = np.ptp(np.concatenate([clean.simulate(t, p).curvature_per_mm for _, t, p in runs]))
+    fs = np.ptp(np.concatenate([clean.simulate(t, p).curvature_per_mm[i] for _, t, p, i in runs]))
     sigma = noise_fraction * fs
     truth = [
         _scaled_effect(e, effect_to_noise * sigma, rng, plant_kw, runs, proto.p_max_MPa) for e in effects
@@ -261,20 +221,21 @@ def make_case(
     sensor = _sensor(sensor_bandwidth_hz, proto.fs_hz)
     frames = []
     t_start = 0.0
-    for label, t, p in runs:
+    for label, t, p, idx in runs:
         r = plant.simulate(t, p)  # every run starts from rest
-        n = t.size
-        p_seen, k_seen = sensor(p), sensor(r.curvature_per_mm)
-        # one continuous recording: runs follow each other after a 1 s pause, so
-        # time_s increases through the file as the recorder writes it
+        n = idx.size
+        p_seen, k_seen = sensor(p)[idx], sensor(r.curvature_per_mm)[idx]
+        # time series: one continuous recording, runs 1 s apart, so time_s increases
+        # through the file as the recorder writes it; quasi-static: the step index
+        time_s = np.arange(n, dtype=float) if proto.quasi_static else t + t_start
         frames.append(
             pd.DataFrame(
                 {
-                    "time_s": t + t_start,
+                    "time_s": time_s,
                     "pressure_MPa": p_seen + rng.normal(0, pressure_noise_fraction * proto.p_max_MPa, n),
                     "curvature_per_mm": k_seen + rng.normal(0, sigma, n),
-                    "arc_length_mm": r.arc_length_mm,
-                    "bend_angle_rad": r.bend_angle_rad,
+                    "arc_length_mm": r.arc_length_mm[idx],
+                    "bend_angle_rad": r.bend_angle_rad[idx],
                     "run": label,
                 }
             )

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import design
 from analytic.calibration import calibrate
-from analytic.io import read_measurement_csv
+from design.measurement import read_measurement_csv
 
 DATA = Path(__file__).parents[1] / "studies" / "data"
 

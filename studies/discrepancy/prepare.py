@@ -17,6 +17,9 @@ Steps, per run (``run`` column; one run if absent):
    model see identical linear filtering (trap 2);
 5. estimate the noise floor: the raw curvature noise s.d. from what the
    anti-alias filter removes, propagated through both filters.
+
+Quasi-static data (``time_s`` a step index: one point per pressure step, no
+clock) skip all of this: ``studies.discrepancy.quasi_static``.
 """
 
 from __future__ import annotations
@@ -26,15 +29,15 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import pandas as pd
 from scipy import signal
 
 from analytic.effects import Scales
 from analytic.effects.fit import Segment
 from design.errors import DataError
+from design.measurement import Measurement
 from hardware.filtering import PAPER_FILTER, PAPER_FS_HZ, FilterSpec, design_sos, filtfilt, resample_uniform
 
-__all__ = ["RunInfo", "Prepared", "prepare", "prepare_static"]
+__all__ = ["RunInfo", "Prepared", "prepare", "prepare_static", "EXCITATIONS", "MIN_RUN_SAMPLES"]
 
 log = logging.getLogger(__name__)
 
@@ -47,6 +50,10 @@ log = logging.getLogger(__name__)
 DECIMATED_OVER_PASSBAND = 40.0
 #: trimmed at each end of a run in fits and scores: two filter settling times
 TRIM_OVER_PASSBAND = 1.0
+#: runs shorter than this are not a time series the filters can work on
+MIN_RUN_SAMPLES = 50
+#: what ``prepare(..., excitation=)`` accepts; "auto" recognises it from the data
+EXCITATIONS = ("auto", "time-series", "quasi-static")
 
 
 @dataclass(frozen=True)
@@ -54,7 +61,7 @@ class RunInfo:
     """What the preparation found in one run."""
 
     label: str
-    kind: str  # "sine" or "step"
+    kind: str  # "sine", "step" or "quasi-static" ("static": a FEM reference)
     frequency_hz: float  # dominant excitation frequency (sine runs), else 0
     duration_s: float
     noise_sd_per_mm: float  # raw curvature noise s.d. estimate
@@ -91,6 +98,10 @@ class Prepared:
                 distinct.append(f)
         return len(distinct) + any(r.kind == "step" for r in self.runs)
 
+    def kinds(self) -> set[str]:
+        """The excitation kinds present ("sine", "step", "quasi-static", "static")."""
+        return {r.kind for r in self.runs}
+
 
 def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
     """``hardware.filtering.filtfilt(x, spec)`` along axis 0, with set-up done once.
@@ -117,10 +128,10 @@ def _zero_phase(spec: FilterSpec) -> Callable[[np.ndarray], np.ndarray]:
     return f
 
 
-def _excitation(t: np.ndarray, p: np.ndarray) -> tuple[str, float]:
+def _excitation(t: np.ndarray, p: np.ndarray, where: str = "") -> tuple[str, float]:
     span = np.ptp(p)
     if span <= 0:
-        raise DataError("pressure is constant: there is no excitation to compare against")
+        raise DataError(f"{where}pressure is constant: there is no excitation to compare against")
     # step-and-hold: in most half-second windows the pressure stays within 5 % of its
     # span (a range test, not a slope test: differentiated sensor noise would swamp it)
     fs = 1 / (t[1] - t[0])
@@ -149,36 +160,62 @@ def _noise_gain(aa: FilterSpec, data: FilterSpec, fs: float) -> float:
     return float(np.sqrt(np.trapezoid(power, f) / (fs / 2)))
 
 
-def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Prepared:
-    """Filtered, decimated segments of a validated measurement table.
+def _as_measurement(data) -> Measurement:
+    return data if isinstance(data, Measurement) else Measurement.from_table(data)
+
+
+def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "auto") -> Prepared:
+    """Filtered, decimated segments of a measurement.
 
     Parameters
     ----------
-    table
-        Columns ``time_s``, ``pressure_MPa``, ``curvature_per_mm``, ``run``
-        (see ``studies.measurement_csv``).
+    data
+        A :class:`design.measurement.Measurement` or a table with its columns.
     filter_spec
         Force the data low-pass (default: chosen from the excitation, see above).
+    excitation
+        ``"auto"`` (default): quasi-static when ``time_s`` is a step index in
+        runs shorter than 50 points, otherwise a time series whose runs are
+        classified as sine or step-and-hold. ``"time-series"`` or
+        ``"quasi-static"`` force the choice.
     """
+    m = _as_measurement(data)
+    if excitation not in EXCITATIONS:
+        raise DataError(f"excitation = {excitation!r}: must be one of {', '.join(EXCITATIONS)}")
+    from studies.discrepancy.quasi_static import is_quasi_static, prepare_quasi_static
+
+    if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
+        return prepare_quasi_static(m)
+    labels = m.run_labels()
+    runs = []
+    for label in m.runs:
+        sel = labels == label
+        t, p, k = m.time_s[sel], m.pressure_MPa[sel], m.curvature_per_mm[sel]
+        if t.size < MIN_RUN_SAMPLES:
+            raise DataError(
+                f"{m.source}: run {label!r}: {t.size} samples, need at least {MIN_RUN_SAMPLES} "
+                "for a time series (quasi-static points: time_s as a step index 0, 1, 2, ...)"
+            )
+        runs.append((str(label), t, p, k))
+    # irregular runs go onto one uniform base: the paper's 200 Hz, or the file's median
+    # rate when it is slower (a 25 Hz camera log gains nothing from 8x interpolation)
+    rate = min(
+        PAPER_FS_HZ, round(float(1 / np.median(np.concatenate([np.diff(t) for _, t, _, _ in runs]))), 3)
+    )
     raw = []
-    for label, g in table.groupby("run", sort=False):
-        t = g["time_s"].to_numpy(float)
-        p = g["pressure_MPa"].to_numpy(float)
-        k = g["curvature_per_mm"].to_numpy(float)
-        if t.size < 50:
-            raise DataError(f"run {label!r}: {t.size} samples, need at least 50")
+    for label, t, p, k in runs:
         dt = np.diff(t)
         if np.ptp(dt) > 1e-6 * np.median(dt):
-            tu, p = resample_uniform(t, p, fs_hz=PAPER_FS_HZ)
-            _, k = resample_uniform(t, k, fs_hz=PAPER_FS_HZ)
+            tu, p = resample_uniform(t, p, fs_hz=rate)
+            _, k = resample_uniform(t, k, fs_hz=rate)
             t = tu
-        raw.append((str(label), t, p, k))
+        raw.append((label, t, p, k))
     # rounded to 1 mHz: time stamps like 107.985 carry 1e-12 s of binary noise
     fs_all = {round(float(1 / np.median(np.diff(t))), 3) for _, t, _, _ in raw}
     if len(fs_all) != 1:
         raise DataError(f"runs have different sample rates {sorted(fs_all)} Hz")
     fs = fs_all.pop()
-    exc = [_excitation(t, p) for _, t, p, _ in raw]
+    exc = [_excitation(t, p, f"{m.source}: run {label!r}: ") for label, t, p, _ in raw]
     if filter_spec is None:
         fmax = max([f for kind, f in exc if kind == "sine"], default=0.0)
         spec = FilterSpec(fs_hz=fs) if fs != PAPER_FILTER.fs_hz else PAPER_FILTER
@@ -229,6 +266,9 @@ def prepare(table: pd.DataFrame, *, filter_spec: FilterSpec | None = None) -> Pr
         noise.append(sd)
     targets = np.concatenate([s.target[s.mask] for s in segments])
     pressures = np.concatenate([s.pressure_MPa for s in segments])
+    # relative: a constant series comes out of the filters with 1e-16 of rounding ripple
+    if not np.ptp(targets) > 1e-9 * np.max(np.abs(targets)):
+        raise DataError(f"{m.source}: curvature is constant: there is no response to compare")
     return Prepared(
         segments=tuple(segments),
         runs=tuple(infos),

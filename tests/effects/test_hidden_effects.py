@@ -3,11 +3,10 @@
 import numpy as np
 import pytest
 
-from analytic.io import read_measurement_csv as read_with_analytic
 from design.errors import DesignError
+from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
 from studies.discrepancy import run_workflow
 from studies.hidden_effects import Protocol, make_case, paper_demo_case, signature_rms
-from studies.measurement_csv import write_measurement_csv
 
 SHORT = Protocol(frequencies_hz=(0.1, 0.2), cycles=2, step_hold=True, hold_s=5.0)
 
@@ -49,8 +48,8 @@ def test_no_effect_case_is_the_linear_model_plus_noise():
 
 def test_generated_csv_reads_with_the_project_reader(tmp_path):
     case = make_case(("delay",), seed=6, protocol=SHORT)
-    path = write_measurement_csv(case.table, tmp_path / "hidden.csv")
-    m = read_with_analytic(path)  # time increases through the file, runs labelled
+    path = write_measurement_csv(tmp_path / "hidden.csv", Measurement.from_table(case.table))
+    m = read_measurement_csv(path)  # time increases through the file, runs labelled
     assert len(m) == len(case.table) and set(m.runs) == {"sine_0.1Hz", "sine_0.2Hz", "step_hold"}
 
 
@@ -71,3 +70,35 @@ def test_paper_demo_story_names_hysteresis_and_shrinks_the_gap():
     assert r.nrmse_before / r.nrmse_after >= 2.0
     one = run_workflow(paper_demo_case(two_frequencies=False).table, "paper", max_effects=1)
     assert one.named == ("hysteresis",) and one.ambiguous_with[0]  # the paper's single sine
+
+
+def test_quasi_static_protocol_records_one_point_per_hold():
+    from studies.hidden_effects import quasi_static_protocol
+
+    proto = quasi_static_protocol()
+    case = make_case(("dead_zone",), seed=2, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
+    tab = case.table
+    assert set(tab["run"]) == {"quasi_static_1", "quasi_static_2"}
+    levels = np.r_[0.0, np.arange(1, 11) / 10, np.arange(9, 0, -1) / 10, 0.0] * proto.p_max_MPa
+    for _, g in tab.groupby("run"):
+        np.testing.assert_array_equal(g["time_s"], np.arange(21.0))  # the step index
+        # the end of each 15 s hold: the sensor has settled on the level (noise 0.2 % of p_max)
+        np.testing.assert_allclose(g["pressure_MPa"], levels, atol=5 * 0.002 * proto.p_max_MPa)
+    # the effect-to-noise ratio holds on the recorded points, recomputed from the plant
+    k, p = [], []
+    for label, t, pr in proto.runs():
+        i = proto.recorded(label, t)
+        k.append(case.plant.simulate(t, pr).curvature_per_mm[i])
+        p.append(pr[i])
+    k, p = np.concatenate(k), np.concatenate(p)
+    sigma = 0.01 * case.gain_per_mm_MPa * proto.p_max_MPa
+    assert signature_rms(k, p) / sigma == pytest.approx(1.0, rel=1e-3)
+
+
+def test_step_protocol_holds_only_steps():
+    from studies.discrepancy.prepare import prepare
+    from studies.hidden_effects import step_protocol
+
+    case = make_case((), seed=3, protocol=step_protocol())
+    assert set(case.table["run"]) == {"step_hold", "staircase"}
+    assert prepare(case.table).kinds() == {"step"}

@@ -11,10 +11,10 @@ import pandas as pd
 import pytest
 
 from design.errors import DataError, DesignError
+from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
 from studies.discrepancy import run_workflow, write_report
 from studies.discrepancy.prepare import prepare
 from studies.hidden_effects import Protocol, make_case
-from studies.measurement_csv import read_measurement_csv, validate_table, write_measurement_csv
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_csv_round_trip_and_missing_values_reported(tmp_path):
     case = make_case((), seed=0, protocol=Protocol(frequencies_hz=(0.2,), step_hold=False))
-    path = write_measurement_csv(case.table, tmp_path / "m.csv")
+    path = write_measurement_csv(tmp_path / "m.csv", Measurement.from_table(case.table))
     back = read_measurement_csv(path)
     np.testing.assert_allclose(back["curvature_per_mm"], case.table["curvature_per_mm"], rtol=1e-8)
     lines = path.read_text().splitlines()
@@ -34,22 +34,22 @@ def test_csv_round_trip_and_missing_values_reported(tmp_path):
         lines[i] = ",".join(cells)
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(lines) + "\n")
-    # the file reader (analytic.io) reports count and first line
-    with pytest.raises(DataError, match=r"curvature_per_mm: 3 missing/NaN value\(s\), first at line 6"):
+    # the file reader reports count and first line
+    with pytest.raises(DataError, match=r"curvature_per_mm: 3 missing value\(s\), first at line 6"):
         read_measurement_csv(bad)
-    # an in-memory table reports count and the first line numbers it would have in a file
+    # an in-memory table reports the first line number it would have in a file, and the count
     tab = case.table.copy()
     tab.loc[[4, 8, 11], "curvature_per_mm"] = np.nan
-    with pytest.raises(DataError, match=r"3 row\(s\) with a missing .* line\(s\) 6, 10, 13"):
-        validate_table(tab)
+    with pytest.raises(DataError, match=r"column curvature_per_mm, line 6: nan .* \(3 such value\(s\)\)"):
+        Measurement.from_table(tab)
 
 
 def test_csv_structural_errors():
-    with pytest.raises(DataError, match=r"missing required column\(s\) \['curvature_per_mm'\]"):
-        validate_table(pd.DataFrame({"time_s": [0.0], "pressure_MPa": [0.0]}))
+    with pytest.raises(DataError, match=r"missing required column\(s\) curvature_per_mm"):
+        Measurement.from_table(pd.DataFrame({"time_s": [0.0], "pressure_MPa": [0.0]}))
     df = pd.DataFrame({"time_s": [0.0, 1.0, 1.0], "pressure_MPa": [0.0] * 3, "curvature_per_mm": [0.0] * 3})
-    with pytest.raises(DataError, match=r"time_s must increase within run 'run1'.*line 4"):
-        validate_table(df)
+    with pytest.raises(DataError, match=r"time_s is not strictly increasing at line 4"):
+        Measurement.from_table(df)
     with pytest.raises(DataError, match="file not found"):
         read_measurement_csv("/nonexistent/file.csv")
 
@@ -125,6 +125,66 @@ def test_two_hidden_effects_are_both_named(pair):
     assert r.nrmse_before / r.nrmse_after >= 2.0
 
 
+# ------------------------------------------------------------------ harder cases (issue 12 §4)
+# the full-size numbers (confusion matrices, every pair, false-alarm bounds) come from
+# benchmarks/bench_effects.py; these are small seeded versions
+
+
+@pytest.mark.parametrize("effect", ["hysteresis", "dead_zone", "nonlinear_gain", "offset"])
+def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect):
+    from studies.hidden_effects import quasi_static_protocol
+
+    case = make_case(
+        (effect,), seed=4, noise_fraction=0.01, effect_to_noise=1.0, protocol=quasi_static_protocol()
+    )
+    r = run_workflow(case.table)
+    assert {x["kind"] for x in r.runs} == {"quasi-static"}
+    assert r.named == (effect,)
+    if effect == "dead_zone":  # the threshold pressure, within the notes' 30 %
+        est = r.steps[0]["params"]["threshold_MPa"]
+        assert est == pytest.approx(case.truth_params["dead_zone"]["threshold_MPa"], rel=0.3)
+
+
+def test_quasi_static_points_never_name_a_time_effect():
+    from studies.hidden_effects import quasi_static_protocol
+
+    case = make_case(
+        ("lag",), seed=5, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol()
+    )
+    r = run_workflow(case.table)
+    assert not set(r.named) & {"lag", "delay", "viscoelastic"}
+    assert any("lag, delay, viscoelastic were not tried" in n for n in r.notes)
+
+
+def test_quasi_static_two_effects_are_both_named():
+    from studies.hidden_effects import quasi_static_protocol
+
+    pair = ("hysteresis", "offset")
+    case = make_case(pair, seed=6, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
+    assert set(run_workflow(case.table).named) == set(pair)
+
+
+def test_a_threshold_and_a_stiffening_that_hide_each_other_are_named_together():
+    from studies.hidden_effects import quasi_static_protocol
+
+    pair = ("dead_zone", "nonlinear_gain")
+    case = make_case(pair, seed=0, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
+    assert case.truth_params["nonlinear_gain"]["beta_per_MPa"] < 0  # stiffening: against the threshold
+    r = run_workflow(case.table)
+    assert set(r.named) == set(pair)
+    assert any("named together" in n for n in r.notes)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("effect", ["hysteresis", "dead_zone"])
+def test_effect_to_noise_1_on_the_default_and_step_protocols(effect):
+    from studies.hidden_effects import step_protocol
+
+    for proto in (None, step_protocol()):
+        case = make_case((effect,), seed=7, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
+        assert run_workflow(case.table).named[:1] == (effect,)
+
+
 def test_one_frequency_hysteresis_is_flagged_as_ambiguous():
     proto = Protocol(frequencies_hz=(0.1,), cycles=6, step_hold=False)
     case = make_case(("hysteresis",), seed=41, noise_fraction=0.01, effect_to_noise=3.0, protocol=proto)
@@ -180,7 +240,7 @@ def test_cli_writes_json_and_report(tmp_path):
         effect_to_noise=4.0,
         protocol=Protocol(frequencies_hz=(0.1, 0.2), step_hold=False),
     )
-    csv = write_measurement_csv(case.table, tmp_path / "bench.csv")
+    csv = write_measurement_csv(tmp_path / "bench.csv", Measurement.from_table(case.table))
     out = tmp_path / "out"
     assert main(["discrepancy", str(csv), "--design", "paper", "--out", str(out)]) == 0
     rec = json.loads((out / "discrepancy.json").read_text())
@@ -219,6 +279,53 @@ def test_cli_bad_input_is_one_line_and_exit_2(tmp_path):
     err = p.stderr.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("softcath discrepancy: error:")
     assert "file not found" in err[0]
+
+
+def _sine_csv(path, *, header="time_s,pressure_MPa,curvature_per_mm", extra="", scale=1.0, bom=False):
+    t = np.arange(400) * 0.05
+    p = scale * (1 - np.cos(2 * np.pi * 0.1 * t))
+    rows = [f"{a:.3f},{b:.6g},{0.08 * b:.6g}{extra}" for a, b in zip(t, p, strict=True)]
+    path.write_bytes(("\ufeff" if bom else "").encode() + (header + "\n" + "\n".join(rows) + "\n").encode())
+    return path
+
+
+@pytest.mark.parametrize(
+    ("kind", "message"),
+    [
+        ("duplicate", r"column curvature_per_mm appears 2 times"),
+        ("huge", r"column pressure_MPa, line 2: 1e\+300 is beyond the plausible bound"),
+        ("constant", r"curvature is constant"),
+    ],
+)
+def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
+    # issue 15: two curvature columns used silently, 1e300 pressures, constant data
+    from studies.cli import main
+
+    if kind == "duplicate":
+        f = _sine_csv(
+            tmp_path / "d.csv", header="time_s,pressure_MPa,curvature_per_mm,curvature_per_mm", extra=",0"
+        )
+    elif kind == "huge":
+        f = _sine_csv(tmp_path / "h.csv")
+        lines = f.read_text().splitlines()
+        lines[1] = "0.000,1e300,0"
+        f.write_text("\n".join(lines) + "\n")
+    else:
+        f = _sine_csv(tmp_path / "c.csv")
+        lines = f.read_text().splitlines()
+        f.write_text("\n".join([lines[0]] + [ln.rsplit(",", 1)[0] + ",0.5" for ln in lines[1:]]) + "\n")
+    assert main(["discrepancy", str(f), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("softcath discrepancy: error:")
+    assert __import__("re").search(message, err[0])
+
+
+def test_excel_bom_file_goes_through_discrepancy(tmp_path, capsys):
+    from studies.cli import main
+
+    f = _sine_csv(tmp_path / "excel.csv", bom=True)
+    assert main(["discrepancy", str(f), "--out", str(tmp_path / "o"), "--max-effects", "1"]) == 0
+    assert "excitation: sine" in capsys.readouterr().out
 
 
 def test_write_report_from_api(tmp_path):

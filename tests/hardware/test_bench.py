@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import design
-from analytic.io import read_measurement_csv as read_peer
+from design.measurement import read_measurement_csv as read_peer
+from design.measurement import read_recording
 from hardware.bench import BenchConfig, make_plant, run_bench
-from hardware.recorder import read_measurement_csv
 from hardware.stage import SyringeModel
 from studies.cli import main
 
@@ -23,7 +23,7 @@ def test_cli_bench_outputs_match_the_plant(tmp_path, capsys):
     for name in ("run.csv", "frames.avi", "truth.json", "truth.csv", "bench.png"):
         assert (out / name).stat().st_size > 0
     assert "curvature RMS error" in capsys.readouterr().out
-    # the project's own measurement-CSV reader (analytic.io) accepts the file
+    # the strict measurement-CSV reader accepts the file
     m = read_peer(out / "run.csv")
     assert m.runs == ["sine_2Hz"]
     truth = json.loads((out / "truth.json").read_text())
@@ -32,8 +32,8 @@ def test_cli_bench_outputs_match_the_plant(tmp_path, capsys):
     # measured curvature vs the analytic model of the measured pressure: the gain is the
     # analytic response of the paper design at 1 MPa (closed form of the linear model)
     k_gain = make_plant(design.preset("paper")).curvature_per_mpa
-    tr = read_measurement_csv(out / "truth.csv")
-    run = read_measurement_csv(out / "run.csv")
+    tr = read_recording(out / "truth.csv")
+    run = read_recording(out / "run.csv")
     # (both columns are printed with 9 significant digits: rtol 1e-8)
     np.testing.assert_allclose(tr["curvature_per_mm"], k_gain * tr["pressure_MPa"], rtol=1e-8, atol=1e-15)
     # camera noise 2 grey levels, 40 px/mm: the default method is within 2 % of the peak
@@ -61,8 +61,8 @@ def test_bench_is_deterministic_for_a_seed(tmp_path):
 def test_stage_waveforms_follow_their_closed_forms(tmp_path, waveform):
     cfg = BenchConfig(waveform=waveform, freqs_hz=(2.0,), cycles=1, fps=10.0, noise=0.0)
     run_bench(design.preset("paper"), tmp_path, cfg)
-    tr = read_measurement_csv(tmp_path / "truth.csv")
-    run = read_measurement_csv(tmp_path / "run.csv")
+    tr = read_recording(tmp_path / "truth.csv")
+    run = read_recording(tmp_path / "run.csv")
     syr = SyringeModel()
     x_max = syr.displacement_mm(2.0)
     t = tr["time_s"] - cfg.rest_s
@@ -89,7 +89,7 @@ def test_effects_reach_the_plant(tmp_path):
     assert main(["bench", "--out", str(out), *SHORT, "--effect", "offset:curvature_per_mm=0.02"]) == 0
     truth = json.loads((out / "truth.json").read_text())
     assert [e["name"] for e in truth["plant"]["effects"]] == ["offset"]
-    run = read_measurement_csv(out / "run.csv")
+    run = read_recording(out / "run.csv")
     rest = run["time_s"] < 0.4  # zero pressure: the pre-curvature alone
     assert np.nanmedian(run["curvature_per_mm"][rest]) == pytest.approx(0.02, rel=0.03)
 

@@ -11,8 +11,9 @@ import cv2
 import numpy as np
 import pytest
 
+from design.measurement import read_recording
 from hardware.protocol import encode_frame
-from hardware.recorder import Recorder, RecorderConfig, read_measurement_csv
+from hardware.recorder import Recorder, RecorderConfig
 from hardware.render import Scene, render_frame, tip_pose
 from hardware.sensors import SerialSensor
 from studies.cli import main
@@ -45,7 +46,7 @@ def test_measure_cli_writes_csv_and_overlay(video, tmp_path, capsys, with_base):
     assert ("base found in the image" in out) != with_base
     header = (tmp_path / "measurements.csv").read_text().splitlines()[0]
     assert header == ("frame,time_s,curvature_per_mm,arc_length_mm,bend_angle_rad,tip_x_mm,tip_y_mm")
-    d = read_measurement_csv(tmp_path / "measurements.csv")
+    d = read_recording(tmp_path / "measurements.csv")
     np.testing.assert_allclose(d["time_s"], np.arange(5) / 10.0)
     k = np.radians(ANGLES) / 5.0
     # known base: 2 % (as in test_vision); base found from the image: 3 %
@@ -79,7 +80,7 @@ def test_paper_method_cli_runs(video, tmp_path):
         )
         == 0
     )
-    d = read_measurement_csv(tmp_path / "measurements.csv")
+    d = read_recording(tmp_path / "measurements.csv")
     assert np.isfinite(d["curvature_per_mm"][:4]).all()
 
 
@@ -143,7 +144,7 @@ def test_socket_device_reconnects_without_losing_rows(tmp_path):
     )
     summary = rec.run()
     th.join(timeout=5)
-    d = read_measurement_csv(tmp_path / "s.csv")
+    d = read_recording(tmp_path / "s.csv")
     # every sample of both connections, in order on the device clock (seq continues)
     np.testing.assert_allclose(d["pressure_MPa"], 0.001 * np.arange(2 * n_per_conn), atol=1e-12)
     assert any("reconnected" in m for m in summary.messages)
@@ -192,7 +193,7 @@ def test_record_cli_with_stage_and_camera(video, tmp_path, capsys):
     stage_dev.close()
     assert rc == 0
     assert "recorded 201 rows" in capsys.readouterr().out
-    d = read_measurement_csv(tmp_path / "measurements.csv")
+    d = read_recording(tmp_path / "measurements.csv")
     assert len(d["time_s"]) == 201
     np.testing.assert_allclose(d["pressure_MPa"], 0.1)
     np.testing.assert_allclose(d["encoder_mm"], 7.0)
@@ -231,7 +232,7 @@ def test_measure_cli_scale_from_a_chessboard(video, tmp_path, capsys):
     ]
     assert main(args) == 0
     assert "scale from the chessboard: 40.0" in capsys.readouterr().out
-    d = read_measurement_csv(tmp_path / "m" / "measurements.csv")
+    d = read_recording(tmp_path / "m" / "measurements.csv")
     # sub-pixel corners give the scale to ~0.1 %, which passes straight into curvature
     np.testing.assert_allclose(d["curvature_per_mm"][:4], np.radians(ANGLES) / 5.0, rtol=0.02)
     assert (

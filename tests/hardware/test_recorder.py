@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from design.errors import DesignError
-from hardware.recorder import CsvSink, Recorder, RecorderConfig, read_measurement_csv
+from design.measurement import read_recording
+from hardware.recorder import CsvSink, Recorder, RecorderConfig
 from hardware.sensors import SerialSensor
 from hardware.virtual_devices import VirtualLineDevice
 
@@ -51,7 +52,7 @@ def test_device_clock_rows_are_exact_and_deterministic(tmp_path):
     th.start()
     summary = rec.run(duration_s=(n - 2) / 200.0)
     th.join()
-    data = read_measurement_csv(tmp_path / "r.csv")
+    data = read_recording(tmp_path / "r.csv")
     k = np.arange(len(data["time_s"]))
     np.testing.assert_allclose(data["time_s"], k / 200.0, atol=1e-12)
     p = data["pressure_MPa"]
@@ -90,7 +91,7 @@ def test_unplugged_sensor_keeps_every_received_row(tmp_path):
     th.start()
     summary = rec.run()
     th.join()
-    data = read_measurement_csv(tmp_path / "u.csv")
+    data = read_recording(tmp_path / "u.csv")
     assert len(data["time_s"]) == n
     np.testing.assert_allclose(data["pressure_MPa"], _p(np.arange(n)), rtol=1e-8)
     assert summary.stop_reason == "pressure sensor lost"
@@ -154,7 +155,7 @@ def test_sigkill_leaves_a_valid_csv_with_every_flushed_row(tmp_path):
     assert before >= 300, err.decode()
     text = csv_path.read_text()
     assert text.endswith("\n")  # no torn last line
-    data = read_measurement_csv(csv_path)
+    data = read_recording(csv_path)
     assert len(data["time_s"]) >= before
     np.testing.assert_allclose(np.diff(data["time_s"]), 0.005, atol=1e-9)
     assert not np.isnan(data["pressure_MPa"]).any()
@@ -178,7 +179,7 @@ def test_sigint_stops_a_recording_cleanly(tmp_path):
     assert proc.returncode == 0, stderr.decode()
     assert "stop: interrupted" in stdout.decode()
     summary = json.loads((out / "record.json").read_text())
-    data = read_measurement_csv(csv_path)
+    data = read_recording(csv_path)
     assert summary["rows"] == len(data["time_s"]) >= 100
     np.testing.assert_allclose(data["pressure_MPa"], 0.2)
 
@@ -203,7 +204,7 @@ def test_host_clock_rows_start_when_every_sensor_has_spoken(tmp_path):
     rec.run(duration_s=0.5)
     press.close()
     enc.close()
-    data = read_measurement_csv(tmp_path / "late.csv")
+    data = read_recording(tmp_path / "late.csv")
     assert len(data["time_s"]) == 101  # 0.5 s at 200 Hz, both ends
     assert np.all(np.isfinite(data["encoder_mm"])) and np.all(np.isfinite(data["pressure_MPa"]))
     assert data["time_s"][0] >= 0.2  # the clock starts at the encoder's first line, not the pressure's
@@ -214,6 +215,6 @@ def test_host_clock_does_not_wait_for_a_silent_sensor(tmp_path):
     rec.run(duration_s=0.3)
     press.close()
     enc.close()
-    data = read_measurement_csv(tmp_path / "silent.csv")
+    data = read_recording(tmp_path / "silent.csv")
     assert len(data["time_s"]) == 61
     assert np.all(np.isnan(data["encoder_mm"])) and np.all(np.isfinite(data["pressure_MPa"]))

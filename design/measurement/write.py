@@ -1,8 +1,11 @@
-"""Crash-safe CSV appending and reading of the measurement CSV (numbers as float arrays).
+"""The one writer of measurement CSV files: whole files atomically, or rows crash-safely.
 
-:class:`CsvSink` writes whole lines with one ``os.write`` and ``fsync``-s at
-least every ``fsync_interval_s``: a process killed with SIGKILL leaves a file
-that ends in a complete line and holds every row written before the kill.
+:func:`write_measurement_csv` writes a :class:`Measurement` through a
+temporary name and renames it on success. :class:`CsvSink` is the recorder's
+append-only form of the same format: whole lines with one ``os.write`` and an
+``fsync`` at least every ``fsync_interval_s``, so a process killed with
+SIGKILL leaves a file that ends in a complete line and holds every row
+written before the kill. Both format numbers the same way (:func:`format_cell`).
 """
 
 from __future__ import annotations
@@ -15,15 +18,47 @@ import time
 from collections.abc import Iterable
 from pathlib import Path
 
-import numpy as np
+from design.measurement.record import Measurement
+from design.measurement.schema import OPTIONAL, REQUIRED, RUN
 
-from design.errors import DataError
+__all__ = ["CsvSink", "format_cell", "write_measurement_csv"]
 
-__all__ = ["CsvSink", "read_measurement_csv"]
+
+def format_cell(v) -> str:
+    """A value as a CSV cell: text as is, numbers with 9 significant digits, NaN/None empty."""
+    if v is None:
+        return ""
+    if isinstance(v, str):
+        return v
+    v = float(v)
+    return "" if not math.isfinite(v) else f"{v:.9g}"
+
+
+def write_measurement_csv(path: str | Path, m: Measurement) -> Path:
+    """Write ``m`` (schema columns first, then its extra columns) atomically; returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    names = [c for c in (*REQUIRED, *OPTIONAL) if c in m.columns]
+    names += [c for c in m.columns if c not in names]
+    text = list(m.text)
+    cols = [m.columns[c] for c in names] + [m.text[c] for c in text]
+    header = names + text + ([RUN] if m.run is not None else [])
+    if m.run is not None:
+        cols.append(m.run)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with tmp.open("w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            w.writerows([format_cell(c[i].item()) for c in cols] for i in range(len(m)))
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
 
 
 class CsvSink:
-    """Append-only CSV with explicit durability.
+    """Append-only measurement CSV with explicit durability (the recorder's writer).
 
     Parameters
     ----------
@@ -47,14 +82,7 @@ class CsvSink:
         os.fsync(self._fd)
         self._last_sync = time.monotonic()
 
-    @staticmethod
-    def _fmt(v) -> str:
-        if v is None:
-            return ""
-        if isinstance(v, str):
-            return v
-        v = float(v)
-        return "" if not math.isfinite(v) else f"{v:.9g}"
+    _fmt = staticmethod(format_cell)
 
     def _write_lines(self, rows: list[list[str]]) -> None:
         buf = io.StringIO()
@@ -67,7 +95,7 @@ class CsvSink:
 
     def append(self, row: dict) -> None:
         """Queue one row (a dict by column name; missing or NaN values are left empty)."""
-        self._pending.append([self._fmt(row.get(c)) for c in self.columns])
+        self._pending.append([format_cell(row.get(c)) for c in self.columns])
 
     def flush(self, *, sync: bool | None = None) -> None:
         """Write queued rows; ``fsync`` if asked or if the interval has passed."""
@@ -87,20 +115,3 @@ class CsvSink:
             self.flush(sync=True)
             os.close(self._fd)
             self._fd = -1
-
-
-def read_measurement_csv(path: str | Path) -> dict[str, np.ndarray]:
-    """Read a measurement CSV into arrays (numbers as float, NaN if empty; ``run`` as text)."""
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    if not rows:
-        raise DataError(f"{path}: empty file (no header)")
-    header, body = rows[0], rows[1:]
-    out: dict[str, np.ndarray] = {}
-    for j, name in enumerate(header):
-        col = [r[j] if j < len(r) else "" for r in body]
-        if name == "run":
-            out[name] = np.array(col, dtype=object)
-        else:
-            out[name] = np.array([float(x) if x != "" else np.nan for x in col])
-    return out
