@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
@@ -32,10 +31,16 @@ def run(args: argparse.Namespace) -> int:
     import design
     from analytic.calibration import calibrate
     from analytic.io import Measurement, read_measurement_csv
+    from studies.atomic import Outputs, check_finite_json, prepare_out_dir
     from studies.plots import calibration_plot
+    from studies.validity import check_pressure
 
+    out = prepare_out_dir(args.out)
+    if not 1 <= args.grid <= 20:
+        raise design.DesignError("--grid", args.grid, "must be an integer in [1, 20]")
     d = design.resolve(args.design)
     m = read_measurement_csv(args.measured)
+    check_pressure(m.pressure_MPa, param=f"{args.measured}: pressure_MPa")
     if args.filter:
         from hardware.filtering import filtfilt
 
@@ -50,18 +55,21 @@ def run(args: argparse.Namespace) -> int:
         )
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
     res = calibrate(m, d, free=free, load=args.load, grid=args.grid)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "calibration.json").write_text(json.dumps(res.to_json(), indent=2))
-    design.save(
-        res.design, args.out / "calibrated_design.toml", header=f"calibrated by softcath from {m.source}"
-    )
-    calibration_plot(
-        args.out / "calibration.png",
-        m,
-        nominal=analytic.response(d, m.pressure_MPa, args.load),
-        optimized=analytic.response(res.design, m.pressure_MPa, args.load),
-        title=f"{d.name}: eq. 8 calibration, NRMSE ratio nominal/optimised = {res.ratio:.3g}",
-    )
+    doc = res.to_json()
+    check_finite_json(doc)  # a failed fit is refused before any earlier good output is touched
+    with Outputs(out) as o:
+        o.json("calibration.json", doc)
+        o.text(
+            "calibrated_design.toml",
+            design.dumps(res.design, header=f"calibrated by softcath from {m.source}"),
+        )
+        calibration_plot(
+            o.path("calibration.png"),
+            m,
+            nominal=analytic.response(d, m.pressure_MPa, args.load),
+            optimized=analytic.response(res.design, m.pressure_MPa, args.load),
+            title=f"{d.name}: eq. 8 calibration, NRMSE ratio nominal/optimised = {res.ratio:.3g}",
+        )
     x = res.x_opt
     print(
         f"x_opt = [a {x['a']:.4f}, a_int {x['a_int']:.4f}, b_int {x['b_int']:.4f}, h {x['h']:.4f}] mm; "
@@ -69,5 +77,5 @@ def run(args: argparse.Namespace) -> int:
         f"{res.starts_at_optimum}/{res.starts} starts at the optimum"
     )
     print(res.message)
-    print(f"wrote {args.out}/calibration.json, calibration.png, calibrated_design.toml")
+    print(f"wrote {out}/calibration.json, calibration.png, calibrated_design.toml")
     return 0
