@@ -23,6 +23,7 @@ import contextlib
 import json
 import math
 import os
+import re
 import shutil
 import uuid
 from collections.abc import Iterator
@@ -38,6 +39,8 @@ __all__ = [
     "check_finite_json",
     "Outputs",
     "staged_dir",
+    "unstage",
+    "remove_stale_temps",
 ]
 
 
@@ -59,13 +62,51 @@ def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise DesignError(param, str(out), f"cannot be created ({exc.strerror or exc})") from None
+    remove_stale_temps(out)
     return out
+
+
+_TEMP = re.compile(
+    r"^\.(?:.+\.(?P<pid>\d+)-[0-9a-f]{8}\.tmp(?:\.[^.]*)?|softcath-staging-(?P<spid>\d+)-[0-9a-f]{8})$"
+)
 
 
 def _temp_name(path: Path) -> Path:
     # The suffix is kept so that writers choosing the format by extension (matplotlib, VTK,
-    # OpenCV) still do; the leading dot hides the temp file from globbing readers.
-    return path.with_name(f".{path.stem}.{uuid.uuid4().hex[:12]}.tmp{path.suffix}")
+    # OpenCV) still do; the leading dot hides the temp file from globbing readers; the pid
+    # lets a later run tell a killed writer's leftovers from a live writer's files.
+    return path.with_name(f".{path.stem}.{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp{path.suffix}")
+
+
+def pid_alive(pid: int) -> bool:
+    """True while process ``pid`` exists (or exists under another user)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except OverflowError:
+        return False
+    return True
+
+
+def remove_stale_temps(folder: Path) -> int:
+    """Delete the temporary files and staging folders of writers that no longer run (a SIGKILL)."""
+    removed = 0
+    for entry in folder.glob(".*"):
+        m = _TEMP.match(entry.name)
+        if not m:
+            continue
+        pid = int(m.group("pid") or m.group("spid"))
+        if pid == os.getpid() or pid_alive(pid):
+            continue
+        if entry.is_dir():
+            shutil.rmtree(entry, ignore_errors=True)
+        else:
+            entry.unlink(missing_ok=True)
+        removed += 1
+    return removed
 
 
 def check_parent(path: str | Path, *, param: str) -> Path:
@@ -73,6 +114,9 @@ def check_parent(path: str | Path, *, param: str) -> Path:
     p = Path(path)
     if p.exists() and p.is_dir():
         raise DesignError(param, str(p), "is a folder; give a file path")
+    for parent in p.parents:
+        if parent.exists() and not parent.is_dir():
+            raise DesignError(param, str(p), f"{parent} is a file, not a folder")
     prepare_out_dir(p.parent, param=param)
     return p
 

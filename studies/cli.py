@@ -50,6 +50,33 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, delivered like Ctrl-C so every command's clean-up runs."""
 
 
+class StdoutError(OSError):
+    """Writing the command's own output to stdout failed (closed pipe, full disk)."""
+
+
+class _GuardedStdout:
+    """``sys.stdout`` for the length of a command: its write failures become :class:`StdoutError`
+    (an output file's failure stays what it is)."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except OSError as exc:
+            raise StdoutError(exc.errno, exc.strerror) from exc
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except OSError as exc:
+            raise StdoutError(exc.errno, exc.strerror) from exc
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every subcommand that is installed."""
     parser = argparse.ArgumentParser(
@@ -143,6 +170,8 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError:  # not the main thread (an embedding program)
             old_term = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
+    real_stdout = sys.stdout
+    sys.stdout = _GuardedStdout(real_stdout)
     try:
         status = int(args._run(args) or 0)
         sys.stdout.flush()
@@ -151,11 +180,11 @@ def main(argv: list[str] | None = None) -> int:
         what = "terminated" if isinstance(exc, Terminated) else "interrupted"
         _say(f"softcath {name}: {what}")
         return EXIT_INTERRUPTED
+    except StdoutError as exc:
+        _stdout_failed()
+        _say(f"softcath {name}: error: cannot write the output to stdout ({exc.strerror or exc})")
+        return EXIT_ERROR
     except Exception as exc:
-        if isinstance(exc, OSError) and _is_stdout_error(exc):
-            _stdout_failed()
-            _say(f"softcath {name}: error: cannot write the output to stdout ({exc.strerror or exc})")
-            return EXIT_ERROR
         if args.debug:
             traceback.print_exc()
         if isinstance(exc, SoftcathError):
@@ -164,23 +193,10 @@ def main(argv: list[str] | None = None) -> int:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR
     finally:
+        sys.stdout = real_stdout
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
-
-
-def _is_stdout_error(exc: OSError) -> bool:
-    import errno
-
-    if isinstance(exc, BrokenPipeError):
-        return True
-    if exc.errno not in (errno.ENOSPC, errno.EPIPE, errno.EIO):
-        return False
-    try:  # did stdout itself fail? (a full disk while writing an output file is another error)
-        sys.stdout.flush()
-    except OSError:
-        return True
-    return exc.filename is None and getattr(sys.stdout, "closed", False)
 
 
 def _say(line: str) -> None:

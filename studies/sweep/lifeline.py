@@ -20,22 +20,13 @@ import sys
 import threading
 import time
 
+from studies.atomic import pid_alive
+
 __all__ = ["tie_to_parent", "pid_alive"]
 
 log = logging.getLogger(__name__)
 
 _PR_SET_PDEATHSIG = 1
-
-
-def pid_alive(pid: int) -> bool:
-    """True while process ``pid`` exists (zombies included, which a dead sweep never is for long)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # exists, owned by someone else
-        return True
-    return True
 
 
 def _set_pdeathsig() -> bool:
