@@ -79,16 +79,21 @@ def _temp_name(path: Path) -> Path:
 
 
 def pid_alive(pid: int) -> bool:
-    """True while process ``pid`` exists (or exists under another user)."""
+    """True while process ``pid`` runs (a zombie, killed but not yet reaped, does not)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:
+    except PermissionError:  # runs under another user
         return True
     except OverflowError:
         return False
-    return True
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            state = fh.read().rsplit(b")", 1)[1].split()[0]
+        return state not in (b"Z", b"X")
+    except (OSError, IndexError):  # no /proc (macOS): existence is all we know
+        return True
 
 
 def remove_stale_temps(folder: Path) -> int:
