@@ -77,9 +77,17 @@ class _GuardedStdout:
         return getattr(self._stream, name)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the CLI's one-line refusal: ``softcath CMD: error: ...``, exit 2, no usage block."""
+
+    def error(self, message: str):  # type: ignore[override]
+        _say(f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)")
+        raise SystemExit(EXIT_ERROR)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every subcommand that is installed."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="softcath",
         description="Design, check and measure a hydraulically actuated soft micro-catheter tip. "
         "Units: mm, N, MPa, s.",
@@ -161,7 +169,10 @@ def _stdout_failed() -> None:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``softcath`` console script; returns the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a refused argument (2, already said in one line)
+        return exc.code if isinstance(exc.code, int) else EXIT_ERROR
     _configure_logging(verbose=args.verbose, debug=args.debug)
     old_term = None
     if hasattr(signal, "SIGTERM"):

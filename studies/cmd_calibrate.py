@@ -54,6 +54,10 @@ def run(args: argparse.Namespace) -> int:
             **opt,
         )
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
+    if args.grid ** max(len(free), 1) > 10_000:  # the multistart grid: grid^len(free) IPOPT starts
+        raise design.DesignError(
+            "--grid", args.grid, f"gives {args.grid}^{len(free)} starts; at most 10000 (use a smaller --grid)"
+        )
     res = calibrate(m, d, free=free, load=args.load, grid=args.grid)
     doc = res.to_json()
     check_finite_json(doc)  # a failed fit is refused before any earlier good output is touched

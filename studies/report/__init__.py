@@ -28,12 +28,20 @@ def _manifest(sweep_dir: Path) -> dict:
     path = sweep_dir / "sweep.json"
     if not path.is_file():
         raise DataError(f"{sweep_dir}: no sweep.json (is this a `softcath sweep` output directory?)")
+    fix = "rerun the sweep into a new --out folder"
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        doc = json.loads(path.read_text(encoding="utf-8"))
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise DataError(
-            f"{path}: unreadable sweep manifest ({exc}); rerun the sweep into a new --out folder"
-        ) from None
+        raise DataError(f"{path}: unreadable sweep manifest ({exc}); {fix}") from None
+    spec = doc.get("spec") if isinstance(doc, dict) else None
+    params = spec.get("parameters") if isinstance(spec, dict) else None
+    if not (
+        isinstance(params, list)
+        and all(isinstance(p, dict) and {"path", "kind"} <= set(p) for p in params)
+        and isinstance(doc.get("base_table"), dict)
+    ):
+        raise DataError(f"{path}: not a sweep manifest (no spec.parameters or base_table); {fix}")
+    return doc
 
 
 def design_of(sweep_dir: str | Path, design_id: int):
@@ -44,8 +52,15 @@ def design_of(sweep_dir: str | Path, design_id: int):
 
     sweep_dir = Path(sweep_dir)
     manifest = _manifest(sweep_dir)
-    designs = pd.read_csv(sweep_dir / "designs.csv")
-    row = designs[designs.design_id == design_id].iloc[0]
+    path = sweep_dir / "designs.csv"
+    try:
+        designs = pd.read_csv(path)
+        row = designs[designs.design_id == design_id].iloc[0]
+    except Exception as exc:  # pandas raises several types for a damaged table
+        raise DataError(
+            f"{path}: cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]}); "
+            "rerun the sweep into a new --out folder"
+        ) from None
     variant = {k: v.item() if hasattr(v, "item") else v for k, v in row.items() if k != "design_id"}
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
@@ -61,6 +76,15 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
         sel = json.loads(path.read_text(encoding="utf-8"))
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise DataError(f"{path}: unreadable ({exc}); run `softcath select` again to rewrite it") from None
+    try:
+        return _selection_body(sel, fig_dir, prefix)
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as exc:
+        raise DataError(
+            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite it"
+        ) from None
+
+
+def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     items = "".join(f"<li><code>{esc(c)}</code></li>" for c in sel["constraints"]) or "<li>none</li>"
     objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
     rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
