@@ -15,6 +15,7 @@ import numpy as np
 
 from design.errors import DesignError
 from fem.adapter import geometry_from_design, laws_from_design
+from fem.limits import check_fem_budget
 from fem.pipeline import LOADS, TipSolution, run_tip
 from fem.post import tip_pose
 
@@ -150,6 +151,7 @@ def check(
     p = np.asarray(list(pressures), dtype=float).ravel()
     if p.size == 0 or not np.all(np.isfinite(p)):
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
+    check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
     geometry = geometry_from_design(d)
     laws = laws_from_design(d, coil_modulus=coil_modulus)
     sol = run_tip(

@@ -10,7 +10,7 @@ import numpy as np
 from fem.pipeline import TipSolution
 from fem.section import REGIONS
 
-__all__ = ["to_grid", "write_vtu", "render_png"]
+__all__ = ["to_grid", "write_vtu", "render_png", "quiet_vtk"]
 
 log = logging.getLogger(__name__)
 
@@ -44,6 +44,18 @@ def write_vtu(solution: TipSolution, load: str, pressure_MPa: float, path: str |
     return path
 
 
+def quiet_vtk() -> None:
+    """Keep VTK's own log to errors only.
+
+    Without a display VTK first tries X, logs "bad X server connection" at warning level,
+    then renders off-screen through EGL or OSMesa correctly; that warning is noise on
+    every headless run.
+    """
+    from vtkmodules.vtkCommonCore import vtkLogger
+
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+
+
 def render_png(
     solution: TipSolution,
     load: str,
@@ -59,6 +71,7 @@ def render_png(
     """
     import pyvista as pv
 
+    quiet_vtk()
     path = Path(path)
     grid = to_grid(solution, load, pressure_MPa)
     # Cut along the bending plane (x = 0) so the silicone inside the coil shows.

@@ -166,10 +166,12 @@ class PreisachHysteresis(_TruthEffect):
         Log-normal spread (standard deviation of the log) of the relay widths.
     """
 
+    # Defaults: the loop of the bundled bench data (examples/make_demo_data.py) over the bench's
+    # default 0..2 MPa, so `softcath bench --effect hysteresis` gives a loop the workflow can name.
     name: ClassVar[str] = "hysteresis"
-    loop_width_MPa: float = 0.02
+    loop_width_MPa: float = 0.4
     fraction: float = 0.3
-    range_MPa: float = 0.2
+    range_MPa: float = 2.0
     width_spread: float = 0.4
     n_centres: int = 80
     n_widths: int = 7

@@ -77,6 +77,9 @@ class RecorderConfig:
     max_wait_s
         How long rows wait for a source that sends nothing before they are
         written with that source's columns empty, s.
+    silent_start_s
+        With a duration: how long after that duration a recording whose
+        pressure sensor has sent nothing gives up (``stop_reason`` "no data"), s.
     """
 
     fs_hz: float = PAPER_FS_HZ
@@ -86,6 +89,7 @@ class RecorderConfig:
     reconnect_timeout_s: float = 2.0
     status_interval_s: float = 0.5
     max_wait_s: float = 1.0
+    silent_start_s: float = 2.0
 
     def __post_init__(self) -> None:
         if self.clock not in ("host", "device"):
@@ -102,6 +106,8 @@ class RecorderConfig:
             raise DesignError("status_interval_s", self.status_interval_s, "must be > 0 s")
         if not self.max_wait_s > 0:
             raise DesignError("max_wait_s", self.max_wait_s, "must be > 0 s")
+        if not self.silent_start_s > 0:
+            raise DesignError("silent_start_s", self.silent_start_s, "must be > 0 s")
 
 
 @dataclass(frozen=True)
@@ -412,6 +418,14 @@ class Recorder:
                 sink.flush()
                 if duration_s is not None and k is not None and k * dt > end_t + 1e-9:
                     stop_reason = "duration reached"
+                    break
+                if (
+                    duration_s is not None
+                    and k0 is None
+                    and time.monotonic() - t_start > duration_s + self.cfg.silent_start_s
+                ):
+                    # the duration counts from the first sample: without one it would never end
+                    stop_reason = "no data"
                     break
                 if p.finished:
                     stop_reason = "pressure sensor lost"

@@ -10,8 +10,10 @@ numbers). A reader converts the raw value to physical units with
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 
+from design.errors import DesignError
 from hardware.errors import DeviceError
 from hardware.ports import LineReader, open_port
 from hardware.protocol import LineDecoder, LineStats
@@ -64,6 +66,11 @@ class SerialSensor:
         timeout_s: float = 0.02,
         rate_hz: float | None = None,
     ) -> None:
+        for param, value in (("scale", scale), ("offset", offset)):
+            if not math.isfinite(float(value)):
+                raise DesignError(f"{name} {param}", value, "must be a finite number")
+        if float(scale) == 0:
+            raise DesignError(f"{name} scale", scale, "must be non-zero")
         self.url = url
         self.rate_hz = rate_hz
         self.timeout_s = timeout_s

@@ -4,6 +4,13 @@ Each subcommand lives in its own module ``studies/cmd_<name>.py`` exposing
 ``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``.
 Modules import their heavy dependencies inside ``run`` so that
 ``softcath --help`` stays fast.
+
+Every way a command can fail ends here, in :func:`main`: an input error
+(:class:`~design.errors.SoftcathError`) or any other exception becomes one
+line ``softcath CMD: error: ...`` on stderr and exit status 2; ``--debug``
+adds the traceback. SIGTERM ends a command like Ctrl-C (its clean-up runs,
+e.g. the recorder writes its summary); a failure to write stdout (a closed
+pipe, a full disk) is reported the same way.
 """
 
 from __future__ import annotations
@@ -11,7 +18,11 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
+import signal
 import sys
+import traceback
+import warnings
 
 from design.errors import SoftcathError
 
@@ -34,15 +45,60 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("predict", "studies.cmd_predict"),
 )
 
+EXIT_ERROR = 2
+EXIT_INTERRUPTED = 130
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, delivered like Ctrl-C so every command's clean-up runs."""
+
+
+class StdoutError(OSError):
+    """Writing the command's own output to stdout failed (closed pipe, full disk)."""
+
+
+class _GuardedStdout:
+    """``sys.stdout`` for the length of a command: its write failures become :class:`StdoutError`
+    (an output file's failure stays what it is)."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except OSError as exc:
+            raise StdoutError(exc.errno, exc.strerror) from exc
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except OSError as exc:
+            raise StdoutError(exc.errno, exc.strerror) from exc
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with the CLI's one-line refusal: ``softcath CMD: error: ...``, exit 2, no usage block."""
+
+    def error(self, message: str):  # type: ignore[override]
+        _say(f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)")
+        raise SystemExit(EXIT_ERROR)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every subcommand that is installed."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="softcath",
         description="Design, check and measure a hydraulically actuated soft micro-catheter tip. "
         "Units: mm, N, MPa, s.",
     )
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    parser.add_argument(
+        "--debug", action="store_true", help="show the full traceback of an error (for bug reports)"
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, module_name in SUBCOMMANDS:
         try:
@@ -57,25 +113,111 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``softcath`` console script."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    logging.basicConfig(
-        level=logging.INFO if args.verbose else logging.WARNING,
-        format="%(levelname)s %(name)s: %(message)s",
+class _BriefFormatter(logging.Formatter):
+    """Log records without tracebacks (those are for ``--debug``)."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        if record.exc_info or record.exc_text:
+            record = logging.makeLogRecord(record.__dict__)
+            record.exc_info = record.exc_text = None
+        return super().format(record)
+
+
+def _configure_logging(*, verbose: bool, debug: bool) -> None:
+    handler = logging.StreamHandler()
+    fmt = "%(levelname)s %(name)s: %(message)s"
+    handler.setFormatter(logging.Formatter(fmt) if debug else _BriefFormatter(fmt))
+    root = logging.getLogger()
+    for h in list(root.handlers):
+        if getattr(h, "_softcath", False):
+            root.removeHandler(h)
+    handler._softcath = True  # type: ignore[attr-defined]
+    root.addHandler(handler)
+    root.setLevel(logging.DEBUG if debug else logging.INFO if verbose else logging.WARNING)
+    logging.captureWarnings(True)  # Python warnings become one log line each
+    warnings.formatwarning = _one_line_warning
+
+
+def _one_line_warning(message, category, filename, lineno, line=None) -> str:
+    return f"{category.__name__}: {message} ({os.path.basename(filename)}:{lineno})"
+
+
+def _on_sigterm(signum, frame) -> None:  # pragma: no cover - exercised by subprocess tests
+    raise Terminated()
+
+
+def _describe(exc: BaseException) -> str:
+    """One line for an exception that is not an input error."""
+    if isinstance(exc, MemoryError):
+        return "out of memory; use a coarser mesh / fewer designs (rerun with --debug for details)"
+    if isinstance(exc, OSError) and exc.strerror:
+        where = f": {exc.filename}" if exc.filename else ""
+        return f"{exc.strerror}{where}"
+    text = " ".join(str(exc).split()) or "(no message)"
+    return (
+        f"unexpected {type(exc).__name__}: {text[:300]} "
+        "(a bug in softcath: rerun with --debug and report the traceback)"
     )
+
+
+def _stdout_failed() -> None:
+    # Point stdout at /dev/null so the interpreter's final flush cannot raise again.
     try:
-        return int(args._run(args) or 0)
-    except SoftcathError as exc:
-        print(f"softcath {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
-        print(f"softcath {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"softcath {args.command}: interrupted", file=sys.stderr)
-        return 130
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``softcath`` console script; returns the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a refused argument (2, already said in one line)
+        return exc.code if isinstance(exc.code, int) else EXIT_ERROR
+    _configure_logging(verbose=args.verbose, debug=args.debug)
+    old_term = None
+    if hasattr(signal, "SIGTERM"):
+        try:
+            old_term = signal.signal(signal.SIGTERM, _on_sigterm)
+        except ValueError:  # not the main thread (an embedding program)
+            old_term = None
+    name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
+    real_stdout = sys.stdout
+    sys.stdout = _GuardedStdout(real_stdout)
+    try:
+        status = int(args._run(args) or 0)
+        sys.stdout.flush()
+        return status
+    except KeyboardInterrupt as exc:
+        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
+        _say(f"softcath {name}: {what}")
+        return EXIT_INTERRUPTED
+    except StdoutError as exc:
+        _stdout_failed()
+        _say(f"softcath {name}: error: cannot write the output to stdout ({exc.strerror or exc})")
+        return EXIT_ERROR
+    except Exception as exc:
+        if args.debug:
+            traceback.print_exc()
+        if isinstance(exc, SoftcathError):
+            _say(f"softcath {name}: error: {' '.join(str(exc).split())}")
+        else:
+            _say(f"softcath {name}: error: {_describe(exc)}")
+        return EXIT_ERROR
+    finally:
+        sys.stdout = real_stdout
+        logging.captureWarnings(False)
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _say(line: str) -> None:
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except OSError:
+        pass
 
 
 if __name__ == "__main__":  # pragma: no cover

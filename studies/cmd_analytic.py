@@ -57,10 +57,13 @@ def run(args: argparse.Namespace) -> int:
 
     import analytic
     import design
+    from studies.atomic import Outputs, prepare_out_dir
     from studies.plots import analytic_plot
+    from studies.validity import check_finite_columns, check_pressure, warn_linear_range
 
+    out = prepare_out_dir(args.out)
     d = design.resolve(args.design)
-    p = parse_range(args.pressure)
+    p = check_pressure(parse_range(args.pressure))
     if args.model == "section":
         from fem.section_model import section_model
 
@@ -70,21 +73,29 @@ def run(args: argparse.Namespace) -> int:
     else:
         r = analytic.response(d, p, load=args.load)
         what = f"paper's formula ({args.load} load)"
-    args.out.mkdir(parents=True, exist_ok=True)
-    path = args.out / "analytic.csv"
-    with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(
-            ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
-        )
-        for row in zip(r.pressure, r.curvature, r.elongation, r.bend_angle, r.tip_x, r.tip_y, strict=True):
-            w.writerow([f"{v:.10g}" for v in row])
-    analytic_plot(args.out / "analytic.png", r, title=f"{d.name}: {what}")
+    columns = {
+        "pressure_MPa": r.pressure,
+        "curvature_per_mm": r.curvature,
+        "elongation": r.elongation,
+        "bend_angle_rad": r.bend_angle,
+        "tip_x_mm": r.tip_x,
+        "tip_y_mm": r.tip_y,
+    }
+    check_finite_columns(columns, param="--pressure", value=args.pressure)
+    warn_linear_range(p, r.bend_angle, model=f"the {what.split(' (')[0]} (linear)")
+    path = out / "analytic.csv"
+    with Outputs(out) as o:
+        with o.path("analytic.csv").open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(list(columns))
+            for row in zip(*columns.values(), strict=True):
+                w.writerow([f"{v:.10g}" for v in row])
+        analytic_plot(o.path("analytic.png"), r, title=f"{d.name}: {what}")
     i = int(np.argmax(np.abs(p)))
     print(
         f"{d.name}, {what}: {p.size} pressures {p.min():g}..{p.max():g} MPa; at {p[i]:g} MPa: "
         f"curvature {r.curvature[i]:.4g} 1/mm, bend {np.degrees(r.bend_angle[i]):.1f} deg, "
         f"tip ({r.tip_x[i]:.3f}, {r.tip_y[i]:.3f}) mm"
     )
-    print(f"wrote {path} and {args.out / 'analytic.png'}")
+    print(f"wrote {path} and {out / 'analytic.png'}")
     return 0

@@ -126,7 +126,9 @@ def run(args: argparse.Namespace) -> int:
     from hardware.bench import make_plant
 
     make_plant(d, effects=effects, load=args.load)  # bad effect names or parameters fail here, first
-    out = Path(args.out)
+    from studies.atomic import prepare_out_dir, staged_dir, unstage
+
+    out = prepare_out_dir(args.out)
     print(
         f"virtual bench: {cfg.waveform} at {', '.join(f'{f:g}' for f in freqs)} Hz, "
         f"{cfg.cycles} cycles, 0..{cfg.pressure_max_MPa:g} MPa, {cfg.duration_s:.1f} s of data"
@@ -139,16 +141,26 @@ def run(args: argparse.Namespace) -> int:
     def progress(rows: int, _n: int) -> None:
         bar.update(rows - bar.n)
 
-    try:
-        res = run_bench(
-            d, out, cfg, effects=effects, load=args.load, design_label=str(args.design), progress=progress
-        )
-    finally:
-        bar.close()
-    _plot(out, out / "truth.csv", Path(res.run_csv))
+    with staged_dir(out) as stage:  # the run's files replace an earlier run's only as a whole
+        try:
+            res = run_bench(
+                d,
+                stage,
+                cfg,
+                effects=effects,
+                load=args.load,
+                design_label=str(args.design),
+                progress=progress,
+            )
+        finally:
+            bar.close()
+        _plot(stage, stage / "truth.csv", Path(res.run_csv))
+    run_csv, frames_avi, truth_json = (
+        unstage(p, stage, out) for p in (res.run_csv, res.frames_avi, res.truth_json)
+    )
     print(
-        f"wrote {res.run_csv} ({res.rows} rows), {res.frames_avi} ({res.frames} frames), "
-        f"{res.truth_json}, {out / 'bench.png'}"
+        f"wrote {run_csv} ({res.rows} rows), {frames_avi} ({res.frames} frames), "
+        f"{truth_json}, {out / 'bench.png'}"
     )
     eff = ", ".join(n for n, _ in effects) or "none"
     print(f"plant effects: {eff}; frames without a tip: {res.frames_without_tip}")

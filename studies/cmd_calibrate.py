@@ -9,7 +9,6 @@ optimum; default load lumen, the real one).
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
@@ -49,10 +48,16 @@ def run(args: argparse.Namespace) -> int:
     import design
     from analytic.calibration import calibrate
     from design.measurement import Measurement, read_measurement_csv
+    from studies.atomic import Outputs, check_finite_json, prepare_out_dir
     from studies.plots import calibration_plot
+    from studies.validity import check_pressure
 
+    out = prepare_out_dir(args.out)
+    if not 1 <= args.grid <= 20:
+        raise design.DesignError("--grid", args.grid, "must be an integer in [1, 20]")
     d = design.resolve(args.design)
     m = read_measurement_csv(args.measured)
+    check_pressure(m.pressure_MPa, param=f"{args.measured}: pressure_MPa")
     if args.filter:
         from hardware.filtering import filtfilt
 
@@ -66,6 +71,10 @@ def run(args: argparse.Namespace) -> int:
             **opt,
         )
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
+    if args.grid ** max(len(free), 1) > 10_000:  # the multistart grid: grid^len(free) IPOPT starts
+        raise design.DesignError(
+            "--grid", args.grid, f"gives {args.grid}^{len(free)} starts; at most 10000 (use a smaller --grid)"
+        )
     load = args.load or ("lumen" if args.model == "section" else "cap")
     if args.model == "section":
         from fem.section_model import section_model
@@ -84,18 +93,21 @@ def run(args: argparse.Namespace) -> int:
             return analytic.response(dd, m.pressure_MPa, load)
 
         what = f"paper's formula, {load} load"
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "calibration.json").write_text(json.dumps(res.to_json(), indent=2))
-    design.save(
-        res.design, args.out / "calibrated_design.toml", header=f"calibrated by softcath from {m.source}"
-    )
-    calibration_plot(
-        args.out / "calibration.png",
-        m,
-        nominal=model(d),
-        optimized=model(res.design),
-        title=f"{d.name}: eq. 8 calibration ({what}), NRMSE ratio nominal/optimised = {res.ratio:.3g}",
-    )
+    doc = res.to_json()
+    check_finite_json(doc)  # a failed fit is refused before any earlier good output is touched
+    with Outputs(out) as o:
+        o.json("calibration.json", doc)
+        o.text(
+            "calibrated_design.toml",
+            design.dumps(res.design, header=f"calibrated by softcath from {m.source}"),
+        )
+        calibration_plot(
+            o.path("calibration.png"),
+            m,
+            nominal=model(d),
+            optimized=model(res.design),
+            title=f"{d.name}: eq. 8 calibration ({what}), NRMSE ratio nominal/optimised = {res.ratio:.3g}",
+        )
     x = res.x_opt
     inner = getattr(res, "inner", res)
     print(
@@ -112,5 +124,5 @@ def run(args: argparse.Namespace) -> int:
             + (f"{dg['elongation_per_MPa']:.4g}" if dg["elongation_per_MPa"] is not None else "-")
         )
     print(res.message)
-    print(f"wrote {args.out}/calibration.json, calibration.png, calibrated_design.toml")
+    print(f"wrote {out}/calibration.json, calibration.png, calibrated_design.toml")
     return 0

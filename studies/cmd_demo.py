@@ -33,8 +33,17 @@ def run(args: argparse.Namespace) -> int:
             raise DesignError("only", bad[0], f"unknown section; choose from {', '.join(keys)}")
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
+    import design
+    from studies.atomic import prepare_out_dir
+
+    out = prepare_out_dir(args.out)
+    design.resolve(args.design)  # a bad design is refused before any section runs
+    if args.data is not None:
+        from analytic.io import read_measurement_csv
+
+        read_measurement_csv(args.data)  # so is a bad data file (the sections would each fail on it)
     res = run_demo(
-        args.out,
+        out,
         design_ref=args.design,
         data_csv=args.data,
         workers=args.workers,
@@ -44,4 +53,12 @@ def run(args: argparse.Namespace) -> int:
     for s in res.sections:
         print(f"  {s['status']:<11} {s['seconds']:7.1f} s  {s['title']}")
     print(f"demo: {res.index_html} ({res.seconds:.0f} s)")
+    failed = [s["key"] for s in res.sections if s["status"] == "failed"]
+    if failed:
+        from design.errors import DataError
+
+        raise DataError(
+            f"{len(failed)} section(s) failed: {', '.join(failed)} (reasons in {res.index_html}; "
+            "rerun with --debug --only KEY for the traceback)"
+        )
     return 0

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 HELP = "show / validate / export (STEP, STL) a design"
@@ -36,17 +35,23 @@ def run(args: argparse.Namespace) -> int:
         if not (args.step or args.stl):
             raise design.DesignError("export", None, "give --step PATH and/or --stl PATH")
         from design import cad  # CadQuery: lazily, only for export
+        from studies.atomic import atomic_path, check_parent
 
-        if args.step:
-            cad.export_step(d, args.step)
-            print(f"wrote {args.step}")
-        if args.stl:
-            cad.export_stl(d, args.stl)
-            print(f"wrote {args.stl}")
+        targets = [(args.step, "--step", cad.export_step), (args.stl, "--stl", cad.export_stl)]
+        targets = [(check_parent(path, param=param), param, fn) for path, param, fn in targets if path]
+        for path, _param, fn in targets:
+            with atomic_path(path) as tmp:
+                fn(d, tmp)
+            print(f"wrote {path} ({path.stat().st_size} bytes)")
         return 0
     if args.toml:
         print(design.dumps(d), end="")
         return 0
+    out = None
+    if args.out:
+        from studies.atomic import prepare_out_dir
+
+        out = prepare_out_dir(args.out)
     cs = composite_section(d)
     kc, ec = gains(d, "cap")
     kl, el = gains(d, "lumen")
@@ -68,17 +73,18 @@ def run(args: argparse.Namespace) -> int:
         f"pressure centre y {cs.pressure_centre_y:.4g}, A_p {cs.pressure_area:.4g} mm^2"
     )
     print(f"gains (cap load): {kc:.4g} 1/(mm MPa), {ec:.4g} 1/MPa;  (lumen load): {kl:.4g}, {el:.4g}")
-    if args.out:
+    if out is not None:
+        from studies.atomic import Outputs
         from studies.plots import section_plot
 
-        args.out.mkdir(parents=True, exist_ok=True)
-        section_plot(args.out / "section.png", d)
         doc = {
             "name": d.name,
             "section_mm": d.section.__dict__ | {"lumen_center_y": d.section.lumen_center_y},
             "composite": {k: v for k, v in composite_section(d).__dict__.items()},
             "gains": {"cap": [kc, ec], "lumen": [kl, el]},
         }
-        (args.out / "design.json").write_text(json.dumps(doc, indent=2, default=float))
-        print(f"wrote {args.out / 'section.png'} and {args.out / 'design.json'}")
+        with Outputs(out) as o:
+            section_plot(o.path("section.png"), d)
+            o.json("design.json", doc, default=float)
+        print(f"wrote {out / 'section.png'} and {out / 'design.json'}")
     return 0

@@ -57,9 +57,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from design.errors import DataError
+    import math
+
+    from design.errors import DataError, DesignError
+    from studies.atomic import prepare_out_dir, staged_dir, unstage
     from studies.discrepancy import run_workflow, write_report
     from studies.discrepancy.result import fem_reference
+
+    out = prepare_out_dir(args.out)
+    if not (math.isfinite(args.margin) and 0 <= args.margin < 1):
+        raise DesignError("--margin", args.margin, "must be a fraction in [0, 1)")
+    if not 1 <= args.max_effects <= 10:
+        raise DesignError("--max-effects", args.max_effects, "must be an integer in [1, 10]")
 
     data = args.measured
     if data is not None and data.is_dir():
@@ -88,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
         progress=True,
         excitation=args.excitation,
     )
-    html = write_report(result, args.out)
+    with staged_dir(out) as stage:  # the record and its page replace earlier ones only together
+        html = unstage(write_report(result, stage), stage, out)
     named = " + ".join(result.named) if result.named else "nothing"
     print(f"named: {named}")
     print(
@@ -112,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {step['effect']}: {est}")
     for note in result.notes:
         print(f"note: {note}")
-    print(f"wrote {args.out / 'discrepancy.json'} and {html}")
+    print(f"wrote {out / 'discrepancy.json'} and {html}")
     return 0
 
 

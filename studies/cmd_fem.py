@@ -8,9 +8,10 @@ the analytic values for the same design, pressure and load model), DIR/tip.vtu
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
+
+from design.errors import DataError, DesignError
 
 HELP = "one FEM bending check (mesh, solve, compare with the analytic model)"
 
@@ -47,23 +48,49 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_cli_arguments(parser)
 
 
-def run(args: argparse.Namespace) -> int:
-    if getattr(args, "nonlinear", False):
-        from fem.nonlinear import run_cli
+def _run_nonlinear(args: argparse.Namespace) -> int:
+    import copy
 
-        return run_cli(args, echo=print)
+    from fem.nonlinear import run_cli
+    from studies.atomic import staged_dir
+
+    out = Path(args.out)
+    lines: list[str] = []
+    with staged_dir(out) as stage:  # every output appears only if the whole run succeeded
+        staged = copy.copy(args)
+        staged.out = str(stage)
+        status = run_cli(staged, echo=lines.append)
+        if status:
+            raise DataError(f"the finite-strain check stopped with status {status}; nothing written")
+    for line in lines:
+        print(line.replace(str(stage), str(out)))
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    import design
+    from fem.limits import check_fem_budget
+    from studies.atomic import Outputs, prepare_out_dir
+    from studies.validity import check_pressure, warn_linear_range
+
+    out = prepare_out_dir(args.out)
+    check_pressure(args.pressure)
+    d = design.resolve(args.design)
+    check_fem_budget(d, mesh_size=args.mesh_size)  # before minutes of meshing, not after
+    if getattr(args, "nonlinear", False):
+        if args.pressure <= 0:
+            raise DesignError("--pressure", args.pressure, "must be > 0 MPa for --nonlinear")
+        return _run_nonlinear(args)
     import fem
     from fem.export import render_png, write_vtu
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     stages = iter(range(1, 5))
 
     def status(stage: str) -> None:
         print(f"[{next(stages, 4)}/4] {stage} ...", file=sys.stderr, flush=True)
 
     result = fem.check(
-        args.design,
+        d,
         pressures=[args.pressure],
         loads=(args.load,),
         mesh_size=args.mesh_size,
@@ -72,12 +99,14 @@ def run(args: argparse.Namespace) -> int:
         use_cache=not args.no_cache,
         progress=status,
     )
-    doc = result.to_json(args.load, args.pressure)
-    (out / "fem.json").write_text(json.dumps(doc, indent=2) + "\n")
-    write_vtu(result.solution, args.load, args.pressure, out / "tip.vtu")
-    if not args.no_png:
-        render_png(result.solution, args.load, args.pressure, out / "tip.png")
     c = result.case(args.load, args.pressure)
+    doc = result.to_json(args.load, args.pressure)
+    with Outputs(out) as o:
+        o.json("fem.json", doc)
+        write_vtu(result.solution, args.load, args.pressure, o.path("tip.vtu"))
+        if not args.no_png:
+            render_png(result.solution, args.load, args.pressure, o.path("tip.png"))
+    warn_linear_range(args.pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
     ratio = c.ratio_fem_over_analytic["curvature_per_mm"]
     print(
         f"{result.design_name}: {args.load} load at {args.pressure:g} MPa -> "

@@ -12,6 +12,7 @@ Without --base the base is found in the image and reported.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 HELP = "measure the tip in a video / image folder / camera into a CSV and an overlay video"
 
@@ -97,22 +98,33 @@ def _scale_from_args(args: argparse.Namespace) -> float:
 
 def calibration_from_args(args: argparse.Namespace):
     """A :class:`hardware.tipvision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
+    import math
+
     from design.errors import DesignError
     from hardware.tipvision import Calibration
 
     scale = _scale_from_args(args)
+    if not (math.isfinite(scale) and scale > 0):
+        raise DesignError("--px-per-mm", scale, "must be a finite scale > 0 px/mm")
+    if not math.isfinite(args.base_angle):
+        raise DesignError("--base-angle", args.base_angle, "must be a finite angle in degrees")
+    diameter = getattr(args, "diameter", 0.8)
+    if not (math.isfinite(diameter) and diameter > 0):
+        raise DesignError("--diameter", diameter, "must be a finite diameter > 0 mm")
     base = None
     if args.base:
         try:
             x, y = (float(v) for v in args.base.split(","))
         except ValueError as exc:
             raise DesignError("--base", args.base, "must be two numbers X,Y in pixels") from exc
+        if not (math.isfinite(x) and math.isfinite(y) and x >= 0 and y >= 0):
+            raise DesignError("--base", args.base, "must be finite pixel coordinates >= 0 (origin top-left)")
         base = (x, y)
     return Calibration(
         px_per_mm=scale,
         base_px=base,
         base_angle_deg=args.base_angle,
-        diameter_mm=getattr(args, "diameter", 0.8),
+        diameter_mm=diameter,
     )
 
 
@@ -129,9 +141,30 @@ def run(args: argparse.Namespace) -> int:
         print(f"scale from the chessboard: {cal.px_per_mm:.3f} px/mm")
     # per-frame misses are counted and summarised below rather than logged one by one
     logging.getLogger("hardware.measure_video").setLevel(logging.ERROR)
-    with open_source(args.src, fps=args.fps) as src:
-        s = measure_video(src, cal, args.out, method=args.method, dy_px=args.dy)
-    print(f"measured {s.frames} frames ({args.method} method) -> {s.csv_path}, {s.overlay_path}")
+    from design.errors import DataError, DesignError
+    from studies.atomic import staged_dir, unstage
+
+    if args.fps is not None and not (math.isfinite(args.fps) and args.fps > 0):
+        raise DesignError("--fps", args.fps, "must be a finite frame rate > 0 Hz")
+    if not (math.isfinite(args.dy) and args.dy > 0):
+        raise DesignError("--dy", args.dy, "must be a finite slice height > 0 px")
+    out = Path(args.out)
+    with staged_dir(out) as stage, open_source(args.src, fps=args.fps) as src:
+        s = measure_video(src, cal, stage, method=args.method, dy_px=args.dy)
+        if s.frames == 0:
+            raise DataError(f"{args.src}: no frames to measure; nothing written")
+        if s.misses == s.frames:  # every row empty: a wrong setting, not a measurement
+            where = f"--base {args.base}" if args.base else "the base found in the image"
+            raise DataError(
+                f"no tip found in any of the {s.frames} frames ({where}, --base-angle {args.base_angle:g}, "
+                f"{cal.px_per_mm:g} px/mm): check that the base lies on the tip inside the image "
+                "(pixels, origin top-left) and the scale; nothing written"
+            )
+    csv_path, overlay_path = (
+        unstage(s.csv_path, stage, out),
+        s.overlay_path and unstage(s.overlay_path, stage, out),
+    )
+    print(f"measured {s.frames} frames ({args.method} method) -> {csv_path}, {overlay_path}")
     if s.misses:
         print(f"warning: {s.misses} of {s.frames} frames without a detectable tip (empty rows)")
     if cal.base_px is None and s.base_px is not None:

@@ -79,17 +79,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``softcath record``."""
-    from pathlib import Path
 
-    from design.errors import DesignError
+    import math
+
+    from design.errors import DataError, DesignError
     from hardware.recorder import Recorder, RecorderConfig
     from hardware.sensors import SerialSensor
+    from studies.atomic import prepare_out_dir, write_text
     from studies.cmd_measure import calibration_from_args
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    if args.duration is not None and not args.duration > 0:
-        raise DesignError("--duration", args.duration, "must be > 0 s")
+    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
+        raise DesignError("--duration", args.duration, "must be a finite time > 0 s")
+    for flag, value in (("--pressure-scale", args.pressure_scale), ("--encoder-scale", args.encoder_scale)):
+        if not (math.isfinite(value) and value != 0):
+            raise DesignError(flag, value, "must be a finite, non-zero number")
+    if not (math.isfinite(args.device_rate) and args.device_rate > 0):
+        raise DesignError("--device-rate", args.device_rate, "must be a finite rate > 0 Hz")
+    out = prepare_out_dir(args.out)
     framed = not args.plain
     pressure = SerialSensor(
         args.pressure_port, name="pressure sensor", framed=framed, scale=args.pressure_scale
@@ -130,7 +136,16 @@ def run(args: argparse.Namespace) -> int:
         if source is not None:
             source.close()
     print(file=sys.stderr)
-    (out / "record.json").write_text(summary.to_json())
+    write_text(out / "record.json", summary.to_json())
+    if summary.rows == 0:
+        heard = ", ".join(
+            f"{name} on {st['url']}: {st['received']} lines" for name, st in summary.devices.items()
+        )
+        raise DataError(
+            f"no rows recorded ({summary.stop_reason}): no device spoke"
+            + (f" within {args.duration:g} s" if args.duration else "")
+            + f" ({heard}); check the ports, the baud rate and --plain; summary in {out / 'record.json'}"
+        )
     print(
         f"recorded {summary.rows} rows ({summary.duration_s:.2f} s) -> {summary.csv_path}; "
         f"stop: {summary.stop_reason}"

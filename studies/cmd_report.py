@@ -13,7 +13,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from design.errors import DataError
     from studies.report import write_report
+
+    if not Path(args.dir).is_dir():
+        raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
 
     path, _ = write_report(args.dir)
     n = len(list(path.parent.glob("*.png")))

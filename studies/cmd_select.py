@@ -44,6 +44,12 @@ def run(args: argparse.Namespace) -> int:
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
+    from pathlib import Path
+
+    from design.errors import DataError
+
+    if not Path(args.dir).is_dir():
+        raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
     df = read_results(args.dir)
     sel = select(
         df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top,

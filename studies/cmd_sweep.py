@@ -27,11 +27,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from studies.atomic import prepare_out_dir
     from studies.sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)
+    out = prepare_out_dir(args.out)
     s = run_sweep(
-        spec, args.out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
+        spec, out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
         progress=not args.no_progress,
     )  # fmt: skip
     print(

@@ -35,13 +35,13 @@ One row per design × pressure × load. Columns (unit in the name or below):
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 import numpy as np
 
 from design.errors import DataError
+from studies.atomic import write_json
 
 __all__ = [
     "add_derived_columns", "has_model", "model_columns", "read_results", "write_results", "COLUMN_UNITS",
@@ -215,7 +215,7 @@ def write_results(df, out_dir: str | Path) -> tuple[Path, Path]:
         for job in jobs:
             job.result()
     units = {c: COLUMN_UNITS.get(c, "see the design file (mm, MPa)") for c in df.columns}
-    (out / "columns.json").write_text(json.dumps(units, indent=1), encoding="utf-8")
+    write_json(out / "columns.json", units, indent=1)
     return csv_path, pq_path
 
 
@@ -244,9 +244,26 @@ def read_results(out_dir: str | Path):
     import pandas as pd
 
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise DataError(f"{out}: is a file; give the sweep directory (from `softcath sweep`)")
+    fix = (
+        "rerun the same `softcath sweep SPEC --out DIR` command: it keeps every finished task "
+        "and rewrites the merged results"
+    )
     if (out / "results.parquet").is_file():
-        return pd.read_parquet(out / "results.parquet")
+        try:
+            return pd.read_parquet(out / "results.parquet")
+        except Exception as exc:  # pyarrow raises several types for a damaged file
+            raise DataError(f"{out / 'results.parquet'}: cannot be read ({_brief(exc)}); {fix}") from None
     if (out / "results.csv").is_file():
-        df = pd.read_csv(out / "results.csv")
+        try:
+            df = pd.read_csv(out / "results.csv")
+        except Exception as exc:
+            raise DataError(f"{out / 'results.csv'}: cannot be read ({_brief(exc)}); {fix}") from None
         return df.assign(reason=df["reason"].fillna("")) if "reason" in df else df
     raise DataError(f"{out}: no results.parquet or results.csv (run `softcath sweep SPEC --out {out}` first)")
+
+
+def _brief(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text[:160]}"

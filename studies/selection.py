@@ -124,13 +124,13 @@ class _Expr:
                 except (TypeError, ValueError):
                     raise SelectionError(f"in '{self.text}': column '{name}' is not numeric") from None
             if isinstance(n, ast.Constant):
-                return float(n.value)
+                return np.float64(n.value)  # numpy division: x/0 is ±inf per row, not an exception
             if isinstance(n, ast.UnaryOp):
                 v = ev(n.operand)
                 return -v if isinstance(n.op, ast.USub) else v
             if isinstance(n, ast.BinOp):
                 a, b = ev(n.left), ev(n.right)
-                with np.errstate(divide="ignore", invalid="ignore"):
+                with np.errstate(all="ignore"):
                     if isinstance(n.op, ast.Add):
                         return a + b
                     if isinstance(n.op, ast.Sub):
@@ -151,6 +151,8 @@ def _check_tree(node: ast.AST, text: str) -> None:
     if isinstance(node, ast.Constant):
         if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
             raise SelectionError(f"in '{text}': only numbers are allowed as constants, not {node.value!r}")
+        if not np.isfinite(float(node.value)):
+            raise SelectionError(f"in '{text}': the number {ast.unparse(node)} is not finite")
         return
     if isinstance(node, ast.UnaryOp):
         if not isinstance(node.op, (ast.USub, ast.UAdd)):
@@ -189,7 +191,19 @@ def _parse_expr(text: str, whole: str) -> _Expr:
     except SyntaxError as exc:
         raise SelectionError(f"cannot parse '{whole}': {exc.msg}") from None
     _check_tree(tree, whole)
-    return _Expr(text.strip(), tree)
+    return _finite_constant(_Expr(text.strip(), tree), whole)
+
+
+def _finite_constant(expr: _Expr, whole: str) -> _Expr:
+    """Refuse an expression without columns whose value is not finite (e.g. ``1/0``)."""
+    if not expr.columns():
+        import pandas as pd
+
+        with np.errstate(all="ignore"):
+            value = expr.evaluate(pd.DataFrame(index=[0]))[0]
+        if not np.isfinite(value):
+            raise SelectionError(f"in '{whole}': '{expr.text}' is not a finite number ({value})")
+    return expr
 
 
 def _split_at(text: str) -> tuple[str, str | None]:
@@ -252,7 +266,11 @@ def parse_constraint(text: str) -> Constraint:
     _check_tree(left, text)
     _check_tree(right, text)
     return Constraint(
-        text, _Expr(ast.unparse(left), left), _COMPARE[op], _Expr(ast.unparse(right), right), where
+        text,
+        _finite_constant(_Expr(ast.unparse(left), left), text),
+        _COMPARE[op],
+        _finite_constant(_Expr(ast.unparse(right), right), text),
+        where,
     )
 
 

@@ -179,10 +179,12 @@ def _fmt(v) -> str:
 
 def write_report(result: DiscrepancyResult, out_dir) -> Path:
     """Write ``discrepancy.json``, ``report.html`` and PNG figures; returns the HTML path."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    from studies.atomic import check_finite_json, prepare_out_dir
+
+    out = prepare_out_dir(out_dir)
     record = result.as_dict()
-    (out / "discrepancy.json").write_text(json.dumps(record, indent=2))
+    check_finite_json(record)  # strict JSON: a NaN in the record is refused, not written
+    (out / "discrepancy.json").write_text(json.dumps(record, indent=2, allow_nan=False))
     prep = result.prepared
     before = residuals(prep, result.baseline_fit)
     after = residuals(prep, result.final_fit)

@@ -294,7 +294,10 @@ def name_effects(
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(candidates) * max_effects, desc="candidates", leave=False)
+        # an upper bound: each round skips the effects already named, and the search stops
+        # early when nothing more clears the margin (the bar is completed then, below)
+        rounds = min(max_effects, len(candidates))
+        bar = tqdm(total=sum(len(candidates) - i for i in range(rounds)), desc="candidates", leave=False)
     while len(named) < max_effects:
         scores = {}
         for c in candidates:
@@ -392,5 +395,7 @@ def name_effects(
         start = fit.params
         base = scores[best]
     if bar is not None:
+        bar.total = bar.n  # the search ended: every candidate it needed was scored
+        bar.refresh()
         bar.close()
     return steps

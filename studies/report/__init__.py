@@ -29,7 +29,20 @@ def _manifest(sweep_dir: Path) -> dict:
     path = sweep_dir / "sweep.json"
     if not path.is_file():
         raise DataError(f"{sweep_dir}: no sweep.json (is this a `softcath sweep` output directory?)")
-    return json.loads(path.read_text(encoding="utf-8"))
+    fix = "rerun the sweep into a new --out folder"
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: unreadable sweep manifest ({exc}); {fix}") from None
+    spec = doc.get("spec") if isinstance(doc, dict) else None
+    params = spec.get("parameters") if isinstance(spec, dict) else None
+    if not (
+        isinstance(params, list)
+        and all(isinstance(p, dict) and {"path", "kind"} <= set(p) for p in params)
+        and isinstance(doc.get("base_table"), dict)
+    ):
+        raise DataError(f"{path}: not a sweep manifest (no spec.parameters or base_table); {fix}")
+    return doc
 
 
 def design_of(sweep_dir: str | Path, design_id: int):
@@ -40,8 +53,15 @@ def design_of(sweep_dir: str | Path, design_id: int):
 
     sweep_dir = Path(sweep_dir)
     manifest = _manifest(sweep_dir)
-    designs = pd.read_csv(sweep_dir / "designs.csv")
-    row = designs[designs.design_id == design_id].iloc[0]
+    path = sweep_dir / "designs.csv"
+    try:
+        designs = pd.read_csv(path)
+        row = designs[designs.design_id == design_id].iloc[0]
+    except Exception as exc:  # pandas raises several types for a damaged table
+        raise DataError(
+            f"{path}: cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]}); "
+            "rerun the sweep into a new --out folder"
+        ) from None
     variant = {k: v.item() if hasattr(v, "item") else v for k, v in row.items() if k != "design_id"}
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
@@ -56,7 +76,19 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
             "No selection yet: run <code>softcath select DIR --constraint ... --objective ...</code> "
             "and then this report again."
         )
-    sel = json.loads(path.read_text(encoding="utf-8"))
+    try:
+        sel = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: unreadable ({exc}); run `softcath select` again to rewrite it") from None
+    try:
+        return _selection_body(sel, fig_dir, prefix)
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as exc:
+        raise DataError(
+            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite it"
+        ) from None
+
+
+def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     items = "".join(f"<li><code>{esc(c)}</code></li>" for c in sel["constraints"]) or "<li>none</li>"
     objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
     rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
@@ -264,20 +296,25 @@ def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list
     Returns the page's path and its sections ``(title, html)`` with image links
     prefixed by ``prefix``, for embedding the report in another page.
     """
+    from studies.atomic import staged_dir
+
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report"
-    for stale in out.glob("*.png"):  # figures of an earlier report that this one may not redraw
-        stale.unlink()
-    sections = sweep_sections(sweep_dir, out, prefix=prefix)
-    mark = '<img src="' + prefix
-    body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
-    if prefix:
-        body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+    with staged_dir(out) as stage:  # the page and its figures replace the old ones only as a whole
+        sections = sweep_sections(sweep_dir, stage, prefix=prefix)
+        mark = '<img src="' + prefix
+        body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
+        if prefix:
+            body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+        (stage / "index.html").write_text(
+            page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
+            encoding="utf-8",
+        )
+        drawn = {p.name for p in stage.glob("*.png")}
+    for stale in out.glob("*.png"):  # figures of an earlier report that this one did not redraw
+        if stale.name not in drawn:
+            stale.unlink()
     path = out / "index.html"
-    path.write_text(
-        page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
-        encoding="utf-8",
-    )
     return path, sections
 
 

@@ -136,16 +136,24 @@ def _serial(tasks):
             yield task, _failed_frame(task, exc)
 
 
-def _single_threaded_worker() -> None:
-    """One BLAS/MKL thread per worker process (as Dask's nanny does): N workers use N cores, not N²."""
+def _single_threaded_worker(sweep_pid: int | None = None) -> None:
+    """One BLAS/MKL thread per worker process (as Dask's nanny does): N workers use N cores, not N².
+
+    With ``sweep_pid`` the worker also dies with the sweep process (``studies.sweep.lifeline``).
+    """
     import os
 
     for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+    if sweep_pid is not None:
+        from studies.sweep.lifeline import tie_to_parent
+
+        tie_to_parent(sweep_pid)
 
 
 def _pool(tasks, workers: int):
     import multiprocessing
+    import os
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # Not "fork": this process may already run OpenMP/MKL thread pools (e.g. the FEM's PARDISO after an
@@ -156,7 +164,9 @@ def _pool(tasks, workers: int):
         ctx.set_forkserver_preload(["studies.sweep.evaluators"])
     else:  # Windows
         ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_single_threaded_worker)
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_single_threaded_worker, initargs=(os.getpid(),)
+    )
     try:
         futures = {pool.submit(evaluate_task, t): t for t in tasks}
         for fut in as_completed(futures):
@@ -276,6 +286,9 @@ def run_sweep(
                     host="127.0.0.1", dashboard_address=None,
                 )  # fmt: skip
             client, backend = Client(cluster), f"dask-local({dask_local})"
+            from studies.sweep.lifeline import tie_to_parent
+
+            client.run(tie_to_parent, os.getpid())  # local workers die with this process, even on SIGKILL
         results = _dask(pending, client)
     else:
         n = workers or os.cpu_count() or 1

@@ -198,6 +198,14 @@ class SweepSpec:
         }
 
 
+#: Points of one grid axis (a product of a few such axes is already 10⁸ designs).
+MAX_GRID_POINTS = 100_000
+#: Designs of one sweep (10⁷ analytic designs take minutes; more would exhaust memory first).
+MAX_DESIGNS = 10_000_000
+#: Largest sweep pressure, MPa (as ``softcath analytic`` / ``fem``: no model holds beyond).
+MAX_PRESSURE_MPA = 100.0
+
+
 def _real(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise DesignError(name, value, "must be a finite number")
@@ -214,13 +222,18 @@ def _parameter(path: str, entry: Any) -> Parameter:
             raise DesignError(f"{name}.grid", value, "must be [start, stop, count]")
         start, stop = _real(f"{name}.grid[0]", value[0]), _real(f"{name}.grid[1]", value[1])
         count = value[2]
-        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-            raise DesignError(f"{name}.grid[2]", count, "must be an integer >= 1")
+        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= MAX_GRID_POINTS:
+            raise DesignError(f"{name}.grid[2]", count, f"must be an integer in [1, {MAX_GRID_POINTS}]")
         step = (stop - start) / (count - 1) if count > 1 else 0.0
         return Parameter(path, "grid", tuple(start + i * step for i in range(count)))
     if kind == "values":
         if not isinstance(value, list) or not value:
             raise DesignError(f"{name}.values", value, "must be a non-empty list")
+        for i, v in enumerate(value):
+            if isinstance(v, float) and not math.isfinite(v):
+                raise DesignError(f"{name}.values[{i}]", v, "must be a finite number")
+            if not isinstance(v, (int, float, str)):
+                raise DesignError(f"{name}.values[{i}]", v, "must be a number or a name")
         return Parameter(path, "values", tuple(value))
     if kind == "lhs":
         if not isinstance(value, list) or len(value) != 2:
@@ -281,6 +294,8 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
     ps = tuple(sorted({_real("sweep.pressures_MPa", p) for p in pressures}))
     if ps[0] < 0:
         raise DesignError("sweep.pressures_MPa", ps[0], "must be >= 0")
+    if ps[-1] > MAX_PRESSURE_MPA:
+        raise DesignError("sweep.pressures_MPa", ps[-1], f"must be <= {MAX_PRESSURE_MPA:g} MPa")
 
     loads = sweep.get("loads", ["cap", "lumen"])
     if not isinstance(loads, list) or not loads or any(x not in LOADS for x in loads):
@@ -327,6 +342,11 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         n_samples = sample["n"]
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
             raise DesignError("sample.n", n_samples, "must be an integer >= 1")
+    n_designs = max(n_samples, 1) * math.prod(len(p.values) for p in params if p.kind != "lhs")
+    if n_designs > MAX_DESIGNS:
+        raise DesignError(
+            "parameters", f"{n_designs:.3g} designs", f"must give at most {MAX_DESIGNS:.0e} designs"
+        )
     name = sweep.get("name", Path(source).stem if source != "<string>" else "sweep")
     return SweepSpec(
         name=str(name),

@@ -12,6 +12,7 @@ Layout of ``DIR``::
 from __future__ import annotations
 
 import json
+import logging
 import os
 import time
 import uuid
@@ -20,6 +21,8 @@ from pathlib import Path
 from design.errors import DataError
 
 __all__ = ["SweepStore"]
+
+log = logging.getLogger(__name__)
 
 
 class SweepStore:
@@ -37,7 +40,7 @@ class SweepStore:
         if path.is_file():
             try:
                 old = json.loads(path.read_text(encoding="utf-8"))
-            except json.JSONDecodeError as exc:
+            except (json.JSONDecodeError, UnicodeDecodeError) as exc:
                 raise DataError(f"{path}: unreadable sweep manifest ({exc}); use another --out") from None
             if old.get("spec", {}).get("fingerprint") != manifest["spec"]["fingerprint"]:
                 raise DataError(
@@ -52,6 +55,28 @@ class SweepStore:
             self._atomic_text(path, json.dumps(manifest, indent=1, default=str))
         for stale in self.tasks_dir.glob(".*.tmp"):
             stale.unlink(missing_ok=True)  # half-written files of a killed run
+        self._set_aside_corrupted()
+
+    def _set_aside_corrupted(self) -> None:
+        """Rename task files whose parquet footer cannot be read, so their tasks are recomputed.
+
+        A task file is renamed into place whole, so damage comes from outside (a disk
+        fault, a copy cut short); the resumed sweep must neither crash on it nor trust it.
+        """
+        import pyarrow.parquet as pq
+
+        for path in sorted(self.tasks_dir.glob("t*.parquet")):
+            try:
+                pq.read_metadata(path)
+            except Exception as exc:  # pyarrow raises several types for a damaged file
+                aside = path.with_name(path.name + ".corrupt")
+                os.replace(path, aside)
+                log.warning(
+                    "%s: unreadable (%s); set aside as %s, its task will be computed again",
+                    path,
+                    " ".join(str(exc).split())[:120],
+                    aside.name,
+                )
 
     def task_path(self, task_id: int) -> Path:
         return self.tasks_dir / f"t{task_id:06d}.parquet"
@@ -106,7 +131,15 @@ class SweepStore:
         files = sorted(self.tasks_dir.glob("t*.parquet"))
         if not files:
             raise DataError(f"{self.root}: no finished designs")
-        tables = [pq.read_table(f) for f in files]
+        tables = []
+        for f in files:
+            try:
+                tables.append(pq.read_table(f))
+            except Exception as exc:  # pyarrow raises several types for a damaged file
+                raise DataError(
+                    f"{f}: cannot be read ({type(exc).__name__}); rerun the same `softcath sweep` "
+                    "command: it sets damaged task files aside and computes those tasks again"
+                ) from None
         try:
             df = pa.concat_tables(tables, promote_options="permissive").to_pandas()
         except (

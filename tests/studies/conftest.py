@@ -37,3 +37,33 @@ def small_spec(tmp_path):
         "tip.bending_length" = { values = [4.0, 6.0] }
         """,
     )
+
+
+class CliRun:
+    """One in-process ``softcath`` run: exit status and captured stdout/stderr."""
+
+    def __init__(self, status: int, out: str, err: str) -> None:
+        self.status, self.out, self.err = status, out, err
+
+    def error_line(self) -> str:
+        """The one ``softcath CMD: error: ...`` line; fails the test unless the run is a clean refusal."""
+        assert self.status == 2, f"expected a refusal (exit 2), got {self.status}: {self.err}"
+        assert "Traceback" not in self.err, self.err
+        errors = [ln for ln in self.err.splitlines() if ": error: " in ln]
+        assert len(errors) == 1 and errors[0].startswith("softcath "), self.err
+        assert "unexpected" not in errors[0], errors[0]  # an input error, not a bug report
+        return errors[0]
+
+
+@pytest.fixture
+def cli(capsys):
+    """``cli(*argv) -> CliRun``: run :func:`studies.cli.main` in this process."""
+    from studies.cli import main
+
+    def run(*argv) -> CliRun:
+        capsys.readouterr()
+        status = main([str(a) for a in argv])
+        out, err = capsys.readouterr()
+        return CliRun(status, out, err)
+
+    return run

@@ -131,8 +131,8 @@ def _variants():
         yield {
             "tube.h": h,
             "coil.outer_diameter": od,
-            "materials.medical_silicone.youngs_modulus": ee,
-            "materials.stainless_steel.poisson_ratio": n,
+            "materials.medical_silicone_tubing.youngs_modulus": ee,
+            "materials.stainless_steel_sus304.poisson_ratio": n,
         }
     yield {"tube.a_int": 0.3}
     yield {"coil.wire_diameter": 0.05}

@@ -282,8 +282,8 @@ def test_material_paths_scale_exactly(spec_writer, tmp_path):
             pressures_MPa = [1.0]
             loads = ["cap"]
             [parameters]
-            "materials.stainless_steel.youngs_modulus" = { values = [193000.0, 386000.0] }
-            "materials.medical_silicone.youngs_modulus" = { values = [2.46, 4.92] }
+            "materials.stainless_steel_sus304.youngs_modulus" = { values = [193000.0, 386000.0] }
+            "materials.medical_silicone_tubing.youngs_modulus" = { values = [2.46, 4.92] }
             "materials.ecoflex_00_30.youngs_modulus" = { values = [0.102, 0.204] }
             "filler.material" = { values = ["ecoflex_00_30", "none"] }
             """
@@ -294,16 +294,16 @@ def test_material_paths_scale_exactly(spec_writer, tmp_path):
     assert s.ok_designs == 16 and set(df["filler.material"]) == {"ecoflex_00_30", "none"}
     for filler in ("ecoflex_00_30", "none"):
         g = df[df["filler.material"] == filler]
-        lo = g[g["materials.stainless_steel.youngs_modulus"] == 193000.0].iloc[0]
-        hi = g[g["materials.stainless_steel.youngs_modulus"] == 386000.0].iloc[-1]
-        assert hi["materials.medical_silicone.youngs_modulus"] == 4.92
+        lo = g[g["materials.stainless_steel_sus304.youngs_modulus"] == 193000.0].iloc[0]
+        hi = g[g["materials.stainless_steel_sus304.youngs_modulus"] == 386000.0].iloc[-1]
+        assert hi["materials.medical_silicone_tubing.youngs_modulus"] == 4.92
         assert hi["materials.ecoflex_00_30.youngs_modulus"] == 0.204
         # rounding only: the same sums with every term doubled
         assert hi.curvature_analytic_per_mm == pytest.approx(lo.curvature_analytic_per_mm / 2, rel=1e-12)
         assert hi.elongation_analytic == pytest.approx(lo.elongation_analytic / 2, rel=1e-12)
     # a void filler makes the section softer: more elongation at the same pressure
-    base = df[(df["materials.stainless_steel.youngs_modulus"] == 193000.0)
-              & (df["materials.medical_silicone.youngs_modulus"] == 2.46)
+    base = df[(df["materials.stainless_steel_sus304.youngs_modulus"] == 193000.0)
+              & (df["materials.medical_silicone_tubing.youngs_modulus"] == 2.46)
               & (df["materials.ecoflex_00_30.youngs_modulus"] == 0.102)]  # fmt: skip
     void, filled = (base[base["filler.material"] == f].iloc[0] for f in ("none", "ecoflex_00_30"))
     assert void.elongation_analytic > filled.elongation_analytic

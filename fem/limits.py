@@ -1,0 +1,104 @@
+"""What a linear FEM check of one tip will cost, and which tips it cannot resolve, known before meshing.
+
+A mesh size far below the default asks for more memory than the machine has; the
+meshing and the factorisation would run for minutes and then exhaust it. A lumen or
+wall thinner than the geometry's bonded-land resolution (``fem.adapter``: gaps under
+0.01 mm are filled) cannot be meshed into well-shaped elements and makes the
+assembly's element mapping fail. Both are refused up front, naming the parameter.
+
+The DOF estimate is empirical (P2 tetrahedra, the gmsh extruded-section mesher):
+``layers × max(feature term, area term)`` with ``layers = L / (axial_ratio h)``. For the
+paper design it reads 56k and 90k DOFs at h = 0.16 and 0.10 mm where the mesher gives
+58.6k and 90.9k; at small h the area term (P2 triangles of side h over the section)
+takes over. The memory model, 0.3 GB + 15 kB per DOF growing as N^(1/3) (the fill of a
+3-D nested-dissection factorisation), matches the peak RSS measured for those two
+meshes (0.77 and 1.25 GB).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from design.errors import DesignError
+
+__all__ = ["MIN_FEATURE_MM", "estimate_dofs", "estimate_memory_bytes", "check_fem_budget"]
+
+#: Thinnest lumen semi-axis or wall the FEM geometry resolves, mm (its bonded-land gap).
+MIN_FEATURE_MM = 0.01
+#: Section DOFs per element layer that the paper tip's wires and lumen force at any mesh size.
+_FEATURE_DOFS_PER_LAYER = 9.0e3
+#: P2 DOFs per layer per mm² of section at unit mesh size (3 components, vertex + edge nodes).
+_AREA_DOFS_PER_LAYER = 55.0
+_PAPER_SECTION_AREA = math.pi * 0.4**2
+
+
+def estimate_dofs(*, length: float, section_area: float, mesh_size: float, axial_ratio: float = 5.0) -> float:
+    """Estimated degrees of freedom of the extruded P2 mesh of a tip (see the module notes)."""
+    layers = max(1.0, length / (axial_ratio * mesh_size))
+    feature = _FEATURE_DOFS_PER_LAYER * section_area / _PAPER_SECTION_AREA
+    area = _AREA_DOFS_PER_LAYER * section_area / mesh_size**2
+    return layers * max(feature, area)
+
+
+def estimate_memory_bytes(dofs: float) -> float:
+    """Estimated peak memory of assembling and factorising ``dofs`` unknowns, bytes."""
+    return 0.3e9 + 15e3 * dofs * (max(dofs, 1.0) / 90e3) ** (1 / 3)
+
+
+def available_memory_bytes() -> float:
+    """Memory the system can give this process now (``MemAvailable``), bytes; inf if unknown."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return math.inf
+
+
+def check_fem_budget(
+    design, *, mesh_size: float, axial_ratio: float = 5.0, param: str = "--mesh-size"
+) -> float:
+    """Refuse a mesh size or tip the linear FEM cannot handle; return the estimated DOFs.
+
+    Raises
+    ------
+    DesignError
+        ``mesh_size`` is not a positive finite number, is larger than the tip's radius,
+        needs more memory than is available, or a lumen semi-axis or wall of the design is
+        below :data:`MIN_FEATURE_MM`.
+    """
+    if not (isinstance(mesh_size, int | float) and math.isfinite(mesh_size) and mesh_size > 0):
+        raise DesignError(param, mesh_size, "must be a finite element size > 0 mm")
+    radius = design.coil.outer_diameter / 2
+    if mesh_size > radius:
+        raise DesignError(param, mesh_size, f"must be <= the tip radius {radius:g} mm to resolve the section")
+    s = design.section
+    for name, value in (("tube.a_int", s.a_int), ("tube.b_int", s.b_int)):
+        if value < MIN_FEATURE_MM:
+            raise DesignError(
+                name,
+                value,
+                f"a lumen semi-axis below {MIN_FEATURE_MM:g} mm cannot be meshed (the FEM geometry "
+                "fills gaps thinner than that); the analytic model still applies",
+            )
+    dofs = estimate_dofs(
+        length=design.tip.bending_length,
+        section_area=math.pi * radius**2,
+        mesh_size=mesh_size,
+        axial_ratio=axial_ratio,
+    )
+    need, have = estimate_memory_bytes(dofs), available_memory_bytes()
+    if need > 0.8 * have:
+        raise DesignError(
+            param,
+            mesh_size,
+            f"needs about {dofs:.3g} DOFs and {need / 1e9:.3g} GB of memory, but only "
+            f"{have / 1e9:.3g} GB are available; use a coarser mesh (default 0.16 mm)",
+        )
+    return dofs

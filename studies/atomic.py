@@ -1,0 +1,280 @@
+"""Command outputs that appear whole or not at all.
+
+Every file a ``softcath`` command writes goes through this module: it is
+written under a temporary name in the same folder (same file system, so the
+rename is atomic) and renamed over the real name only when the writer
+succeeded. A command that fails therefore never leaves a half-written file
+and never replaces an earlier good one. :class:`Outputs` extends this to a
+group of files (e.g. ``calibration.json`` with its PNG and TOML): none of
+them is replaced unless all were written.
+
+JSON outputs refuse NaN and infinities (strict JSON has neither, and a NaN
+in a result file is a silent wrong answer); the error names the key.
+
+Streaming files that must survive a kill while being written (the
+recorder's CSV, a sweep's per-task files) are the deliberate exception:
+they are appended and fsync-ed, or written per chunk with the same
+temp-and-rename step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import re
+import shutil
+import uuid
+from collections.abc import Iterator
+from pathlib import Path
+
+from design.errors import DataError, DesignError
+
+__all__ = [
+    "prepare_out_dir",
+    "atomic_path",
+    "write_text",
+    "write_json",
+    "check_finite_json",
+    "Outputs",
+    "staged_dir",
+    "unstage",
+    "remove_stale_temps",
+]
+
+
+def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
+    """Create the output folder ``path`` (and its parents), or refuse in one line.
+
+    Raises
+    ------
+    DesignError
+        ``path`` or one of its parents exists and is not a folder, or cannot be created.
+    """
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise DesignError(param, str(out), "exists and is not a folder; give a folder path")
+    for parent in out.parents:
+        if parent.exists() and not parent.is_dir():
+            raise DesignError(param, str(out), f"{parent} is a file, not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise DesignError(param, str(out), f"cannot be created ({exc.strerror or exc})") from None
+    remove_stale_temps(out)
+    return out
+
+
+_TEMP = re.compile(
+    r"^\.(?:.+\.(?P<pid>\d+)-[0-9a-f]{8}\.tmp(?:\.[^.]*)?|softcath-staging-(?P<spid>\d+)-[0-9a-f]{8})$"
+)
+
+
+def _temp_name(path: Path) -> Path:
+    # The suffix is kept so that writers choosing the format by extension (matplotlib, VTK,
+    # OpenCV) still do; the leading dot hides the temp file from globbing readers; the pid
+    # lets a later run tell a killed writer's leftovers from a live writer's files.
+    return path.with_name(f".{path.stem}.{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp{path.suffix}")
+
+
+def pid_alive(pid: int) -> bool:
+    """True while process ``pid`` runs (a zombie, killed but not yet reaped, does not)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # runs under another user
+        return True
+    except OverflowError:
+        return False
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            state = fh.read().rsplit(b")", 1)[1].split()[0]
+        return state not in (b"Z", b"X")
+    except (OSError, IndexError):  # no /proc (macOS): existence is all we know
+        return True
+
+
+def remove_stale_temps(folder: Path) -> int:
+    """Delete the temporary files and staging folders of writers that no longer run (a SIGKILL)."""
+    removed = 0
+    for entry in folder.glob(".*"):
+        m = _TEMP.match(entry.name)
+        if not m:
+            continue
+        pid = int(m.group("pid") or m.group("spid"))
+        if pid == os.getpid() or pid_alive(pid):
+            continue
+        if entry.is_dir():
+            shutil.rmtree(entry, ignore_errors=True)
+        else:
+            entry.unlink(missing_ok=True)
+        removed += 1
+    return removed
+
+
+def check_parent(path: str | Path, *, param: str) -> Path:
+    """The output file ``path`` with its folder created; refuse a path whose folder cannot exist."""
+    p = Path(path)
+    if p.exists() and p.is_dir():
+        raise DesignError(param, str(p), "is a folder; give a file path")
+    for parent in p.parents:
+        if parent.exists() and not parent.is_dir():
+            raise DesignError(param, str(p), f"{parent} is a file, not a folder")
+    prepare_out_dir(p.parent, param=param)
+    return p
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary sibling of ``path``; rename it to ``path`` only if the block succeeds.
+
+    The writer inside the block must create the yielded path. If the block raises,
+    or leaves no file, ``path`` is left untouched and the temporary file removed.
+    """
+    final = Path(path)
+    tmp = _temp_name(final)
+    try:
+        yield tmp
+        if not tmp.exists():
+            raise DataError(f"{final}: the writer produced no file; nothing written")
+        _fsync(tmp)
+        os.replace(tmp, final)
+    finally:
+        with contextlib.suppress(FileNotFoundError, IsADirectoryError):
+            tmp.unlink()
+
+
+def _fsync(path: Path) -> None:
+    with contextlib.suppress(OSError):  # fsync is best effort (e.g. some network file systems)
+        fd = os.open(path, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return Path(path)
+
+
+def check_finite_json(obj: object, *, where: str = "") -> None:
+    """Raise :class:`DataError` naming the first NaN or infinite number in a JSON-like ``obj``."""
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            check_finite_json(v, where=f"{where}.{k}" if where else str(k))
+        return
+    if isinstance(obj, list | tuple):
+        for i, v in enumerate(obj):
+            check_finite_json(v, where=f"{where}[{i}]")
+        return
+    try:
+        x = float(obj)  # numbers, numpy scalars
+    except (TypeError, ValueError):
+        return
+    if not math.isfinite(x):
+        raise DataError(f"result {where or 'value'} = {x!r}: not finite; nothing written")
+
+
+def write_json(path: str | Path, obj: object, *, indent: int | None = 2, default=None) -> Path:
+    """Write ``obj`` as strict JSON to ``path`` atomically; refuse NaN and infinities."""
+    check_finite_json(obj)
+    try:
+        text = json.dumps(obj, indent=indent, allow_nan=False, default=default)
+    except ValueError as exc:  # a non-finite number hidden behind ``default``
+        raise DataError(f"{Path(path).name}: {exc}; nothing written") from None
+    return write_text(path, text + "\n")
+
+
+class Outputs:
+    """A group of output files committed together.
+
+    ``with Outputs(out) as o:`` then ``o.path("calibration.json")`` gives a temporary
+    path to write; :meth:`text` and :meth:`json` write through it. When the block ends
+    without an exception every file is renamed to its real name; otherwise all
+    temporary files are removed and the earlier outputs stay as they were.
+    """
+
+    def __init__(self, folder: str | Path) -> None:
+        self.folder = Path(folder)
+        self._pending: dict[Path, Path] = {}
+
+    def __enter__(self) -> Outputs:
+        return self
+
+    def path(self, name: str | Path) -> Path:
+        """A temporary path for the output ``folder/name`` (renamed on success)."""
+        final = self.folder / name
+        if final not in self._pending:
+            self._pending[final] = _temp_name(final)
+        return self._pending[final]
+
+    def text(self, name: str | Path, text: str) -> Path:
+        """Stage ``text`` for ``folder/name``."""
+        self.path(name).write_text(text, encoding="utf-8")
+        return self.folder / name
+
+    def json(self, name: str | Path, obj: object, *, indent: int | None = 2, default=None) -> Path:
+        """Stage ``obj`` as strict JSON for ``folder/name``; refuse NaN and infinities."""
+        check_finite_json(obj)
+        try:
+            text = json.dumps(obj, indent=indent, allow_nan=False, default=default)
+        except ValueError as exc:
+            raise DataError(f"{name}: {exc}; nothing written") from None
+        return self.text(name, text + "\n")
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                missing = [f for f, t in self._pending.items() if not t.exists()]
+                if missing:
+                    raise DataError(f"{missing[0]}: the writer produced no file; nothing written")
+                for tmp in self._pending.values():
+                    _fsync(tmp)
+                for final, tmp in self._pending.items():
+                    os.replace(tmp, final)
+        finally:
+            for tmp in self._pending.values():
+                with contextlib.suppress(FileNotFoundError, IsADirectoryError):
+                    tmp.unlink()
+
+
+@contextlib.contextmanager
+def staged_dir(out: str | Path) -> Iterator[Path]:
+    """Yield a hidden staging folder inside ``out`` for a writer that fills a whole folder.
+
+    When the block succeeds every file written under the staging folder is renamed to
+    the same relative path under ``out`` (each rename atomic; existing files replaced);
+    when it fails the staging folder is deleted and ``out`` keeps its earlier files.
+    """
+    root = prepare_out_dir(out)
+    stage = root / f".softcath-staging-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+    stage.mkdir()
+    try:
+        yield stage
+        for src in sorted(stage.rglob("*")):
+            if src.is_dir():
+                continue
+            dst = root / src.relative_to(stage)
+            if dst.is_dir():
+                raise DataError(f"{dst}: is a folder where the output file goes; nothing more written")
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            _fsync(src)
+            os.replace(src, dst)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+def unstage(path: str | Path, stage: Path, out: Path) -> Path:
+    """Where a path reported inside the staging folder ``stage`` ends up under ``out``."""
+    p = Path(path)
+    try:
+        return out / p.relative_to(stage)
+    except ValueError:
+        return p

@@ -1,0 +1,95 @@
+"""Range checks for the command line: refuse overflowing results, warn where a model leaves its validity.
+
+The linear models (the paper's composite beam and the linear FEM) are small-deflection,
+small-strain models driven by a positive lumen pressure. docs/nonlinear.md measures where
+they stop holding for the paper design: the linear FEM departs from the finite-strain FEM
+by 5 % at about 5° of bend (lumen load; about 1° under the cap load), and the sweeps'
+silicone strain limit is 0.3. Beyond those, a linear answer is not wrong arithmetic but a
+wrong model: the command still answers, and says so on stderr with the way out
+(``softcath fem --nonlinear``).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from design.errors import DesignError
+
+__all__ = [
+    "LINEAR_BEND_LIMIT_DEG",
+    "SILICONE_STRAIN_LIMIT",
+    "check_finite_columns",
+    "check_pressure",
+    "linear_range_warnings",
+    "warn_linear_range",
+]
+
+log = logging.getLogger("softcath.validity")
+
+#: Bend angle beyond which the linear models depart from finite strain by ≳ 5 % (docs/nonlinear.md).
+LINEAR_BEND_LIMIT_DEG = 5.0
+#: The silicone strain limit the sweeps use by default (``studies.sweep.spec``).
+SILICONE_STRAIN_LIMIT = 0.3
+#: Largest pressure any command accepts, MPa: 100× the 1 MPa where the paper's tip already
+#: bends > 50°; beyond it every model's answer is meaningless (and 1e300 overflows).
+MAX_PRESSURE_MPA = 100.0
+
+
+def check_pressure(values, *, param: str = "--pressure") -> np.ndarray:
+    """Refuse non-finite pressures or magnitudes above :data:`MAX_PRESSURE_MPA` (before any solve)."""
+    p = np.atleast_1d(np.asarray(values, dtype=float))
+    for v in p.ravel():
+        if not math.isfinite(v):
+            raise DesignError(param, float(v), "must be a finite pressure in MPa")
+        if abs(v) > MAX_PRESSURE_MPA:
+            raise DesignError(
+                param, float(v), f"must be within ±{MAX_PRESSURE_MPA:g} MPa (no model holds beyond)"
+            )
+    return p
+
+
+def check_finite_columns(columns: Mapping[str, object], *, param: str, value: object) -> None:
+    """Refuse results with NaN or infinities (an overflow from an extreme input)."""
+    for name, col in columns.items():
+        arr = np.asarray(col, dtype=float)
+        if not np.all(np.isfinite(arr)):
+            raise DesignError(param, value, f"gives a non-finite {name} (overflow); use a smaller value")
+
+
+def linear_range_warnings(
+    pressures, bend_angle_rad, *, max_strain=None, model: str = "the linear model"
+) -> list[str]:
+    """Messages for every way ``pressures`` and the linear results leave the linear model's validity."""
+    p = np.atleast_1d(np.asarray(pressures, dtype=float))
+    msgs = []
+    if np.any(p < 0):
+        msgs.append(
+            f"negative pressure ({p.min():g} MPa): {model} assumes an inflating lumen "
+            "(p >= 0); suction and lumen collapse are not modelled"
+        )
+    theta = np.degrees(np.abs(np.atleast_1d(np.asarray(bend_angle_rad, dtype=float))))
+    theta = theta[np.isfinite(theta)]
+    if theta.size and theta.max() > LINEAR_BEND_LIMIT_DEG:
+        msgs.append(
+            f"bend {theta.max():.3g} deg is beyond the ~{LINEAR_BEND_LIMIT_DEG:g} deg where {model} "
+            "departs from finite strain by 5 %; use `softcath fem --nonlinear` for large bends"
+        )
+    if max_strain is not None:
+        e = np.atleast_1d(np.asarray(max_strain, dtype=float))
+        e = e[np.isfinite(e)]
+        if e.size and e.max() > SILICONE_STRAIN_LIMIT:
+            msgs.append(
+                f"silicone strain {e.max():.3g} exceeds the small-strain limit {SILICONE_STRAIN_LIMIT:g} "
+                "of the linear model; use `softcath fem --nonlinear`"
+            )
+    return msgs
+
+
+def warn_linear_range(pressures, bend_angle_rad, *, max_strain=None, model: str = "the linear model") -> None:
+    """Log each :func:`linear_range_warnings` message as a warning (stderr, one line each)."""
+    for msg in linear_range_warnings(pressures, bend_angle_rad, max_strain=max_strain, model=model):
+        log.warning(msg)
