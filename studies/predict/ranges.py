@@ -3,7 +3,7 @@
 A range is either numeric (``low``..``high``, sampled uniformly, or
 log-uniformly in 0.5 − ν with ``scale = "nu-log"``) or categorical
 (``levels``, equally likely). Paths are the sweep specs' dotted paths into the
-base design's TOML tables (``materials.medical_silicone.youngs_modulus``,
+base design's TOML tables (``materials.medical_silicone_tubing.youngs_modulus``,
 ``tube.b_int``, ``tip.cap_thickness``); ``model.coil_modulus`` and
 ``model.coil_bending`` are options of the section and 3-D FEM tiers.
 
@@ -11,7 +11,7 @@ Ranges files (``ranges_<preset>.toml`` beside this module) hold one table per
 path with ``source`` (where the range comes from) and ``default`` (varied when
 no ``--vary`` is given)::
 
-    [ranges."materials.medical_silicone.youngs_modulus"]
+    [ranges."materials.medical_silicone_tubing.youngs_modulus"]
     low = 1.648
     high = 4.43
     source = "..."

@@ -20,7 +20,7 @@ DEFAULT_RANGES: Mapping[str, tuple[float, float]] = {
     "channel.outer_diameter": (0.25, 0.32),
     "tube.a_int": (0.06, 0.13),
     "tube.b_int": (0.05, 0.09),
-    "materials.medical_silicone.youngs_modulus": (1.0, 3.0),
+    "materials.medical_silicone_tubing.youngs_modulus": (1.0, 3.0),
     "materials.ecoflex_00_30.youngs_modulus": (0.05, 0.3),
     "tip.bending_length": (4.0, 8.0),
 }

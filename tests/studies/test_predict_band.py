@@ -14,7 +14,7 @@ from design import presets
 from studies.predict import Range, predict_tier
 from studies.predict.band import measured_position, percentiles
 
-E_PATH = "materials.medical_silicone.youngs_modulus"
+E_PATH = "materials.medical_silicone_tubing.youngs_modulus"
 E_LOW, E_HIGH = 1.648, 4.43
 TABLE = tomllib.loads(presets.text("paper"))
 
@@ -73,7 +73,7 @@ def test_measurement_outside_the_band_is_flagged():
 
 
 def test_nu_log_scale_is_log_uniform_in_the_gap_to_one_half():
-    r = Range("materials.medical_silicone.poisson_ratio", low=0.49, high=0.4999, scale="nu-log")
+    r = Range("materials.medical_silicone_tubing.poisson_ratio", low=0.49, high=0.4999, scale="nu-log")
     assert r.value(0.0) == pytest.approx(0.49)
     assert r.value(1.0) == pytest.approx(0.4999)
     assert 0.5 - r.value(0.5) == pytest.approx(math.sqrt(0.01 * 0.0001))  # geometric mean of the gaps
@@ -89,7 +89,7 @@ def test_section_tier_percentiles_bracket_the_section_model_at_the_quantiles():
     # so its median lies between the section model at the u = 0.5 -/+ 2/n quantiles (as above).
     from fem.section_model import section_model
 
-    nu = Range("materials.medical_silicone.poisson_ratio", low=0.49, high=0.4999, scale="nu-log")
+    nu = Range("materials.medical_silicone_tubing.poisson_ratio", low=0.49, high=0.4999, scale="nu-log")
 
     def direct(u):
         t = tomllib.loads(presets.text("paper"))

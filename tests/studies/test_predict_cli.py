@@ -15,7 +15,7 @@ from studies.cli import main
 from studies.predict import Range, predict, predict_tier, resolve_ranges
 from studies.predict.ranges import default_ranges, load_ranges
 
-E_PATH = "materials.medical_silicone.youngs_modulus"
+E_PATH = "materials.medical_silicone_tubing.youngs_modulus"
 TABLE = tomllib.loads(presets.text("paper"))
 
 
@@ -34,7 +34,7 @@ def test_shipped_ranges_trace_every_range_to_a_source_and_fit_the_preset():
 @pytest.mark.parametrize(
     ("vary", "match"),
     [
-        (["materials.medical_silicone.poisson_ratio=0.45:0.6"], r"poisson_ratio.* 0\.6: must be <= 0\.4999"),
+        (["materials.medical_silicone_tubing.poisson_ratio=0.45:0.6"], r"poisson_ratio.* 0\.6: must be <= 0\.4999"),
         ([f"{E_PATH}=-1:2"], rf"--vary {E_PATH} low = -1: .*youngs_modulus: must be > 0"),
         (["tube.nonsense=0:1"], r"--vary tube\.nonsense.*is not a field of the base design"),
         ([f"{E_PATH}=2:x"], rf"--vary {E_PATH} = '2:x': LO and HI must be numbers"),
@@ -55,12 +55,12 @@ def test_bad_vary_is_refused_naming_path_and_bound(vary, match):
 
 
 def test_bad_vary_is_one_line_on_the_command_line(tmp_path, capsys):
-    argv = ["predict", "paper", "--model", "paper", "--vary", "materials.medical_silicone.poisson_ratio=0.45:0.6",
+    argv = ["predict", "paper", "--model", "paper", "--vary", "materials.medical_silicone_tubing.poisson_ratio=0.45:0.6",
             "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err
-    assert err.startswith("softcath predict: error: --vary materials.medical_silicone.poisson_ratio")
+    assert err.startswith("softcath predict: error: --vary materials.medical_silicone_tubing.poisson_ratio")
     assert "0.4999" in err
 
 
@@ -100,7 +100,7 @@ def test_model_options_the_tier_lacks_are_listed_not_sampled():
 
 def test_cli_end_to_end_writes_json_keys_and_png(tmp_path, capsys):
     argv = ["predict", "paper", "--model", "section", "--compare", "paper", "--samples", "4", "--seed", "3",
-            "--vary", "materials.medical_silicone.poisson_ratio", "--vary", "model.coil_modulus=tension,bending",
+            "--vary", "materials.medical_silicone_tubing.poisson_ratio", "--vary", "model.coil_modulus=tension,bending",
             "--measured-gain", "0.388", "--no-progress", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
     doc = json.loads((tmp_path / "prediction.json").read_text())

@@ -22,7 +22,7 @@ loads = ["cap", "lumen"]
 evaluators = ["analytic", "section"]
 [parameters]
 "tube.h" = { values = [0.0, 0.03, 0.06] }
-"materials.medical_silicone.poisson_ratio" = { values = [0.49, 0.4999999] }
+"materials.medical_silicone_tubing.poisson_ratio" = { values = [0.49, 0.4999999] }
 """
 
 
