@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hardware.recorder import read_measurement_csv
+from design.measurement import read_recording
 from hardware.virtual_devices import VirtualLineDevice
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -74,9 +74,9 @@ def test_sigterm_stops_a_recording_with_its_summary(tmp_path):
     assert proc.returncode == 0, stderr
     assert "Traceback" not in stderr
     summary = json.loads((out / "record.json").read_text())
-    data = read_measurement_csv(csv_path)
-    assert summary["rows"] == len(data["time_s"]) >= 100 and summary["stop_reason"] == "interrupted"
-    np.testing.assert_allclose(data["pressure_MPa"], 0.3)
+    data = read_recording(csv_path)
+    assert summary["rows"] == len(data.time_s) >= 100 and summary["stop_reason"] == "interrupted"
+    np.testing.assert_allclose(data.pressure_MPa, 0.3)
     assert "stop: interrupted" in stdout
 
 
