@@ -11,7 +11,6 @@ Stiffness per unit length: EA = F/ε [N], EI = M/κ [N mm²].
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 HELP = "resolved-wire coil stiffness (tension, compression, bending with contact) vs homogenised models"
@@ -85,18 +84,20 @@ def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     import design
+    from studies.atomic import Outputs, prepare_out_dir
 
+    out = prepare_out_dir(args.out)
     d = design.resolve(args.design)
     coils = {"coil": d.coil, "channel": d.channel}
     doc = {"design": d.name, "units": "N, mm; EA = F/strain [N], EI = M/curvature [N mm^2]"}
     for name, coil in coils.items():
         doc[name] = coil_report(coil, elements_per_turn=args.elements_per_turn)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "coil.json").write_text(json.dumps(doc, indent=2) + "\n")
-    if not args.no_png:
-        from fem.coil.picture import bent_coil_picture
+    with Outputs(out) as o:  # both files or neither
+        o.json("coil.json", doc)
+        if not args.no_png:
+            from fem.coil.picture import bent_coil_picture
 
-        bent_coil_picture(args.out / "coil.png", {"outer coil": d.coil, "channel": d.channel})
+            bent_coil_picture(o.path("coil.png"), {"outer coil": d.coil, "channel": d.channel})
     for name in coils:
         e = doc[name]
         ratio = e["ratios"]
@@ -107,5 +108,5 @@ def run(args: argparse.Namespace) -> int:
             f"({ratio['bending_contact/wahl']:.3f}x Wahl), closed {e['bending_closed_N_mm2']:.4g} N mm^2; "
             f"initial tension {e['initial_tension_N']:g} N"
         )
-    print(f"wrote {args.out / 'coil.json'}" + ("" if args.no_png else f" and {args.out / 'coil.png'}"))
+    print(f"wrote {out / 'coil.json'}" + ("" if args.no_png else f" and {out / 'coil.png'}"))
     return 0

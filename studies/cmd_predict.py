@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 from pathlib import Path
 
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
@@ -51,9 +50,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from design.errors import DesignError
+    from studies.atomic import Outputs, prepare_out_dir
     from studies.predict import predict
     from studies.predict.plot import band_picture
 
+    out = prepare_out_dir(args.out)
     pressures = _pressures(args.pressures) if args.finite_strain else None  # refuse bad input before any run
     compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
     for name, value in (("--samples", args.samples), ("--fem-samples", args.fem_samples)):
@@ -74,11 +75,11 @@ def run(args: argparse.Namespace) -> int:
         )  # fmt: skip
         doc["finite_strain"] = fs
         points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "prediction.json").write_text(json.dumps(doc, indent=2) + "\n")
-    _write_samples(args.out / "samples.csv", tiers)
-    band_picture(tiers, args.out / "prediction.png", measured_gain=args.measured_gain, points=points,
-                 title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
+    with Outputs(out) as o:  # all three files or none
+        o.json("prediction.json", doc)
+        _write_samples(o.path("samples.csv"), tiers)
+        band_picture(tiers, o.path("prediction.png"), measured_gain=args.measured_gain, points=points,
+                     title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
     for t in tiers:
         p = t.gain_percentiles
         line = (f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 {p['p5']:.4g}, "
@@ -98,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         fs = doc["finite_strain"]
         print(f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
               f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm")  # fmt: skip
-    print(f"wrote {args.out}/prediction.json, samples.csv, prediction.png")
+    print(f"wrote {out}/prediction.json, samples.csv, prediction.png")
     return 0
 
 

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 from pathlib import Path
 
 HELP = "2-D section model: FEM-grade curvature per MPa in milliseconds"
@@ -120,9 +119,12 @@ def run(args: argparse.Namespace) -> int:
     from fem.section_model import section_model
     from fem.section_model.mesh import MESH_SIZE, SEGMENTS
     from fem.section_model.picture import section_picture
+    from studies.atomic import Outputs, prepare_out_dir
     from studies.cmd_analytic import parse_range
+    from studies.validity import check_pressure
 
-    pressures = parse_range(args.pressure)
+    out = prepare_out_dir(args.out)
+    pressures = check_pressure(parse_range(args.pressure))
     coil_opts, placement, f0 = _coil_options(args)
     mesh = {
         "mesh_size": MESH_SIZE if args.mesh_size is None else args.mesh_size,
@@ -156,25 +158,25 @@ def run(args: argparse.Namespace) -> int:
             silicone_poisson=args.poisson, **mesh,
         )  # fmt: skip
         doc["coil_bound"] = curve.to_json()
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "section.json").write_text(json.dumps(doc, indent=2) + "\n")
     resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
-    with (args.out / "section.csv").open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(
-            ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
-        )
-        for row in zip(resp.pressure, resp.curvature, resp.elongation, resp.bend_angle, resp.tip_x,
-                       resp.tip_y, strict=True):  # fmt: skip
-            w.writerow([f"{v:.10g}" for v in row])
     wrote = "section.json, section.csv"
-    if not args.no_png:
-        p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
-        section_picture(r, args.out / "section.png", load=ld, pressure=p_show)
-        wrote += ", section.png"
-        if curve is not None:
-            _curve_picture(curve, r, args.out / "section_curve.png")
-            wrote += ", section_curve.png"
+    with Outputs(out) as o:  # all files or none, only on success
+        o.json("section.json", doc)
+        with o.path("section.csv").open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(
+                ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
+            )
+            for row in zip(resp.pressure, resp.curvature, resp.elongation, resp.bend_angle, resp.tip_x,
+                           resp.tip_y, strict=True):  # fmt: skip
+                w.writerow([f"{v:.10g}" for v in row])
+        if not args.no_png:
+            p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
+            section_picture(r, o.path("section.png"), load=ld, pressure=p_show)
+            wrote += ", section.png"
+            if curve is not None:
+                _curve_picture(curve, r, o.path("section_curve.png"))
+                wrote += ", section_curve.png"
     print(
         f"{r.design_name}: {ld} load, silicone nu {r.poisson_ratio_silicone:g} -> curvature "
         f"{r.curvature_per_mm_per_MPa[ld]:.4g} 1/mm per MPa ({r.fem_formula_ratio[ld]:.3g}x the paper's "
@@ -187,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
             f"threshold {curve.threshold_pressure:.4g} MPa, then {curve.gain_pivoting:.4g} 1/mm per MPa "
             f"(linear {curve.gain_linear:.4g})"
         )
-    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {args.out}/{wrote}")
+    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {out}/{wrote}")
     return 0
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import base64
 import html
 import io
-import json
 import math
 from pathlib import Path
 
@@ -64,10 +63,10 @@ def _parity(result) -> str:
 
 def write_design_report(result, out_dir: str | Path) -> Path:
     """Write ``discrepancy.json`` and ``report.html`` into ``out_dir``; return the HTML path."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    from studies.atomic import Outputs, prepare_out_dir
+
+    out = prepare_out_dir(out_dir)
     doc = _finite(result.to_json())
-    (out / "discrepancy.json").write_text(json.dumps(doc, indent=2) + "\n")
     rows = []
     for s in result.steps:
         for cand, v in s["candidates"].items():
@@ -94,6 +93,7 @@ held-out NRMSE {result.nrmse_before:.4g} → {result.nrmse_after:.4g}.
 {"<h2>Ambiguous</h2><ul>" + amb + "</ul>" if amb else ""}
 {"<h2>Notes</h2><ul>" + notes + "</ul>" if notes else ""}
 </body></html>"""
-    path = out / "report.html"
-    path.write_text(page)
-    return path
+    with Outputs(out) as o:  # both files or neither
+        o.json("discrepancy.json", doc)
+        o.text("report.html", page)
+    return out / "report.html"
