@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     from studies.discrepancy.result import fem_reference
 
     out = prepare_out_dir(args.out)
-    if not (math.isfinite(args.margin) and 0 <= args.margin < 1):
+    if args.margin is not None and not (math.isfinite(args.margin) and 0 <= args.margin < 1):
         raise DesignError("--margin", args.margin, "must be a fraction in [0, 1)")
     if not 1 <= args.max_effects <= 10:
         raise DesignError("--max-effects", args.max_effects, "must be an integer in [1, 10]")
@@ -131,7 +131,8 @@ def _run_designs(args: argparse.Namespace) -> int:
     from studies.discrepancy.designs_report import write_design_report
 
     cases = load_sweep_cases(args.measured, reference="fem")  # a sweep holds no measurement
-    result = run_design_workflow(cases, margin=args.margin, max_steps=args.max_effects + 1, progress=True)
+    margin = 0.05 if args.margin is None else args.margin
+    result = run_design_workflow(cases, margin=margin, max_steps=args.max_effects + 1, progress=True)
     html = write_design_report(result, args.out)
     print(f"named: {' + '.join(result.named) if result.named else 'nothing'}")
     print(

@@ -71,6 +71,7 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
 
     import pandas as pd
 
+    import analytic
     from studies.results import read_results
     from studies.sweep.variants import build_variant
 
@@ -101,7 +102,10 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
         if did not in built:
             over = {p: by_id.loc[did, p] for p in params if pd.notna(by_id.loc[did, p])}
             built[did] = build_variant(manifest["base_table"], over, name=f"design {did}")
-        cases.append(DesignCase(did, str(row.load), built[did], float(row.ref_gain), float(row.formula_gain)))
+        # The paper's formula is the cap-load model for both loads (the sweep's lumen-load
+        # analytic column is the one-material (1 - 2 nu) form, which is not the paper's).
+        formula = analytic.gains(built[did], "cap")[0]
+        cases.append(DesignCase(did, str(row.load), built[did], float(row.ref_gain), float(formula)))
     if len({c.design_id for c in cases}) < 4:
         raise DataError(f"{root}: {len(built)} designs with a FEM result; the workflow needs at least 4")
     return cases
