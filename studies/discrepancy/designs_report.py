@@ -5,6 +5,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import textwrap
 import math
 from pathlib import Path
 
@@ -40,7 +41,7 @@ def _parity(result) -> str:
     lo, hi = 0.0, 1.1 * float(ref.max())
     for ax, key, title in (
         (axes[0], "formula_gain", "before: the paper's formula"),
-        (axes[1], "model_gain", "after: " + (" + ".join(result.named) or "nothing named")),
+        (axes[1], "model_gain", textwrap.fill("after: " + (" + ".join(result.named) or "nothing named"), 60)),
     ):
         for load, marker in (("cap", "o"), ("lumen", "s")):
             for held, colour in ((False, "tab:blue"), (True, "tab:orange")):
