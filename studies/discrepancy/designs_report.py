@@ -5,8 +5,8 @@ from __future__ import annotations
 import base64
 import html
 import io
-import textwrap
 import math
+import textwrap
 from pathlib import Path
 
 __all__ = ["write_design_report"]
