@@ -135,7 +135,6 @@ def _configure_logging(*, verbose: bool, debug: bool) -> None:
     root.addHandler(handler)
     root.setLevel(logging.DEBUG if debug else logging.INFO if verbose else logging.WARNING)
     logging.captureWarnings(True)  # Python warnings become one log line each
-    warnings.formatwarning = _one_line_warning
 
 
 def _one_line_warning(message, category, filename, lineno, line=None) -> str:
@@ -184,7 +183,8 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError:  # not the main thread (an embedding program)
             old_term = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
-    real_stdout = sys.stdout
+    real_stdout, real_formatwarning = sys.stdout, warnings.formatwarning
+    warnings.formatwarning = _one_line_warning
     sys.stdout = _GuardedStdout(real_stdout)
     try:
         status = int(args._run(args) or 0)
@@ -207,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR
     finally:
-        sys.stdout = real_stdout
+        sys.stdout, warnings.formatwarning = real_stdout, real_formatwarning
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)

@@ -103,14 +103,8 @@ def calibration_from_args(args: argparse.Namespace):
     from design.errors import DesignError
     from hardware.tipvision import Calibration
 
-    scale = _scale_from_args(args)
-    if not (math.isfinite(scale) and scale > 0):
-        raise DesignError("--px-per-mm", scale, "must be a finite scale > 0 px/mm")
-    if not math.isfinite(args.base_angle):
-        raise DesignError("--base-angle", args.base_angle, "must be a finite angle in degrees")
+    scale = _scale_from_args(args)  # the scale, base angle and diameter are checked by Calibration
     diameter = getattr(args, "diameter", 0.8)
-    if not (math.isfinite(diameter) and diameter > 0):
-        raise DesignError("--diameter", diameter, "must be a finite diameter > 0 mm")
     base = None
     if args.base:
         try:

@@ -18,7 +18,6 @@ the chosen design checked by the 3-D FEM; 7. the design to build.
 
 from __future__ import annotations
 
-import json
 import logging
 import time
 from collections.abc import Callable
@@ -207,10 +206,12 @@ def section_calibration(ctx: DemoContext) -> SectionOutput:
     d = ctx.design
     m = read_measurement_csv(ctx.data_csv)
     res = calibrate(m, d, load="cap")
-    cal_dir = ctx.out_dir / "calibration"
-    cal_dir.mkdir(exist_ok=True)
-    (cal_dir / "calibration.json").write_text(json.dumps(res.to_json(), indent=2), encoding="utf-8")
-    design.save(res.design, cal_dir / "calibrated_design.toml", header="calibrated by softcath demo")
+    from studies.atomic import Outputs, prepare_out_dir
+
+    cal_dir = prepare_out_dir(ctx.out_dir / "calibration", param="demo calibration folder")
+    with Outputs(cal_dir) as o:
+        o.json("calibration.json", res.to_json())
+        o.text("calibrated_design.toml", design.dumps(res.design, header="calibrated by softcath demo"))
     fig = calibration_plot(
         ctx.out_dir / "calibration.png", m,
         nominal=analytic.response(d, m.pressure_MPa, "cap"),
@@ -317,10 +318,10 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     from studies.sweep import fem_check_function, load_spec, run_sweep
 
     check = fem_check_function() if ctx.fem else None
-    sdir = ctx.out_dir / "sweep"
-    sdir.mkdir(exist_ok=True)
-    spec_path = sdir / "spec.toml"
-    spec_path.write_text(demo_sweep_spec(), encoding="utf-8")
+    from studies.atomic import prepare_out_dir, write_text
+
+    sdir = prepare_out_dir(ctx.out_dir / "sweep", param="demo sweep folder")
+    spec_path = write_text(sdir / "spec.toml", demo_sweep_spec())
     spec = load_spec(spec_path)
     summary = run_sweep(spec, sdir / "run", workers=ctx.workers, progress=True)
     df = read_results(sdir / "run")

@@ -144,6 +144,50 @@ def _coil_sources(d, initial_tension, compression_modulus):
     return coils, f0, ec
 
 
+def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **options):
+    """The condensed section without the coils' axial part, and the coils as bilinear fibres.
+
+    Returns (K_rest, fibres, owner index per fibre, coil names, condensed load of
+    1 MPa, the linear model's E_z-weighted centroid y).
+    """
+    from design import coil_stiffness
+    from fem.adapter import geometry_from_design
+    from fem.section_model.assembly import assemble
+    from fem.section_model.coil_models import coil_terms, helix_stiffness
+    from fem.section_model.laws import laws_from_design
+    from fem.section_model.mesh import catheter_section_mesh
+    from fem.section_model.solve import solve
+
+    mesh_opts = {k: options.pop(k) for k in ("mesh_size", "segments")}
+    laws = laws_from_design(d, coil_modulus="tension", **options)
+    laws, extra = coil_terms(d, "resolved" if coil_model == "resolved" else "annulus", laws)
+    geometry = geometry_from_design(d)
+    mesh = catheter_section_mesh(geometry, **mesh_opts)
+    op = assemble(mesh, laws)
+    sol = solve(op, (load,), extra_bending=sum(extra.values()))
+    k_rest = sol.stiffness
+    f_unit = k_rest @ sol.loads[load].strains  # the condensed load of 1 MPa
+    groups = []
+    for (coil, label, name), force, e_c in zip(coils, f0, ec, strict=True):
+        fib = annulus_fibres(op, mesh.labels, label, compression_modulus=e_c, initial_tension=force)
+        k_rest = k_rest - fib.linear_stiffness(fib.tension_modulus)  # the annulus's own axial part out
+        if coil_model == "resolved":
+            ea, ei = helix_stiffness(coil)
+            area, r = coil_stiffness(coil).area, coil.mean_radius
+            centre = (0.0, 0.0) if label == COIL else (0.0, geometry.channel_y)
+            fib = ring_fibres(
+                centre=centre, radius=r, area=area, tension_axial=ea, initial_tension=force,
+                compression_modulus=ea / area if e_c is None else e_c, points=ring_points,
+            )  # fmt: skip
+            # The couple replaces the annulus's: EI_helix - 1/2 EA R^2 beyond the ring's own.
+            couple = ei - 0.5 * ea * r**2 - extra[label]
+            k_rest = k_rest + np.diag([0.0, couple, couple])
+        groups.append((name, fib))
+    fibres = groups[0][1].join(groups[1][1])
+    owner = np.concatenate([np.full(f.x.size, i) for i, (_, f) in enumerate(groups)])
+    return k_rest, fibres, owner, [n for n, _ in groups], f_unit, float(op.axial_centroid_y)
+
+
 def bend_curve(
     design,
     pressures: Sequence[float],
@@ -183,13 +227,6 @@ def bend_curve(
         As in :func:`fem.section_model.section_model`.
     """
     import design as design_pkg
-    from design import coil_stiffness
-    from fem.adapter import geometry_from_design
-    from fem.section_model.assembly import assemble
-    from fem.section_model.coil_models import coil_terms, helix_stiffness
-    from fem.section_model.laws import laws_from_design
-    from fem.section_model.mesh import catheter_section_mesh
-    from fem.section_model.solve import solve
 
     if coil_model not in PLACEMENTS:
         raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")
@@ -199,37 +236,10 @@ def bend_curve(
     t0 = time.perf_counter()
     d = design_pkg.resolve(design)
     coils, f0, ec = _coil_sources(d, initial_tension, compression_modulus)
-    laws = laws_from_design(
-        d, coil_modulus="tension", silicone_poisson=silicone_poisson, poisson_cap=poisson_cap
-    )
-    laws, extra = coil_terms(d, "resolved" if coil_model == "resolved" else "annulus", laws)
-    geometry = geometry_from_design(d)
-    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments)
-    op = assemble(mesh, laws)
-    sol = solve(op, (load,), extra_bending=sum(extra.values()))
-    k_lin = sol.stiffness
-    f_unit = k_lin @ sol.loads[load].strains  # the condensed load of 1 MPa
-    groups = []
-    for (coil, label, name), force, e_c in zip(coils, f0, ec, strict=True):
-        fib = annulus_fibres(op, mesh.labels, label, compression_modulus=e_c, initial_tension=force)
-        if e_c is None:
-            e_c = helix_stiffness(coil)[0] / coil_stiffness(coil).area if coil_model == "resolved" else None
-        k_lin = k_lin - fib.linear_stiffness(fib.tension_modulus)  # take the annulus's own axial part out
-        if coil_model == "resolved":
-            ea, ei = helix_stiffness(coil)
-            r = coil.mean_radius
-            centre = (0.0, 0.0) if label == COIL else (0.0, geometry.channel_y)
-            fib = ring_fibres(
-                centre=centre, radius=r, area=coil_stiffness(coil).area, tension_axial=ea,
-                compression_modulus=e_c, initial_tension=force, points=ring_points,
-            )  # fmt: skip
-            # The couple replaces the annulus's: EI_helix - 1/2 EA R^2 beyond the ring's own.
-            couple = ei - 0.5 * ea * r**2 - extra[label]
-            k_lin = k_lin + np.diag([0.0, couple, couple])
-        groups.append((name, fib))
-    k_rest = k_lin
-    fibres = groups[0][1].join(groups[1][1])
-    owner = np.concatenate([np.full(f.x.size, i) for i, (_, f) in enumerate(groups)])
+    k_rest, fibres, owner, names, f_unit, centroid_y = _section_problem(
+        d, coils, f0, ec, load=load, coil_model=coil_model, ring_points=ring_points, mesh_size=mesh_size,
+        segments=segments, silicone_poisson=silicone_poisson, poisson_cap=poisson_cap,
+    )  # fmt: skip
     gain_linear = float(np.linalg.solve(k_rest + fibres.linear_stiffness(fibres.tension_modulus), f_unit)[2])
 
     # The pivoting asymptote: the closed set without initial tension, then F₀'s preload on the open fibres.
@@ -250,13 +260,13 @@ def bend_curve(
         ep = fibres.opening_strain()[loaded]
         opening = float(np.min(np.where(eps > 0, ep / np.where(eps > 0, eps, 1.0), np.inf)))
 
-    g_all, closed_share, iters = [], {n: [] for n, _ in groups}, []
+    g_all, closed_share, iters = [], {n: [] for n in names}, []
     g = None
     for pi in p:
         g, closed, it = solve_fibres(k_rest, fibres, pi * f_unit, start=g)
         g_all.append(g)
         iters.append(it)
-        for i, (name, _) in enumerate(groups):
+        for i, name in enumerate(names):
             mine = owner == i
             closed_share[name].append(float(fibres.area[mine & closed].sum() / fibres.area[mine].sum()))
     g_all = np.array(g_all)
@@ -267,7 +277,7 @@ def bend_curve(
         pressure=p,
         curvature=g_all[:, 2],
         lateral_curvature=g_all[:, 1],
-        elongation=g_all[:, 0] + g_all[:, 2] * op.axial_centroid_y,
+        elongation=g_all[:, 0] + g_all[:, 2] * centroid_y,
         closed_fraction={k: np.array(v) for k, v in closed_share.items()},
         iterations=np.array(iters),
         threshold_pressure=threshold if loaded.any() else 0.0,

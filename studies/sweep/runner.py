@@ -285,10 +285,8 @@ def run_sweep(
                     n_workers=dask_local, threads_per_worker=1, processes=True,
                     host="127.0.0.1", dashboard_address=None,
                 )  # fmt: skip
+            # (its worker processes die with this one by themselves: Dask's parent-alive pipe)
             client, backend = Client(cluster), f"dask-local({dask_local})"
-            from studies.sweep.lifeline import tie_to_parent
-
-            client.run(tie_to_parent, os.getpid())  # local workers die with this process, even on SIGKILL
         results = _dask(pending, client)
     else:
         n = workers or os.cpu_count() or 1

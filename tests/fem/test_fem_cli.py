@@ -48,4 +48,4 @@ def test_cli_bad_input_exits_2_naming_the_parameter(tmp_path):
         cwd=ROOT, env=env, capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert proc.returncode == 2
-    assert proc.stderr.strip().splitlines()[-1].startswith("softcath fem: error: mesh_size = 0.001")
+    assert proc.stderr.strip().splitlines()[-1].startswith("softcath fem: error: --mesh-size = 0.001")

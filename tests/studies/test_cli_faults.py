@@ -107,6 +107,7 @@ def _running(pids) -> list[int]:
     return alive
 
 
+@pytest.mark.slow
 def test_sigkill_of_a_sweep_takes_its_workers_and_resume_is_exact(spec_writer, tmp_path, cli):
     n = 150
     spec = spec_writer(

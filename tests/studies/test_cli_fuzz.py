@@ -94,7 +94,7 @@ pressure_specs = st.one_of(
 )
 
 
-@fuzz(25)
+@fuzz(15)
 @given(spec=pressure_specs, load=st.sampled_from(["cap", "lumen"]))
 def test_analytic(cli, tmp_path, spec, load):
     out = tmp_path / "a"  # one folder for every example: a refusal must keep the last good result
@@ -298,7 +298,7 @@ def test_select(cli, sweep_dir, constraints, objectives, top, load):
         _strict_json(sweep_dir / "selection.json")
 
 
-@fuzz(6)
+@fuzz(4)
 @given(
     victim=st.sampled_from(
         ["sweep.json", "results.parquet", "designs.csv", "selection.json", "columns.json"]

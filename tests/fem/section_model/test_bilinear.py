@@ -134,6 +134,12 @@ def test_threshold_pressure_hand_calculation(paper, placement):
     # of height (0.7 % of the 0.55 mm lever), so the pivot is not one point.
     tol = 5e-3 if placement == "resolved" else 1.5e-2
     assert c.threshold_pressure == pytest.approx(f0 * (-y_v) / (a_l * (y_l - y_v)), rel=tol)
+    if placement == "resolved":
+        # Until then the closed ring (EA_c = E_c A, EI_c = E_c A R^2/2 about its centre) carries
+        # everything (the rest is 1e-5 as stiff); its top fibre opens when its strain reaches
+        # F0/(E_c A): p_open = F0 / (A_L (1 + 2 y_L / R)), E_c cancels.
+        r = paper.coil.mean_radius
+        assert c.opening_pressure == pytest.approx(f0 / (a_l * (1 + 2 * y_l / r)), rel=5e-3)
 
 
 def test_curve_with_initial_tension(paper):
