@@ -42,7 +42,8 @@ def test_failed_calibration_keeps_the_earlier_good_outputs(tmp_path, cli):
     huge = tmp_path / "huge.csv"
     df.to_csv(huge, index=False)
     line = cli("calibrate", huge, "--out", out).error_line()
-    assert "pressure_MPa" in line and "must be within ±100 MPa" in line
+    # the measurement reader refuses it (plausible bound), or the calibration range check (±100 MPa)
+    assert "pressure_MPa" in line and ("must be within ±100 MPa" in line or "plausible bound" in line)
     assert _digest(out) == good  # nothing overwritten, no NaN, no stray PNG or temp file
     json.loads((out / "calibration.json").read_text(), parse_constant=pytest.fail)
 

@@ -22,7 +22,7 @@ TABLE = tomllib.loads(presets.text("paper"))
 def formula_gain(e_tube: float) -> float:
     """The paper's formula on a design built the scalar way (independent of the vectorised tier)."""
     t = tomllib.loads(presets.text("paper"))
-    t["materials"]["medical_silicone"]["youngs_modulus"] = e_tube
+    t["materials"]["medical_silicone_tubing"]["youngs_modulus"] = e_tube
     return analytic.gains(design.from_dict(t), "cap")[0]
 
 
@@ -93,7 +93,7 @@ def test_section_tier_percentiles_bracket_the_section_model_at_the_quantiles():
 
     def direct(u):
         t = tomllib.loads(presets.text("paper"))
-        t["materials"]["medical_silicone"]["poisson_ratio"] = nu.value(min(max(u, 0.0), 1.0))
+        t["materials"]["medical_silicone_tubing"]["poisson_ratio"] = nu.value(min(max(u, 0.0), 1.0))
         return section_model(design.from_dict(t), loads=("lumen",)).curvature_per_mm_per_MPa["lumen"]
 
     n = 8
