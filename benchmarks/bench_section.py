@@ -6,11 +6,12 @@ In one run:
    the section mesh NOT cached: every design of a sweep has its own geometry):
    the section model of the paper design and of 5 shape variants against
    ``fem.check`` on the same designs, both loads; target >= 50x;
-2. a section sweep of N distinct designs (default 10^4, random shape, coil,
-   tube and moduli) through ``softcath sweep`` machinery on 2 local worker
-   processes when the sweep has a ``section`` evaluator, else a process pool
-   calling the section model; target <= 10 min on 2 cores. ``--designs N``
-   runs a smaller sweep and extrapolates (said so in the output).
+2. a section sweep of N distinct designs (default 10^4, a Latin hypercube over
+   coil and channel size, lumen shape, silicone moduli and tip length) through
+   the ``softcath sweep`` machinery (``analytic`` + ``section`` evaluators,
+   3 pressures x 2 loads, results written) on 2 local worker processes;
+   target <= 10 min on 2 cores. ``--designs N`` runs a smaller sweep and
+   extrapolates (said so in the output).
 
 Run: ``python benchmarks/bench_section.py [--designs N]`` (``make bench``).
 """
@@ -18,7 +19,6 @@ Run: ``python benchmarks/bench_section.py [--designs N]`` (``make bench``).
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import sys
 import time
 from pathlib import Path
@@ -58,27 +58,36 @@ def per_design() -> None:
           f"target >= 50x  {'OK' if ratio >= 50 else 'MISSED'}")  # fmt: skip
 
 
-def _one(d):
-    from fem.section_model import section_model
-
-    r = section_model(d)
-    return r.curvature_per_mm_per_MPa["lumen"]
-
-
 def sweep(n: int) -> None:
-    designs = _variants(n, seed=9)
-    ctx = mp.get_context("fork")
-    t = time.perf_counter()
-    with ctx.Pool(2) as pool:
-        done = 0
-        for _ in pool.imap_unordered(_one, designs, chunksize=16):
-            done += 1
-    wall = time.perf_counter() - t
+    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct designs."""
+    import tempfile
+
+    from studies.sweep import load_spec, run_sweep
+    from studies.sweep.random_designs import DEFAULT_RANGES
+
+    params = "\n".join(f'"{path}" = {{ lhs = [{lo}, {hi}] }}' for path, (lo, hi) in DEFAULT_RANGES.items())
+    spec_text = f"""[sweep]
+name = "bench-section"
+base = "paper"
+pressures_MPa = [0.0, 0.5, 1.0]
+loads = ["cap", "lumen"]
+evaluators = ["analytic", "section"]
+seed = 9
+[sample]
+n = {n}
+[parameters]
+{params}
+"""
+    with tempfile.TemporaryDirectory() as tmp:
+        spec_path = Path(tmp) / "spec.toml"
+        spec_path.write_text(spec_text)
+        t = time.perf_counter()
+        summary = run_sweep(load_spec(spec_path), Path(tmp) / "run", workers=2, progress=True)
+        wall = time.perf_counter() - t
     per = wall / n
     ten_k = per * 1e4
-    print(
-        f"section sweep, {n} distinct designs on 2 worker processes: {wall:.1f} s ({per * 1000:.0f} ms/design)"
-    )
+    print(f"section sweep (softcath sweep, analytic + section, 2 local workers), {n} designs: {wall:.1f} s "
+          f"({per * 1000:.0f} ms/design; {summary})")  # fmt: skip
     label = "measured" if n >= 10_000 else f"extrapolated from {n}"
     print(
         f"  10^4 designs: {ten_k / 60:.1f} min ({label})   target <= 10 min  {'OK' if ten_k <= 600 else 'MISSED'}"
