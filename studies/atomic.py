@@ -33,6 +33,7 @@ from design.errors import DataError, DesignError
 
 __all__ = [
     "prepare_out_dir",
+    "check_parent",
     "atomic_path",
     "write_text",
     "write_json",
@@ -41,6 +42,7 @@ __all__ = [
     "staged_dir",
     "unstage",
     "remove_stale_temps",
+    "pid_alive",
 ]
 
 
@@ -182,14 +184,17 @@ def check_finite_json(obj: object, *, where: str = "") -> None:
         raise DataError(f"result {where or 'value'} = {x!r}: not finite; nothing written")
 
 
-def write_json(path: str | Path, obj: object, *, indent: int | None = 2, default=None) -> Path:
-    """Write ``obj`` as strict JSON to ``path`` atomically; refuse NaN and infinities."""
+def _strict_json(obj: object, name: str, indent: int | None, default) -> str:
     check_finite_json(obj)
     try:
-        text = json.dumps(obj, indent=indent, allow_nan=False, default=default)
+        return json.dumps(obj, indent=indent, allow_nan=False, default=default) + "\n"
     except ValueError as exc:  # a non-finite number hidden behind ``default``
-        raise DataError(f"{Path(path).name}: {exc}; nothing written") from None
-    return write_text(path, text + "\n")
+        raise DataError(f"{name}: {exc}; nothing written") from None
+
+
+def write_json(path: str | Path, obj: object, *, indent: int | None = 2, default=None) -> Path:
+    """Write ``obj`` as strict JSON to ``path`` atomically; refuse NaN and infinities."""
+    return write_text(path, _strict_json(obj, Path(path).name, indent, default))
 
 
 class Outputs:
@@ -222,12 +227,7 @@ class Outputs:
 
     def json(self, name: str | Path, obj: object, *, indent: int | None = 2, default=None) -> Path:
         """Stage ``obj`` as strict JSON for ``folder/name``; refuse NaN and infinities."""
-        check_finite_json(obj)
-        try:
-            text = json.dumps(obj, indent=indent, allow_nan=False, default=default)
-        except ValueError as exc:
-            raise DataError(f"{name}: {exc}; nothing written") from None
-        return self.text(name, text + "\n")
+        return self.text(name, _strict_json(obj, str(name), indent, default))
 
     def __exit__(self, exc_type, exc, tb) -> None:
         try:

@@ -111,6 +111,8 @@ def run(args: argparse.Namespace) -> int:
         freqs = tuple(float(f) for f in args.freq.split(",") if f.strip())
     except ValueError as exc:
         raise DesignError("--freq", args.freq, "must be numbers F1,F2,... in Hz") from exc
+    if not 0 <= args.seed < 2**63:
+        raise DesignError("--seed", args.seed, "must be an integer >= 0")
     d = design.resolve(args.design)
     cfg = BenchConfig(
         waveform=args.waveform,

@@ -80,6 +80,8 @@ def run(args: argparse.Namespace) -> int:
     if getattr(args, "nonlinear", False):
         if args.pressure <= 0:
             raise DesignError("--pressure", args.pressure, "must be > 0 MPa for --nonlinear")
+        if not 1 <= args.steps <= 1000:
+            raise DesignError("--steps", args.steps, "must be an integer in [1, 1000]")
         return _run_nonlinear(args)
     import fem
     from fem.export import render_png, write_vtu

@@ -163,7 +163,8 @@ def test_calibrate_killed_mid_write_keeps_whole_outputs(tmp_path, cli, sig):
     # another fit (two free parameters) into the same folder, killed while it writes its outputs
     proc = _softcath("calibrate", DATA / "paper_sine.csv", "--out", out, "--free", "a_int,h", "--grid", "1")
     caught = _wait_for(lambda: proc.poll() is not None or _first_temp(out), 120, 0.0005)
-    os.kill(proc.pid, sig)
+    if proc.returncode is None:  # still running (else it finished first: the check below still holds)
+        os.kill(proc.pid, sig)
     _, stderr = proc.communicate(timeout=30)
     assert caught and "Traceback" not in stderr
     now = _digest(out)

@@ -397,8 +397,9 @@ def test_record_options(cli, tmp_path, duration, pscale, escale, rate):
     effect=st.sampled_from(
         ["hysteresis", "lag:tau_s=nan", "nosuch", "hysteresis:fraction=2", "lag:tau_s", "offset"]
     ),
+    seed=st.sampled_from([0, 7, -1, 2**64]),
 )
-def test_bench_options(cli, tmp_path, freq, cycles, pmax, noise, fps, effect):
+def test_bench_options(cli, tmp_path, freq, cycles, pmax, noise, fps, effect, seed):
     def num(text):
         try:
             return float(text)
@@ -414,13 +415,15 @@ def test_bench_options(cli, tmp_path, freq, cycles, pmax, noise, fps, effect):
         and (num(noise) is not None and 0 <= num(noise) <= 100)
         and (num(fps) is not None and 1 <= num(fps) <= 200)
         and effect in ("hysteresis", "offset")
+        and 0 <= seed < 2**63
     )
     assume(not valid)  # a valid run takes seconds of simulated devices: tests/hardware/test_bench.py
     out = tmp_path / "b"
     argv = ["bench", f"--freq={freq}", "--cycles", cycles, f"--pressure-max={pmax}", f"--noise={noise}",
-            f"--fps={fps}", "--effect", effect, "--out", out]  # fmt: skip
+            f"--fps={fps}", "--effect", effect, "--seed", seed, "--out", out]  # fmt: skip
     r = cli(*argv)
-    _check(r, out, {}, ("freq", "cycles", "pressure_max", "noise", "fps", "effect", "tau_s", "fraction"))
+    names = ("freq", "cycles", "pressure_max", "noise", "fps", "effect", "tau_s", "fraction", "seed")
+    _check(r, out, {}, names)
 
 
 @fuzz(20)
