@@ -218,8 +218,12 @@ def pairs_report(args) -> list[dict]:
             + mark
         )
     allb = float(np.mean([set(r["pair"]) <= set(r["named"]) for r in rows]))
+    alle = float(np.mean([same_up_to_lag_delay(r["pair"], r["named"]) for r in rows]))
+    extra = float(np.mean([len(r["named"]) > 2 for r in rows]))
     print(
-        f"\nall pairs: both named in {allb:.2f} of {len(rows)} data sets; below target: {len(below)} pair(s)"
+        f"\nall pairs: both named in {allb:.2f} of {len(rows)} data sets ({alle:.2f} counting a lag "
+        f"named for a delay or the reverse); a third name in {extra:.2f}; below target and "
+        f"reachable: {len(below)} pair(s) {', '.join('+'.join(p) for p in below)}"
     )
     secs = np.array([r["seconds"] for r in rows])
     print(f"per data set: median {np.median(secs):.2f} s, max {secs.max():.2f} s")
