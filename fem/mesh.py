@@ -507,7 +507,7 @@ def p2_triangles(gmsh):
         log.info("kept %d curved edges straight to avoid folded triangles", len(bad_keys))
     ends, mids = ends[bent], mids[bent]
     ends = np.sort(ends, axis=1)
-    _, first = np.unique(ends, axis=0, return_index=True)
+    _, first = np.unique(ends[:, 0] * np.int64(corner.size) + ends[:, 1], return_index=True)
     return xy[corner], tri, ends[first], mids[first]
 
 

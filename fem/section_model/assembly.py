@@ -260,11 +260,14 @@ def _lumen_load(section: SectionMesh, mesh, basis):
     flip = np.sign(np.einsum("ifq,if->f", normal, xg.mean(axis=2) - centre))
     normal = normal * flip[None, :, None]
     wds = length * ws[None, :]
-    elem = basis.elem
+    # H1 shape functions do not depend on the mapping: evaluate the scalar CCR basis on the
+    # reference points (no inverse isoparametric map); the vector element interleaves
+    # components, local DOF k = (scalar DOF k // 2, component k % 2).
+    scalar = basis.elem.elem
     f_loc = np.empty((len(elems), basis.Nbfun))
-    for i in range(basis.Nbfun):
-        phi = np.asarray(elem.gbasis(basis.mapping, X, i, tind=elems)[0])  # (2, nf, nq)
-        f_loc[:, i] = -np.einsum("cfq,cfq,fq->f", phi, normal, wds)
+    for k in range(basis.Nbfun):
+        phi = scalar.lbasis(X, k // 2)[0]  # (nf, nq)
+        f_loc[:, k] = -np.einsum("fq,fq,fq->f", phi, normal[k % 2], wds)
     f = np.bincount(basis.element_dofs[:, elems].T.ravel(), weights=f_loc.ravel(), minlength=basis.N)
     # Lumen area and centroid by the divergence theorem (lumen normal = -n).
     a_l = -float((xg[0] * normal[0] * wds).sum())

@@ -112,8 +112,10 @@ def _finish(xy, tri, labels, ce, cm, in_lumen: Callable, seconds: float, key: st
     tri = np.where((area2 < 0)[:, None], tri[:, [0, 2, 1]], tri)
     # Boundary edges (seen by one triangle) whose chord midpoint is in the lumen.
     edges = np.sort(np.vstack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
-    uniq, counts = np.unique(edges, axis=0, return_counts=True)
-    boundary = uniq[counts == 1]
+    nv = np.int64(xy.shape[0])
+    keys, counts = np.unique(edges[:, 0] * nv + edges[:, 1], return_counts=True)
+    once = keys[counts == 1]
+    boundary = np.column_stack([once // nv, once % nv])
     mid = xy[boundary].mean(axis=1)
     lumen = boundary[in_lumen(mid[:, 0], mid[:, 1])]
     if len(lumen) == 0:
