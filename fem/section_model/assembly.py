@@ -79,11 +79,25 @@ class SectionOperator:
     lam: np.ndarray
     bubble_from_retained: np.ndarray
     bubble_from_strains: np.ndarray
+    strain_matrix: np.ndarray
+    quadrature_xy: np.ndarray
 
     @property
     def ndofs(self) -> int:
         """Unknowns of the condensed system (P2 in-plane DOFs + 3 global strains)."""
         return int(self.K_uu.shape[0]) + 3
+
+    def strain_field(self, u_full: np.ndarray, strains: np.ndarray) -> np.ndarray:
+        """Strains (eps_xx, eps_yy, eps_zz, gamma_xy) at the quadrature points, shape (4, nel, nq).
+
+        ``u_full`` is a field on the whole CCR basis (``full_field``); ``strains`` the
+        global (eps_0, k_1, k_2).
+        """
+        ue = u_full[self.basis.element_dofs].T  # (nel, nb)
+        out = np.einsum("eqcb,eb->ceq", self.strain_matrix, ue)
+        x, y = self.quadrature_xy
+        out[2] = strains[0] + strains[1] * x + strains[2] * y
+        return out
 
     def full_field(self, u: np.ndarray, strains: np.ndarray) -> np.ndarray:
         """The in-plane field on the whole CCR basis: ``u`` (retained DOFs) plus the bubbles."""
@@ -204,6 +218,8 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         lam=lam,
         bubble_from_retained=xr,
         bubble_from_strains=xg,
+        strain_matrix=B,
+        quadrature_xy=np.stack([xq, yq]),
     )
 
 

@@ -15,14 +15,8 @@ def axial_stress(op, load_solution) -> np.ndarray:
     The volumetric part uses the element mean of lambda tr(eps) (the P0 part of
     the projected pressure), enough for a picture.
     """
-    basis = op.basis
-    u = load_solution.U
-    e0, k1, k2 = load_solution.strains
-    xq, yq = np.asarray(basis.global_coordinates())
-    w = basis.dx
-    grads = basis.interpolate(u).grad  # (2, 2, nel, nq)
-    ezz = e0 + k1 * xq + k2 * yq
-    strain = np.stack([grads[0, 0], grads[1, 1], ezz, grads[0, 1] + grads[1, 0]])  # (4, nel, nq)
+    w = op.basis.dx
+    strain = op.strain_field(load_solution.U, load_solution.strains)  # (4, nel, nq)
     s_zz = np.einsum("ec,ceq->eq", op.D[:, 2, :], strain)
     tr = strain[0] + strain[1] + strain[2]
     area = w.sum(axis=1)

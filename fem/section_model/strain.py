@@ -54,12 +54,9 @@ def principal_strain_range(op, load_solution, elements: np.ndarray) -> tuple[flo
     elements
         Boolean mask over the mesh's triangles.
     """
-    e0, k1, k2 = load_solution.strains
-    xq, yq = np.asarray(op.basis.global_coordinates())
-    grads = op.basis.interpolate(load_solution.U).grad  # (2, 2, nel, nq)
-    exx, eyy = grads[0, 0][elements], grads[1, 1][elements]
-    exy = 0.5 * (grads[0, 1] + grads[1, 0])[elements]
-    ezz = (e0 + k1 * xq + k2 * yq)[elements]
+    strain = op.strain_field(load_solution.U, load_solution.strains)  # (4, nel, nq)
+    exx, eyy, ezz = strain[0][elements], strain[1][elements], strain[2][elements]
+    exy = 0.5 * strain[3][elements]
     if exx.size == 0:
         return 0.0, 0.0
     # In-plane principal strains (the 2x2 block) and the axial one: the 3x3 tensor is block-diagonal.
