@@ -30,7 +30,7 @@ from design.measurement import read_measurement_csv  # noqa: E402
 from studies.discrepancy import run_workflow  # noqa: E402
 
 EXAMPLES = ROOT / "examples" / "realdata"
-#: converted file -> the stand-in design (examples/realdata, docs/realdata.md)
+#: converted file -> the stand-in design the converter writes beside it (docs/realdata.md)
 CASES = {
     "ijpelaar_steps.csv": "ijpelaar_two_chamber",
     "marchese_ribbed.csv": "marchese_ribbed",
@@ -49,7 +49,7 @@ def _converter():
 
 
 def one(csv: Path, stand_in: str) -> dict:
-    d = design.load(EXAMPLES / f"{stand_in}.toml")
+    d = design.load(csv.parent / f"{stand_in}.toml")
     m = read_measurement_csv(csv)
     t0 = time.perf_counter()
     cal = calibrate(m, d, use_elongation=False)

@@ -20,6 +20,13 @@ writes
 * ``marchese_static.csv`` and one ``marchese_<segment>.csv`` per segment
   (ribbed, cylindrical, pleated): quasi-static loading, ``time_s`` is the step
   index, ``volume_mL`` (supplied volume) is an extra column.
+* a stand-in design per actuator (``ijpelaar_two_chamber.toml``,
+  ``marchese_<segment>.toml``), made here from the converted data rather than
+  kept in the repository: the paper's catheter with every Young's modulus (and
+  Yeoh coefficient) divided by the factor that brings its formula gain (eq. 7,
+  which scales as 1/E) to the data's line-fit gain, and the bending length set
+  to the actuator's. It says nothing about the actuator's geometry; it gives
+  calibrate and discrepancy a nominal model in the right range.
 
 Source layouts (from each folder's PROVENANCE.md):
 
@@ -158,6 +165,51 @@ def convert_marchese(source: Path, out: Path) -> list[Path]:
     return written
 
 
+def stand_in(csv_path: Path, name: str, *, length_mm: float) -> Path:
+    """Write ``NAME.toml`` beside ``csv_path``: the paper design scaled to the data's gain (module docstring)."""
+    import tomllib
+
+    import analytic
+    import design
+    from design import presets
+    from design.measurement import read_measurement_csv
+
+    m = read_measurement_csv(csv_path)
+    p, k = m.pressure_MPa, m.curvature_per_mm
+    gain = float(p @ k / (p @ p))  # least-squares line through the origin, 1/(mm MPa)
+    table = tomllib.loads(presets.text("paper"))
+    # dividing every modulus by the factor multiplies the formula gain by it
+    factor = round(gain / analytic.gains(design.from_dict(table), "cap")[0], 2)
+    if not (math.isfinite(factor) and factor > 0):
+        raise DataError(f"{csv_path}: line-fit gain {gain:g} 1/(mm MPa) cannot scale a stand-in design")
+    table["name"] = name
+    table["tip"]["bending_length"] = float(length_mm)
+    for mat in table["materials"].values():
+        mat["youngs_modulus"] = mat["youngs_modulus"] / factor
+        if "yeoh" in mat:
+            mat["yeoh"] = [c / factor for c in mat["yeoh"]]
+        mat["source"] = f"{mat.get('source', '')}; divided by {factor:g} for the stand-in"
+    header = (
+        f"Stand-in for {name} (made by examples/realdata/convert.py from {csv_path.name}): the paper's\n"
+        f"catheter with every modulus divided by {factor:g} (its formula gain becomes the data's line-fit\n"
+        f"gain {gain:.3g} 1/(mm MPa)) and the bending length set to the actuator's {length_mm:g} mm.\n"
+        "NOT a model of the actuator's geometry; see docs/realdata.md."
+    )
+    path = csv_path.parent / f"{name}.toml"
+    design.save(design.from_dict(table), path, header=header)
+    return path
+
+
+def _segment_lengths_mm(source: Path) -> dict[str, float]:
+    """Median length of each Marchese segment over its loading steps (mm)."""
+    with (source / MARCHESE / "raw_extracted.csv").open(newline="") as fh:
+        raw = list(csv.DictReader(fh))
+    lengths: dict[str, list[float]] = {}
+    for r in raw:
+        lengths.setdefault(r["segment"], []).append(1e3 * float(r["length_m"]))
+    return {seg: float(np.median(v)) for seg, v in lengths.items()}
+
+
 def convert_all(source: Path = DEFAULT_SOURCE, out: Path | None = None) -> dict[str, list[Path]]:
     """Convert both data sets; returns the files written per data set."""
     if out is None:
@@ -171,7 +223,12 @@ def convert_all(source: Path = DEFAULT_SOURCE, out: Path | None = None) -> dict[
     if not source.is_dir():
         raise DataError(f"{source}: no such folder (the real data sets live in ../shared/realdata)")
     out.mkdir(parents=True, exist_ok=True)
-    return {"ijpelaar": [convert_ijpelaar(source, out)], "marchese": convert_marchese(source, out)}
+    files = {"ijpelaar": [convert_ijpelaar(source, out)], "marchese": convert_marchese(source, out)}
+    designs = [stand_in(files["ijpelaar"][0], "ijpelaar_two_chamber", length_mm=L0_MM)]
+    for seg, length in _segment_lengths_mm(source).items():
+        designs.append(stand_in(out / f"marchese_{seg}.csv", f"marchese_{seg}", length_mm=length))
+    files["stand_ins"] = designs
+    return files
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -141,8 +141,8 @@ def test_step_data_are_recognised_and_no_step_is_asked_for(synthetic):
 
 
 def test_pneumatic_layout_names_the_threshold(synthetic):
-    files, _, _ = synthetic
-    r = run_workflow(files["ijpelaar"][0], "examples/realdata/ijpelaar_two_chamber.toml", max_effects=1)
+    files, _, out = synthetic
+    r = run_workflow(files["ijpelaar"][0], out / "ijpelaar_two_chamber.toml", max_effects=1)
     assert r.named == ("dead_zone",)
     est = r.steps[0]["params"]["threshold_MPa"]
     assert est == pytest.approx(THRESHOLD, rel=0.3)  # the notes' parameter-recovery bar
@@ -154,7 +154,7 @@ def test_quasi_static_points_refuse_time_dependent_candidates(synthetic):
     seg = out / "marchese_cylindrical.csv"
     with pytest.raises(DataError, match=r"lag need a clock, but time_s here is a step index"):
         run_workflow(seg, candidates=("lag", "dead_zone"))
-    r = run_workflow(seg, "examples/realdata/marchese_cylindrical.toml", max_effects=1)
+    r = run_workflow(seg, out / "marchese_cylindrical.toml", max_effects=1)
     assert {x["kind"] for x in r.runs} == {"quasi-static"}
     assert r.named == ("dead_zone",)
     assert r.steps[0]["params"]["threshold_MPa"] == pytest.approx(truth["cylindrical"], rel=0.3)
@@ -173,23 +173,30 @@ def test_cli_quasi_static_refusal_is_one_line(synthetic, tmp_path, capsys):
     assert code == 2 and len(err) == 1 and "need a clock" in err[0]
 
 
-def test_stand_in_designs_have_the_measured_gain_range():
+def test_stand_in_designs_carry_the_data_gain(synthetic):
+    """The converter's stand-ins: the paper design with every modulus divided by one factor,
+    so the formula gain is exactly that factor times the paper's, chosen (to 0.01) to equal
+    the data's least-squares gain through the origin."""
     import analytic
 
-    # gains read off the data sets (PROVENANCE.md): pneumatic about 0.15, segments 0.26-0.6
-    expect = {
-        "ijpelaar_two_chamber": 0.15,
-        "marchese_ribbed": 0.60,
-        "marchese_cylindrical": 0.33,
-        "marchese_pleated": 0.26,
-    }
-    paper = analytic.gains(design.preset("paper"), "cap")[0]
-    for name, g in expect.items():
-        d = design.load(EXAMPLES / f"{name}.toml")
-        # every modulus divided by s: the linear model's gain is exactly s times the paper's
-        s = design.preset("paper").tube.material.youngs_modulus / d.tube.material.youngs_modulus
-        assert analytic.gains(d, "cap")[0] == pytest.approx(s * paper, rel=1e-9)
-        assert analytic.gains(d, "cap")[0] == pytest.approx(g, rel=0.05)
+    files, _, out = synthetic
+    paper = design.preset("paper")
+    g_paper = analytic.gains(paper, "cap")[0]
+    assert {p.stem for p in files["stand_ins"]} == {
+        "ijpelaar_two_chamber", "marchese_ribbed", "marchese_cylindrical", "marchese_pleated",
+    }  # fmt: skip
+    for path in files["stand_ins"]:
+        d = design.load(path)
+        factor = paper.tube.material.youngs_modulus / d.tube.material.youngs_modulus
+        assert paper.filler.youngs_modulus / d.filler.youngs_modulus == pytest.approx(factor, rel=1e-12)
+        assert analytic.gains(d, "cap")[0] == pytest.approx(g_paper * factor, rel=1e-9)
+        csv = out / ("ijpelaar_steps.csv" if path.stem.startswith("ijpelaar") else f"{path.stem}.csv")
+        m = read_measurement_csv(csv)
+        p, k = m.pressure_MPa, m.curvature_per_mm
+        data_gain = np.linalg.lstsq(p[:, None], k, rcond=None)[0][0]
+        # the factor is rounded to 0.01: the gain is off by at most 0.005 / factor
+        assert analytic.gains(d, "cap")[0] == pytest.approx(data_gain, rel=0.005 / factor + 1e-9)
+    assert design.load(out / "ijpelaar_two_chamber.toml").tip.bending_length == convert.L0_MM
 
 
 # ------------------------------------------------------------ the real folder
@@ -223,7 +230,7 @@ def test_real_data_through_calibrate_and_discrepancy(tmp_path, capsys):
     raw = read_measurement_csv(REAL / convert.IJPELAAR / "ijpelaar_steps.csv")
     assert len(raw.runs) == 5
     seg = tmp_path / "csv" / "marchese_cylindrical.csv"
-    toml = str(EXAMPLES / "marchese_cylindrical.toml")
+    toml = str(tmp_path / "csv" / "marchese_cylindrical.toml")
     assert main(["calibrate", str(seg), "--design", toml, "--out", str(tmp_path / "c")]) == 0
     cal = json.loads((tmp_path / "c" / "calibration.json").read_text())
     assert cal["gain_data_uncertainty"]["curvature_per_mm_per_MPa_stderr"] > 0
@@ -240,7 +247,7 @@ def test_real_data_through_calibrate_and_discrepancy(tmp_path, capsys):
 @pytest.mark.slow
 def test_real_pneumatic_steps_through_discrepancy(tmp_path):
     files = convert.convert_all(REAL, tmp_path)
-    r = run_workflow(files["ijpelaar"][0], str(EXAMPLES / "ijpelaar_two_chamber.toml"))
+    r = run_workflow(files["ijpelaar"][0], str(tmp_path / "ijpelaar_two_chamber.toml"))
     assert {x["kind"] for x in r.runs} == {"step"}
     assert r.named and r.nrmse_after < r.nrmse_before
     assert all("step-and-hold" not in s["separating_experiment"] for s in r.steps)
