@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from design.errors import DesignError
+from fem.section import TUBE
 from fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from fem.section_model.solve import LOADS
 
@@ -179,8 +180,6 @@ def section_model(
         eps[ld] = float(e0 + k2 * op.axial_centroid_y)
         d_area[ld] = s.lumen_area_change
         ratio[ld] = float(k2 / formula_k) if formula_k != 0 else math.nan
-    from fem.section import TUBE
-
     nu_used = laws[TUBE].poisson_ratio
     return SectionResult(
         design_name=d.name,

@@ -186,7 +186,7 @@ class DesignWorkflowResult:
     gap_after: float
     nrmse_before: float
     nrmse_after: float
-    end_effects_coefficient: float
+    end_effects_coefficient: float | None
     n_designs: int
     n_train: int
     n_heldout: int
@@ -338,7 +338,7 @@ def run_design_workflow(
         gap_after=current,
         nrmse_before=nrmse0,
         nrmse_after=_nrmse(test, models, active, c_end),
-        end_effects_coefficient=c_end if "end_effects" in active else math.nan,
+        end_effects_coefficient=c_end if "end_effects" in active else None,
         n_designs=int(ids.size),
         n_train=len({c.design_id for c in train}),
         n_heldout=len(held),

@@ -5,21 +5,10 @@ from __future__ import annotations
 import base64
 import html
 import io
-import math
 import textwrap
 from pathlib import Path
 
 __all__ = ["write_design_report"]
-
-
-def _finite(obj):
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
 
 
 def _png(fig) -> str:
@@ -67,7 +56,7 @@ def write_design_report(result, out_dir: str | Path) -> Path:
     from studies.atomic import Outputs, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
-    doc = _finite(result.to_json())
+    doc = result.to_json()
     rows = []
     for s in result.steps:
         for cand, v in s["candidates"].items():
