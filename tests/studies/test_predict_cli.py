@@ -34,7 +34,10 @@ def test_shipped_ranges_trace_every_range_to_a_source_and_fit_the_preset():
 @pytest.mark.parametrize(
     ("vary", "match"),
     [
-        (["materials.medical_silicone_tubing.poisson_ratio=0.45:0.6"], r"poisson_ratio.* 0\.6: must be <= 0\.4999"),
+        (
+            ["materials.medical_silicone_tubing.poisson_ratio=0.45:0.6"],
+            r"poisson_ratio.* 0\.6: must be <= 0\.4999",
+        ),
         ([f"{E_PATH}=-1:2"], rf"--vary {E_PATH} low = -1: .*youngs_modulus: must be > 0"),
         (["tube.nonsense=0:1"], r"--vary tube\.nonsense.*is not a field of the base design"),
         ([f"{E_PATH}=2:x"], rf"--vary {E_PATH} = '2:x': LO and HI must be numbers"),
