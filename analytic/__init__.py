@@ -1,6 +1,6 @@
 """The composite Euler–Bernoulli model of the tip (paper eqs. 1–9) and its calibration (eq. 8).
 
->>> import design, analytic
+>>> from softcath import analytic, design
 >>> r = analytic.response(design.preset("paper"), [0.0, 1.0])
 >>> float(r.curvature[0])
 0.0
@@ -8,10 +8,10 @@
 
 from __future__ import annotations
 
-from analytic.beam import LOADS, BeamResponse, gains, gains_arrays, response, response_arrays
-from analytic.inverse import pressure_for_bend_angle, pressure_for_tip
-from analytic.pose import pose_matrix, tip_pose
-from analytic.section import CompositeSection, composite_section, design_inputs, section_arrays
+from softcath.analytic.beam import LOADS, BeamResponse, gains, gains_arrays, response, response_arrays
+from softcath.analytic.inverse import pressure_for_bend_angle, pressure_for_tip
+from softcath.analytic.pose import pose_matrix, tip_pose
+from softcath.analytic.section import CompositeSection, composite_section, design_inputs, section_arrays
 
 __all__ = [
     "LOADS",

@@ -27,10 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.pose import tip_pose
-from analytic.section import design_inputs, section_arrays
-from design import TipDesign
-from design.errors import DesignError
+from softcath.analytic.pose import tip_pose
+from softcath.analytic.section import design_inputs, section_arrays
+from softcath.design import TipDesign
+from softcath.design.errors import DesignError
 
 __all__ = ["LOADS", "BeamResponse", "gains", "gains_arrays", "response", "response_arrays"]
 

@@ -5,7 +5,7 @@ by the coil's inner radius R so they are of order one; b is fixed by the
 assembly. The geometric domain X is explicit:
 
 - outer ellipse inside the coil: a ≤ √(R b) (a simple bound, exact; see
-  :func:`design.section.max_outer_semi_axis`);
+  :func:`softcath.design.section.max_outer_semi_axis`);
 - lumen inside the outer ellipse shrunk by the minimum wall t: sampled at
   N = 41 values of s = sin φ on [−1, 1], each
   a_int²(1 − s²)(b − t)² + (h + b_int s)²(a − t)² ≤ (1 − m)(a − t)²(b − t)²,
@@ -41,13 +41,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.beam import gains_arrays
-from analytic.data_gain import data_gain
-from analytic.section import design_inputs, section_arrays
-from design import TipDesign
-from design.errors import DataError, DesignError
-from design.measurement import Measurement
-from design.section import check_shape, max_outer_semi_axis
+from softcath.analytic.beam import gains_arrays
+from softcath.analytic.data_gain import data_gain
+from softcath.analytic.section import design_inputs, section_arrays
+from softcath.design import TipDesign
+from softcath.design.errors import DataError, DesignError
+from softcath.design.measurement import Measurement
+from softcath.design.section import check_shape, max_outer_semi_axis
 
 __all__ = ["CalibrationResult", "calibrate", "nrmse", "SHAPE_KEYS", "MIN_LUMEN_SEMI_AXIS"]
 
@@ -104,7 +104,7 @@ class CalibrationResult:
     gain_data_stderr, gain_data_method, gain_data_by_group
         Standard error of the data's curvature gain from the spread of per-run
         (or per-block) gains, how the groups were formed, and each group's gain
-        (``analytic.data_gain``).
+        (``softcath.analytic.data_gain``).
     reachable
         False when the model family cannot reach the data's gains inside X.
     identifiable
@@ -275,7 +275,7 @@ def calibrate(
         (Opti parameters, so a new scale costs no rebuild of the problem's
         expressions). A model whose gains differ from the formula's by
         slowly varying factors (the section model) is fitted by iterating
-        on them (:func:`fem.section_model.calibration.calibrate_section`).
+        on them (:func:`softcath.fem.section_model.calibration.calibrate_section`).
         All reported gains and NRMSEs include the scale.
     """
     import casadi as ca

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.measurement import Measurement
+from softcath.design.measurement import Measurement
 
 __all__ = ["DataGain", "data_gain"]
 

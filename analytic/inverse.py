@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy import optimize
 
-from analytic.beam import gains, response
-from design import TipDesign
-from design.errors import DesignError
+from softcath.analytic.beam import gains, response
+from softcath.design import TipDesign
+from softcath.design.errors import DesignError
 
 __all__ = ["pressure_for_bend_angle", "pressure_for_tip"]
 

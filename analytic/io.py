@@ -1,13 +1,13 @@
-"""Measurement CSV access for ``analytic`` users: a re-export of :mod:`design.measurement`.
+"""Measurement CSV access for ``analytic`` users: a re-export of :mod:`softcath.design.measurement`.
 
-The schema, the one reader and the one writer live in ``design.measurement``
+The schema, the one reader and the one writer live in ``softcath.design.measurement``
 (every layer may import ``design``); this name stays so that
-``from analytic.io import read_measurement_csv`` keeps working.
+``from softcath.analytic.io import read_measurement_csv`` keeps working.
 """
 
 from __future__ import annotations
 
-from design.measurement import (
+from softcath.design.measurement import (
     OPTIONAL,
     REQUIRED,
     Measurement,

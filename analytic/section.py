@@ -2,7 +2,7 @@ r"""The composite cross-section of the tip (paper eqs. 3–7).
 
 Components (paper numbering): 1 outer coil, 2 silicone tube, 3 hollow
 channel, plus the dip-coat filler when the design has one. Each carries an
-axial modulus; the two coils are homogenised by :mod:`design.coil_mechanics`.
+axial modulus; the two coils are homogenised by :mod:`softcath.design.coil_mechanics`.
 
 - Axial stiffness ΣEA = Σ E_i A_i (coils with their tension modulus, as the
   paper's E_eq from the spring constant).
@@ -26,9 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic import shapes
-from design import TipDesign
-from design.coil_mechanics import coil_stiffness_arrays
+from softcath.analytic import shapes
+from softcath.design import TipDesign
+from softcath.design.coil_mechanics import coil_stiffness_arrays
 
 __all__ = ["CompositeSection", "composite_section", "design_inputs", "section_arrays", "INPUT_KEYS"]
 

@@ -24,10 +24,12 @@ sys.path.insert(0, str(Path(__file__).parents[1]))
 
 from _timing import best_of, row  # noqa: E402
 
-import analytic  # noqa: E402
-import design  # noqa: E402
-from analytic.calibration import N_CONTAINMENT, _bounds, _inside, calibrate  # noqa: E402
-from design.measurement import Measurement  # noqa: E402
+from softcath import (
+    analytic,  # noqa: E402
+    design,  # noqa: E402
+)
+from softcath.analytic.calibration import N_CONTAINMENT, _bounds, _inside, calibrate  # noqa: E402
+from softcath.design.measurement import Measurement  # noqa: E402
 
 
 def bench_evaluations() -> None:

@@ -33,17 +33,17 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from design.errors import DesignError  # noqa: E402
-from hardware.plant import EFFECT_NAMES  # noqa: E402
-from studies.discrepancy import run_workflow  # noqa: E402
-from studies.discrepancy.quasi_static import TIME_DEPENDENT  # noqa: E402
-from studies.hidden_effects import (  # noqa: E402
+from softcath.design.errors import DesignError  # noqa: E402
+from softcath.studies.discrepancy import run_workflow  # noqa: E402
+from softcath.studies.discrepancy.quasi_static import TIME_DEPENDENT  # noqa: E402
+from softcath.virtualbench.hidden_effects import (  # noqa: E402
     Protocol,
     default_protocol,
     make_case,
     quasi_static_protocol,
     step_protocol,
 )
+from softcath.virtualbench.plant import EFFECT_NAMES  # noqa: E402
 
 CLASSES = ("none", *EFFECT_NAMES)
 PROTOCOLS = {"default": default_protocol, "step": step_protocol, "quasi-static": quasi_static_protocol}
@@ -161,7 +161,7 @@ def timing_60k() -> tuple[float, int]:
 
 
 def timing_play() -> tuple[float, float]:
-    from analytic.effects.hysteresis import play
+    from softcath.analytic.effects.hysteresis import play
 
     rng = np.random.default_rng(0)
     x = np.cumsum(rng.normal(size=6000))

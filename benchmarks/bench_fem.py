@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 
 
 def _cold_warm() -> None:
-    import fem
+    from softcath import fem
 
     with tempfile.TemporaryDirectory() as cache:
         os.environ["SOFTCATH_CACHE"] = cache
@@ -59,11 +59,11 @@ def _solver_vs_skfem() -> None:
     import skfem
     from skfem.helpers import ddot, sym_grad
 
-    import design
-    from fem.adapter import geometry_from_design, laws_from_design
-    from fem.elasticity import ElasticProblem
-    from fem.mesh import mesh_tip
-    from fem.tags import tag_facets
+    from softcath import design
+    from softcath.fem.adapter import geometry_from_design, laws_from_design
+    from softcath.fem.elasticity import ElasticProblem
+    from softcath.fem.mesh import mesh_tip
+    from softcath.fem.tags import tag_facets
 
     d = design.preset("paper")
     g = geometry_from_design(d)
@@ -119,9 +119,9 @@ def _one_size(h: float) -> None:
     """Child process: mesh (no cache) + assemble + solve at size h; print JSON."""
     import resource
 
-    import design
-    from fem.adapter import geometry_from_design, laws_from_design
-    from fem.pipeline import run_tip
+    from softcath import design
+    from softcath.fem.adapter import geometry_from_design, laws_from_design
+    from softcath.fem.pipeline import run_tip
 
     d = design.preset("paper")
     t = time.perf_counter()
@@ -161,9 +161,9 @@ def _sizes() -> None:
 def _meshers() -> None:
     from dataclasses import replace
 
-    import design
-    from fem.adapter import geometry_from_design
-    from fem.mesh import mesh_tip
+    from softcath import design
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.mesh import mesh_tip
 
     # A 1.5 mm slice of the paper tip (same section, lumen, cap): pytetwild on the
     # full 5 mm takes many minutes on 2 shared cores.

@@ -23,11 +23,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
-from hardware.recorder import Recorder, RecorderConfig  # noqa: E402
-from hardware.render import Scene, render_frame  # noqa: E402
-from hardware.sensors import SerialSensor  # noqa: E402
-from hardware.tipvision import Calibration, measure  # noqa: E402
-from hardware.virtual_devices import VirtualLineDevice  # noqa: E402
+from softcath.hardware.recorder import Recorder, RecorderConfig  # noqa: E402
+from softcath.hardware.sensors import SerialSensor  # noqa: E402
+from softcath.hardware.tipvision import Calibration, measure  # noqa: E402
+from softcath.virtualbench.devices import VirtualLineDevice  # noqa: E402
+from softcath.virtualbench.render import Scene, render_frame  # noqa: E402
 
 
 def _rate(fn, frames, min_time=2.0):

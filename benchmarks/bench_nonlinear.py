@@ -31,11 +31,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody  # noqa: E402
-from fem.nonlinear.laws import neo_hookean  # noqa: E402
-from fem.nonlinear.meshes import box, dofs_of_facets, facets_where  # noqa: E402
-from fem.nonlinear.newton import solve  # noqa: E402
-from fem.nonlinear.post import bend_angles  # noqa: E402
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody  # noqa: E402
+from softcath.fem.nonlinear.laws import neo_hookean  # noqa: E402
+from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where  # noqa: E402
+from softcath.fem.nonlinear.newton import solve  # noqa: E402
+from softcath.fem.nonlinear.post import bend_angles  # noqa: E402
 
 E, NU = 2.46, 0.45
 MU, KAPPA = E / (2 * (1 + NU)), E / (3 * (1 - 2 * NU))

@@ -24,10 +24,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import design  # noqa: E402
-from analytic.calibration import calibrate  # noqa: E402
-from design.measurement import read_measurement_csv  # noqa: E402
-from studies.discrepancy import run_workflow  # noqa: E402
+from softcath import design  # noqa: E402
+from softcath.analytic.calibration import calibrate  # noqa: E402
+from softcath.design.measurement import read_measurement_csv  # noqa: E402
+from softcath.studies.discrepancy import run_workflow  # noqa: E402
 
 EXAMPLES = ROOT / "examples" / "realdata"
 #: converted file -> the stand-in design the converter writes beside it (docs/realdata.md)

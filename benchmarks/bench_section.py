@@ -29,15 +29,15 @@ sys.path.insert(0, str(ROOT))
 
 
 def _variants(n: int, seed: int):
-    from studies.sweep.random_designs import random_designs
+    from softcath.studies.sweep.random_designs import random_designs
 
     return random_designs(n, seed=seed)
 
 
 def per_design() -> None:
-    import fem
-    from fem.section_model import section_model
-    from fem.section_model.mesh import _catheter_cached
+    from softcath import fem
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.mesh import _catheter_cached
 
     designs = _variants(6, seed=5)
     section_model(designs[0])  # imports, gmsh start-up
@@ -71,8 +71,8 @@ def sweep(n: int) -> None:
     """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct designs."""
     import tempfile
 
-    from studies.sweep import load_spec, run_sweep
-    from studies.sweep.random_designs import DEFAULT_RANGES
+    from softcath.studies.sweep import load_spec, run_sweep
+    from softcath.studies.sweep.random_designs import DEFAULT_RANGES
 
     params = "\n".join(f'"{path}" = {{ lhs = [{lo}, {hi}] }}' for path, (lo, hi) in DEFAULT_RANGES.items())
     spec_text = f"""[sweep]

@@ -41,7 +41,7 @@ def _cpu() -> float:
 
 
 def _spec(tmp: Path, body: str):
-    from studies.sweep import load_spec
+    from softcath.studies.sweep import load_spec
 
     path = tmp / "spec.toml"
     path.write_text(body, encoding="utf-8")
@@ -49,10 +49,9 @@ def _spec(tmp: Path, body: str):
 
 
 def bench_analytic(tmp: Path) -> None:
-    import analytic
-    import design
-    from studies.sweep import build_tasks, evaluate_task, expand, run_sweep
-    from studies.sweep.variants import variant_table
+    from softcath import analytic, design
+    from softcath.studies.sweep import build_tasks, evaluate_task, expand, run_sweep
+    from softcath.studies.sweep.variants import variant_table
 
     spec = _spec(
         tmp,
@@ -111,8 +110,8 @@ n = {N_BIG}
 
 
 def bench_fem(tmp: Path) -> None:
-    from studies.results import read_results
-    from studies.sweep import SweepStore, fem_check_function, load_spec, run_sweep
+    from softcath.studies.results import read_results
+    from softcath.studies.sweep import SweepStore, fem_check_function, load_spec, run_sweep
 
     if fem_check_function() is None:
         print("FEM throughput: skipped (fem.check is not importable in this build)")

@@ -1,6 +1,6 @@
 """The catheter tip as validated, parametrised data (mm, MPa).
 
->>> import design
+>>> from softcath import design
 >>> d = design.preset("paper")
 >>> round(d.section.b, 3)
 0.15
@@ -10,14 +10,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from design import presets as _presets
-from design.coil_mechanics import CoilStiffness, coil_stiffness
-from design.components import Coil, Tip, Tube
-from design.errors import DataError, DesignError, SoftcathError
-from design.io import dumps, from_dict, load, loads, save, to_dict
-from design.materials import Material
-from design.section import AssembledSection
-from design.tip import TipDesign
+from softcath.design import presets as _presets
+from softcath.design.coil_mechanics import CoilStiffness, coil_stiffness
+from softcath.design.components import Coil, Tip, Tube
+from softcath.design.errors import DataError, DesignError, SoftcathError
+from softcath.design.io import dumps, from_dict, load, loads, save, to_dict
+from softcath.design.materials import Material
+from softcath.design.section import AssembledSection
+from softcath.design.tip import TipDesign
 
 __all__ = [
     "AssembledSection",

@@ -1,6 +1,6 @@
 """CadQuery solids of the as-assembled tip, and STEP / STL export.
 
-One solid per component, in the section frame of :mod:`design.section` with
+One solid per component, in the section frame of :mod:`softcath.design.section` with
 the catheter axis along z (base at z = 0, tip end at z = L):
 
 - ``coil``: the outer coil as a homogenised annulus (default), or the resolved
@@ -18,7 +18,7 @@ the gap between two touching bodies is filled over ``|x| < x_land``, where
 ``land_gap`` (default 0.01 mm), so no zero-thickness wedge is left. The
 tube-coil and tube-channel lands are part of the tube (the squeezed silicone
 conforms); the channel-coil land is part of the coil (< 0.5 % of its area).
-The FEM (``fem.section``) meshes exactly these solids.
+The FEM (``softcath.fem.section``) meshes exactly these solids.
 
 CadQuery is imported inside the functions (it is slow to import).
 """
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from design.tip import TipDesign
+from softcath.design.tip import TipDesign
 
 __all__ = [
     "LAND_GAP",
@@ -106,7 +106,7 @@ def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = 
     """
     import cadquery as cq
 
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     if coil not in ("annulus", "helix"):
         raise DesignError("coil", coil, "must be 'annulus' or 'helix'")

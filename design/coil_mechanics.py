@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.components import Coil
+from softcath.design.components import Coil
 
 __all__ = ["CoilStiffness", "coil_stiffness", "coil_stiffness_arrays"]
 

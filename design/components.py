@@ -1,16 +1,16 @@
 """The parts of the catheter tip: helical coils, the silicone tube, the tip segment.
 
 All lengths in mm. Each class checks its own numbers; the assembled design
-(:class:`design.tip.TipDesign`) checks how the parts fit together.
+(:class:`softcath.design.tip.TipDesign`) checks how the parts fit together.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from design import _checks
-from design.errors import DesignError
-from design.materials import Material
+from softcath.design import _checks
+from softcath.design.errors import DesignError
+from softcath.design.materials import Material
 
 __all__ = ["Coil", "Tube", "Tip"]
 
@@ -97,9 +97,9 @@ class Tube:
     """The silicone actuation tube, as catalogued and as squeezed into the coil.
 
     The catalogue numbers describe the free tube. Inside the catheter the tube
-    is squeezed (see :mod:`design.section`); its as-assembled shape is the
+    is squeezed (see :mod:`softcath.design.section`); its as-assembled shape is the
     paper's x = [a, a_int, b_int, h]. Leave those four at ``None`` to use the
-    nominal rule of :func:`design.section.nominal_tube_shape`, or give all four
+    nominal rule of :func:`softcath.design.section.nominal_tube_shape`, or give all four
     to fix the shape (e.g. a calibrated one).
 
     Parameters

@@ -16,10 +16,10 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from design.components import Coil, Tip, Tube
-from design.errors import DesignError
-from design.materials import Material
-from design.tip import TipDesign
+from softcath.design.components import Coil, Tip, Tube
+from softcath.design.errors import DesignError
+from softcath.design.materials import Material
+from softcath.design.tip import TipDesign
 
 __all__ = ["from_dict", "to_dict", "load", "save", "dumps", "loads"]
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from design import _checks
-from design.errors import DesignError
+from softcath.design import _checks
+from softcath.design.errors import DesignError
 
 __all__ = ["Material"]
 

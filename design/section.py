@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = [
     "AssembledSection",

@@ -5,10 +5,10 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, replace
 
-from design import section as _section
-from design.components import Coil, Tip, Tube
-from design.errors import DesignError
-from design.materials import Material
+from softcath.design import section as _section
+from softcath.design.components import Coil, Tip, Tube
+from softcath.design.errors import DesignError
+from softcath.design.materials import Material
 
 __all__ = ["TipDesign"]
 
@@ -91,7 +91,7 @@ class TipDesign:
 
     @functools.cached_property
     def section(self) -> _section.AssembledSection:
-        """The as-assembled cross-section (frame in :mod:`design.section`)."""
+        """The as-assembled cross-section (frame in :mod:`softcath.design.section`)."""
         r_in = self.coil.inner_diameter / 2
         r_c = self.channel.outer_diameter / 2
         b = self.vertical_semi_axis

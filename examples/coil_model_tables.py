@@ -9,11 +9,11 @@ import sys
 
 import numpy as np
 
-import design
-from fem.coil import resolved_coil_stiffness
-from fem.section_model import bend_curve, section_model
-from fem.section_model.coil_models import COIL_MODELS, coil_section_stiffness, model_options
-from studies.coil_ranking import random_coil_designs, rank_by_coil_model
+from softcath import design
+from softcath.fem.coil import resolved_coil_stiffness
+from softcath.fem.section_model import bend_curve, section_model
+from softcath.fem.section_model.coil_models import COIL_MODELS, coil_section_stiffness, model_options
+from softcath.studies.coil_ranking import random_coil_designs, rank_by_coil_model
 
 
 def coil_table() -> None:

@@ -17,7 +17,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from studies.cli import main
+from softcath.cli.main import main
 
 ARGS = [
     "bench",

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-import analytic
-import design
-from design.measurement import Measurement, write_measurement_csv
+from softcath import analytic, design
+from softcath.design.measurement import Measurement, write_measurement_csv
 
 TRUE_SHAPE = {"a_int": 0.13, "b_int": 0.09, "h": 0.02}
 SEED = 20240521

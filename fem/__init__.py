@@ -1,7 +1,7 @@
 """softcath FEM bending check (issue 3): meshes of the as-assembled tip, linear
 P2 elasticity with homogenised coils, verified against closed forms.
 
->>> import fem
+>>> from softcath import fem
 >>> r = fem.check("paper", pressures=[0.05], loads=("cap",))   # doctest: +SKIP
 >>> r.case("cap", 0.05).curvature_per_mm                        # doctest: +SKIP
 
@@ -11,7 +11,7 @@ imported inside the functions that need them.
 
 from __future__ import annotations
 
-from fem.api import FemCase, FemResult, check
-from fem.pipeline import LOADS
+from softcath.fem.api import FemCase, FemResult, check
+from softcath.fem.pipeline import LOADS
 
 __all__ = ["FemCase", "FemResult", "LOADS", "check"]

@@ -25,10 +25,10 @@ annuli (axis z), from :func:`design.coil_stiffness`:
 
 from __future__ import annotations
 
-from design import TipDesign, coil_stiffness
-from design.errors import DesignError
-from fem.materials import Isotropic, TransverselyIsotropic
-from fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
+from softcath.design import TipDesign, coil_stiffness
+from softcath.design.errors import DesignError
+from softcath.fem.materials import Isotropic, TransverselyIsotropic
+from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 
 __all__ = ["geometry_from_design", "laws_from_design", "coil_law", "COIL_MODULI"]
 

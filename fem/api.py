@@ -13,11 +13,11 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.adapter import geometry_from_design, laws_from_design
-from fem.limits import check_fem_budget
-from fem.pipeline import LOADS, TipSolution, run_tip
-from fem.post import tip_pose
+from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.limits import check_fem_budget
+from softcath.fem.pipeline import LOADS, TipSolution, run_tip
+from softcath.fem.post import tip_pose
 
 __all__ = ["FemCase", "FemResult", "check"]
 
@@ -54,7 +54,7 @@ class FemResult:
     """Result of :func:`check`: one :class:`FemCase` per (load, pressure) plus run facts.
 
     ``residual`` is the largest normwise backward error of the solves
-    (``fem.solver``); ``mesh_seconds`` is 0 when the mesh came from the cache
+    (``softcath.fem.solver``); ``mesh_seconds`` is 0 when the mesh came from the cache
     (``mesh_cached``). ``solution`` keeps the unit-pressure fields for export
     (not compared, not printed).
     """
@@ -136,7 +136,7 @@ def check(
         gmsh back-end: layer thickness / mesh_size.
     coil_modulus
         ``"tension"`` or ``"bending"``: which homogenised axial modulus the coils
-        get (``fem.adapter``).
+        get (``softcath.fem.adapter``).
     use_cache
         Reuse / store meshes in the on-disk cache.
     method
@@ -144,8 +144,8 @@ def check(
     progress
         Optional ``progress(stage)`` callable.
     """
-    import analytic
-    import design as design_pkg
+    from softcath import analytic
+    from softcath import design as design_pkg
 
     d = design_pkg.resolve(design)
     p = np.asarray(list(pressures), dtype=float).ravel()

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from fem.errors import FemError
-from fem.solver import DEFAULT_TOL, Factorized
+from softcath.fem.errors import FemError
+from softcath.fem.solver import DEFAULT_TOL, Factorized
 
 __all__ = ["ElasticProblem", "Solution"]
 
@@ -59,14 +59,14 @@ class ElasticProblem:
     labels
         Region label per tetrahedron (m,).
     laws
-        Map label -> law with a ``tensor()`` method (``fem.materials``).
+        Map label -> law with a ``tensor()`` method (``softcath.fem.materials``).
     fixed
         Dirichlet conditions: ``[(facets, components), ...]`` fixes the listed
         displacement components (0 = x, 1 = y, 2 = z) of every P2 node on those
         boundary facets (to zero, or to values passed to :meth:`solve`). The
         tip's clamp is ``[(base_facets, (0, 1, 2))]``.
     method
-        Solver back-end (``fem.solver``).
+        Solver back-end (``softcath.fem.solver``).
     """
 
     def __init__(

@@ -2,7 +2,7 @@
 
 A mesh size far below the default asks for more memory than the machine has; the
 meshing and the factorisation would run for minutes and then exhaust it. A lumen or
-wall thinner than the geometry's bonded-land resolution (``fem.adapter``: gaps under
+wall thinner than the geometry's bonded-land resolution (``softcath.fem.adapter``: gaps under
 0.01 mm are filled) cannot be meshed into well-shaped elements and makes the
 assembly's element mapping fail. Both are refused up front, naming the parameter.
 
@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import os
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["MIN_FEATURE_MM", "estimate_dofs", "estimate_memory_bytes", "check_fem_budget"]
 

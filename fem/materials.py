@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["Isotropic", "TransverselyIsotropic", "voigt_to_tensor"]
 

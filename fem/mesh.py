@@ -35,8 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.errors import MeshError
-from fem.section import REGIONS, VOID, TipGeometry
+from softcath.fem.errors import MeshError
+from softcath.fem.section import REGIONS, VOID, TipGeometry
 
 __all__ = ["TipMesh", "MeshQuality", "mesh_tip", "cache_dir", "MESHERS", "scaled_jacobian"]
 
@@ -75,7 +75,7 @@ class TipMesh:
     tets
         Positively oriented tetrahedra (m, 4).
     labels
-        Region label per tet (``fem.section`` constants).
+        Region label per tet (``softcath.fem.section`` constants).
     geometry
         The geometry meshed.
     mesher, mesh_size
@@ -153,7 +153,7 @@ def mesh_tip(
     MeshError
         Inverted elements, or a region volume off the exact one by more than 1 %.
     """
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     if mesher not in MESHERS:
         raise DesignError("mesher", mesher, f"must be one of {MESHERS}")

@@ -1,8 +1,8 @@
 """The FEM bending check: mesh (cached), assemble, factorise once, solve the
 load cases at unit pressure, scale to every pressure, post-process.
 
-``run_tip`` works on a :class:`fem.section.TipGeometry` and a map region ->
-elastic law; :func:`fem.check` (in ``fem.api``) adds the design adapter and
+``run_tip`` works on a :class:`softcath.fem.section.TipGeometry` and a map region ->
+elastic law; :func:`fem.check` (in ``softcath.fem.api``) adds the design adapter and
 the analytic comparison.
 """
 
@@ -15,12 +15,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.elasticity import ElasticProblem
-from fem.mesh import TipMesh, mesh_tip
-from fem.post import BendingFit, bending_fit, principal_strain_max
-from fem.section import FILLER, REGIONS, TUBE, TipGeometry
-from fem.tags import tag_facets
+from softcath.design.errors import DesignError
+from softcath.fem.elasticity import ElasticProblem
+from softcath.fem.mesh import TipMesh, mesh_tip
+from softcath.fem.post import BendingFit, bending_fit, principal_strain_max
+from softcath.fem.section import FILLER, REGIONS, TUBE, TipGeometry
+from softcath.fem.tags import tag_facets
 
 __all__ = ["LOADS", "TipSolution", "run_tip", "axial_modulus"]
 
@@ -39,13 +39,13 @@ class TipSolution:
     Attributes
     ----------
     mesh
-        The :class:`fem.mesh.TipMesh`.
+        The :class:`softcath.fem.mesh.TipMesh`.
     problem
-        The assembled :class:`fem.elasticity.ElasticProblem` (factorised).
+        The assembled :class:`softcath.fem.elasticity.ElasticProblem` (factorised).
     unit
         Load name -> displacements (n_p2_nodes, 3) in mm per MPa.
     fits
-        Load name -> :class:`fem.post.BendingFit` per MPa.
+        Load name -> :class:`softcath.fem.post.BendingFit` per MPa.
     strain_range
         Load name -> (min, max) principal strain per MPa in the silicone,
         outside the clamp zone.
@@ -102,16 +102,16 @@ def run_tip(
     geometry
         The tip (mm).
     laws
-        Region label (``fem.section``) -> law (``fem.materials``).
+        Region label (``softcath.fem.section``) -> law (``softcath.fem.materials``).
     loads
         Subset of :data:`LOADS`.
     mesh_size, mesher, axial_ratio, use_cache
-        Passed to :func:`fem.mesh.mesh_tip`.
+        Passed to :func:`softcath.fem.mesh.mesh_tip`.
     margin
         Length (mm) next to clamp and cap left out of the curvature fit;
         default one outer diameter (notes/fem.md).
     method
-        Linear solver back-end (``fem.solver``).
+        Linear solver back-end (``softcath.fem.solver``).
     progress
         Optional callable ``progress(stage: str)`` for a status line.
     """
@@ -189,7 +189,7 @@ def run_tip(
 
 def _neutral_axis(mesh: TipMesh, laws: Mapping[int, object]) -> float:
     """Axial-stiffness-weighted centroid y of the lumen part (paper eq. 5 on the mesh)."""
-    from fem.mesh import tet_volumes
+    from softcath.fem.mesh import tet_volumes
 
     c = mesh.points[mesh.tets].mean(axis=1)
     body = c[:, 2] < mesh.geometry.length - mesh.geometry.cap_thickness

@@ -29,7 +29,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = [
     "TipGeometry",
@@ -166,8 +166,8 @@ class TipGeometry:
         return np.hypot(ta * np.cos(u) - x, yt + tb * np.sin(u) - y)
 
     def lands(self) -> dict[str, float]:
-        """Half-widths ``x_land`` (mm) of the three bonded lands (``design.cad``)."""
-        from design.cad import land_half_widths
+        """Half-widths ``x_land`` (mm) of the three bonded lands (``softcath.design.cad``)."""
+        from softcath.design.cad import land_half_widths
 
         return land_half_widths(
             coil_inner_radius=self.coil_inner_radius,

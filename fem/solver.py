@@ -5,7 +5,7 @@ triangle) is the default: on this 2-core machine it beat SuperLU by 5x on
 a 125k-DOF catheter tip (notes/fem.md; ``benchmarks/bench_fem.py`` re-measures
 it). AMG-CG was not available (pyamg is not installed) and CHOLMOD neither.
 SuperLU stays as the dependency-free fallback. Every solve is checked: a
-backward error above ``tol`` raises :class:`fem.errors.SolverError`
+backward error above ``tol`` raises :class:`softcath.fem.errors.SolverError`
 instead of returning a result.
 """
 
@@ -16,7 +16,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from fem.errors import SolverError
+from softcath.fem.errors import SolverError
 
 __all__ = ["Factorized", "DEFAULT_TOL", "available_methods", "backward_error"]
 
@@ -33,7 +33,7 @@ DEFAULT_TOL = 1e-10
 
 def available_methods() -> tuple[str, ...]:
     """Solver back-ends usable here, preferred first."""
-    from fem.pardiso import available
+    from softcath.fem.pardiso import available
 
     return ("pardiso", "superlu") if available() else ("superlu",)
 
@@ -62,7 +62,7 @@ class Factorized:
         self.matrix = sp.csr_matrix(matrix)
         self._knorm = float(abs(self.matrix).sum(axis=1).max())  # infinity norm
         if method == "pardiso":
-            from fem.pardiso import PardisoError, PardisoHandle
+            from softcath.fem.pardiso import PardisoError, PardisoHandle
 
             self._upper = sp.triu(self.matrix, format="csr")
             self._upper.sort_indices()

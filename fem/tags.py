@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem.section import TipGeometry
+from softcath.fem.section import TipGeometry
 
 __all__ = ["tag_facets", "TAGS"]
 

@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from design.errors import DesignError
-from hardware.errors import FrameSourceError
+from softcath.design.errors import DesignError
+from softcath.hardware.errors import FrameSourceError
 
 __all__ = ["scale_from_points", "scale_from_chessboard", "camera_intrinsics"]
 

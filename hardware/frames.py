@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hardware.errors import FrameSourceError
+from softcath.hardware.errors import FrameSourceError
 
 __all__ = ["Frame", "FrameSource", "open_source", "VideoWriter", "IMAGE_SUFFIXES"]
 

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from design.measurement import CsvSink
-from hardware.frames import FrameSource, VideoWriter
-from hardware.recorder import CAMERA_COLUMNS
-from hardware.tipvision import Calibration, TipMeasurement, draw_overlay, measure
+from softcath.design.measurement import CsvSink
+from softcath.hardware.frames import FrameSource, VideoWriter
+from softcath.hardware.recorder import CAMERA_COLUMNS
+from softcath.hardware.tipvision import Calibration, TipMeasurement, draw_overlay, measure
 
 __all__ = ["FRAME_COLUMNS", "MeasureSummary", "measured_frames", "measure_video"]
 

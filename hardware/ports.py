@@ -11,7 +11,7 @@ import logging
 import os
 import time
 
-from hardware.errors import DeviceError
+from softcath.hardware.errors import DeviceError
 
 __all__ = ["open_port", "PtyPair", "LineReader"]
 

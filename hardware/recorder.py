@@ -32,11 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DesignError
-from design.measurement import CsvSink
-from hardware.errors import DeviceError
-from hardware.protocol import SEQ_MODULUS
-from hardware.sensors import SerialSensor
+from softcath.design.errors import DesignError
+from softcath.design.measurement import CsvSink
+from softcath.hardware.errors import DeviceError
+from softcath.hardware.protocol import SEQ_MODULUS
+from softcath.hardware.sensors import SerialSensor
 
 __all__ = [
     "CAMERA_COLUMNS",
@@ -49,7 +49,7 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: The paper's sample rate, Hz (equal to ``hardware.filtering.PAPER_FS_HZ``, repeated here so
+#: The paper's sample rate, Hz (equal to ``softcath.hardware.filtering.PAPER_FS_HZ``, repeated here so
 #: that starting a recording does not import scipy.signal, ~2 s).
 PAPER_FS_HZ = 200.0
 
@@ -230,11 +230,11 @@ class Recorder:
         Encoder reader (values in mm), written as ``encoder_mm``; optional.
     camera
         Iterable of ``(time_s, TipMeasurement)`` (e.g.
-        :func:`hardware.measure_video.measured_frames`), consumed in a background
+        :func:`softcath.hardware.measure_video.measured_frames`), consumed in a background
         thread; ``time_s`` None means a live camera, stamped on arrival. With the
         host clock, a file's frame times count from the first row. Optional.
     stage
-        An open :class:`hardware.stage.ZaberStage` polled for its position
+        An open :class:`softcath.hardware.stage.ZaberStage` polled for its position
         (``stage_position_mm``, host time) about 10 times a second. Optional.
     config
         :class:`RecorderConfig`.

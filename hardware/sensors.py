@@ -1,6 +1,6 @@
 """Pressure-sensor and encoder readers over a serial line.
 
-Both speak :mod:`hardware.protocol` (framed ``$seq,value*CS`` lines or plain
+Both speak :mod:`softcath.hardware.protocol` (framed ``$seq,value*CS`` lines or plain
 numbers). A reader converts the raw value to physical units with
 ``value = scale * raw + offset`` (e.g. a sensor reporting kPa read with
 ``scale=1e-3`` gives MPa; an encoder reporting counts read with
@@ -13,10 +13,10 @@ import logging
 import math
 from dataclasses import dataclass
 
-from design.errors import DesignError
-from hardware.errors import DeviceError
-from hardware.ports import LineReader, open_port
-from hardware.protocol import LineDecoder, LineStats
+from softcath.design.errors import DesignError
+from softcath.hardware.errors import DeviceError
+from softcath.hardware.ports import LineReader, open_port
+from softcath.hardware.protocol import LineDecoder, LineStats
 
 __all__ = ["Reading", "SerialSensor"]
 

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
-from hardware.errors import DeviceError
-from hardware.ports import open_port
+from softcath.design.errors import DesignError
+from softcath.hardware.errors import DeviceError
+from softcath.hardware.ports import open_port
 
 __all__ = [
     "lrc",

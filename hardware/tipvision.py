@@ -1,7 +1,7 @@
 """Measuring the tip from camera frames: the paper's edge pipeline and a centre-line default.
 
 Both return a :class:`TipMeasurement` in the conventions of
-:mod:`hardware.render` (mm relative to the base, x right, y up; positive
+:mod:`softcath.virtualbench.render` (mm relative to the base, x right, y up; positive
 curvature turns clockwise in the image).
 
 ``method="paper"`` is what the paper describes (section IV.1): grayscale,
@@ -18,7 +18,7 @@ sub-pixel interpolation at the local half level; the midpoints are the
 centre line (an equivalent of skeletonising the mask that is exact for a
 blurred tube and cheap: only ~2 profiles per millimetre are read). A
 Hyper-initialised geometric fit constrained to the known base position and
-direction (:func:`hardware.circlefit.fit_with_base`) gives the signed
+direction (:func:`softcath.hardware.circlefit.fit_with_base`) gives the signed
 curvature; it works from a straight tip to beyond 180 degrees. Without a
 given base the track starts at the red tip and runs back to the clamp,
 and the base pose is taken from a free geometric fit.
@@ -32,8 +32,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from design.errors import DesignError
-from hardware.circlefit import fit_with_base, geometric_fit, kasa_fit
+from softcath.design.errors import DesignError
+from softcath.hardware.circlefit import fit_with_base, geometric_fit, kasa_fit
 
 __all__ = ["Calibration", "TipMeasurement", "measure", "draw_overlay", "METHODS"]
 

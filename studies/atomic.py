@@ -29,7 +29,7 @@ import uuid
 from collections.abc import Iterator
 from pathlib import Path
 
-from design.errors import DataError, DesignError
+from softcath.design.errors import DataError, DesignError
 
 __all__ = [
     "prepare_out_dir",

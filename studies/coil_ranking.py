@@ -6,7 +6,7 @@ wire's stiffnesses, or the resolved wire with coil-bound compression. This
 module ranks the same designs under each model and reports how far the
 rankings agree: Spearman's rank correlation and the overlap of the top k.
 
->>> from studies.coil_ranking import random_coil_designs, rank_by_coil_model
+>>> from softcath.studies.coil_ranking import random_coil_designs, rank_by_coil_model
 >>> designs = random_coil_designs(4, seed=1)
 >>> r = rank_by_coil_model(designs, models=("annulus", "resolved"), top=2)
 >>> sorted(r.gains)
@@ -21,13 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["CoilRanking", "RANKING_MODELS", "COIL_SWEEP", "random_coil_designs", "rank_by_coil_model", "gain"]
 
 log = logging.getLogger(__name__)
 
-#: Linear section-model coil models (``fem.section_model.coil_models``) plus ``coil-bound``:
+#: Linear section-model coil models (``softcath.fem.section_model.coil_models``) plus ``coil-bound``:
 #: the resolved ring with the bilinear law (F0 = 0, so kappa is still linear in p), and
 #: ``coil-bound-tensioned``: the same with initial tension F0 on the outer coil, ranked by
 #: kappa(p)/p at one pressure (the response has a threshold, so the gain depends on p).
@@ -79,8 +79,8 @@ def random_coil_designs(n: int, *, seed: int = 0, base="paper", ranges=None, max
     Draws that violate the design's checks (a coil too thin for the tube, a
     channel that does not fit) are redrawn, up to ``max_tries * n`` draws.
     """
-    import design
-    from studies.sweep.variants import VariantBuilder
+    from softcath import design
+    from softcath.studies.sweep.variants import VariantBuilder
 
     if n < 1:
         raise DesignError("n", n, "must be >= 1")
@@ -109,8 +109,8 @@ def gain(
 
     ``initial_tension`` [N] (outer coil) and ``pressure`` [MPa] apply to ``coil-bound-tensioned`` only.
     """
-    from fem.section_model import bend_curve, section_model
-    from fem.section_model.coil_models import model_options
+    from softcath.fem.section_model import bend_curve, section_model
+    from softcath.fem.section_model.coil_models import model_options
 
     if model == "coil-bound":
         return float(bend_curve(d, [1.0], load=load, initial_tension=(0.0, 0.0), **options).gain_pivoting)

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.demo_tiers import section_tiers
-from studies.report.html import Markup, esc, figure, fmt, note, page, table
+from softcath.studies.demo_tiers import section_tiers
+from softcath.studies.report.html import Markup, esc, figure, fmt, note, page, table
 
 __all__ = [
     "DemoContext", "SectionOutput", "SECTIONS", "run_demo", "default_data", "DEMO_PRESSURES_MPA", "demo_sweep_spec",
@@ -66,8 +66,8 @@ def _unavailable(what: str, why: str, *, lead: str = "Not available in this buil
 
 # ---------------------------------------------------------------- 1. the paper's model
 def section_model(ctx: DemoContext) -> SectionOutput:
-    import analytic
-    from studies.plots import analytic_plot, section_plot
+    from softcath import analytic
+    from softcath.studies.plots import analytic_plot, section_plot
 
     d = ctx.design
     cs = analytic.composite_section(d)
@@ -128,8 +128,8 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
     if not ctx.fem:
         return _unavailable("the finite-strain FEM", "switched off with --no-fem", lead="Not run")
     try:
-        from fem.nonlinear import bend_curve
-        from fem.nonlinear.cli import plot_curve, plot_deformed
+        from softcath.fem.nonlinear import bend_curve
+        from softcath.fem.nonlinear.cli import plot_curve, plot_deformed
     except ImportError as exc:
         return _unavailable("the finite-strain FEM", f"fem.nonlinear is not importable: {exc}")
     d = ctx.design
@@ -193,20 +193,19 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
 # ---------------------------------------------------------------- 4. calibration (eq. 8)
 def section_calibration(ctx: DemoContext) -> SectionOutput:
     try:
-        from analytic.calibration import calibrate
-        from design.measurement import read_measurement_csv
+        from softcath.analytic.calibration import calibrate
+        from softcath.design.measurement import read_measurement_csv
     except ImportError as exc:
         return _unavailable("the eq. 8 calibration", str(exc))
     if not ctx.data_csv.is_file():
         return _unavailable("the eq. 8 calibration", f"bundled data {ctx.data_csv} missing")
-    import analytic
-    import design
-    from studies.plots import calibration_plot
+    from softcath import analytic, design
+    from softcath.studies.plots import calibration_plot
 
     d = ctx.design
     m = read_measurement_csv(ctx.data_csv)
     res = calibrate(m, d, load="cap")
-    from studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     cal_dir = prepare_out_dir(ctx.out_dir / "calibration", param="demo calibration folder")
     with Outputs(cal_dir) as o:
@@ -247,7 +246,7 @@ def section_calibration(ctx: DemoContext) -> SectionOutput:
 # ---------------------------------------------------------------- 5. missing-effect workflow
 def section_effects(ctx: DemoContext) -> SectionOutput:
     try:
-        from studies.discrepancy import run_workflow, write_report
+        from softcath.studies.discrepancy import run_workflow, write_report
     except ImportError as exc:
         return _unavailable("the missing-effect workflow", str(exc))
     eff_dir = ctx.out_dir / "effects"
@@ -312,13 +311,13 @@ max_strain = {DEMO_MAX_STRAIN}
 
 
 def section_sweep(ctx: DemoContext) -> SectionOutput:
-    from studies.report import write_report
-    from studies.results import read_results
-    from studies.selection import select, write_selection
-    from studies.sweep import fem_check_function, load_spec, run_sweep
+    from softcath.studies.report import write_report
+    from softcath.studies.results import read_results
+    from softcath.studies.selection import select, write_selection
+    from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
 
     check = fem_check_function() if ctx.fem else None
-    from studies.atomic import prepare_out_dir, write_text
+    from softcath.studies.atomic import prepare_out_dir, write_text
 
     sdir = prepare_out_dir(ctx.out_dir / "sweep", param="demo sweep folder")
     spec_path = write_text(sdir / "spec.toml", demo_sweep_spec())
@@ -359,8 +358,8 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
     if check is None:
         why = "switched off with --no-fem" if not ctx.fem else "fem.check is not importable"
         return note(f"<b>Not run:</b> the 3-D FEM check of the chosen design ({esc(why)}).")
-    from studies.report import design_of
-    from studies.sweep.evaluators import _fem_rows
+    from softcath.studies.report import design_of
+    from softcath.studies.sweep.evaluators import _fem_rows
 
     did = sel.ranked[0]["design_id"]
     p = DEMO_SELECT_PRESSURE_MPA
@@ -511,7 +510,7 @@ def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | 
     """
     from tqdm import tqdm
 
-    import design
+    from softcath import design
 
     t0 = time.perf_counter()
     out = Path(out_dir)
@@ -543,7 +542,7 @@ def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | 
         f"Generated by <code>softcath demo</code> in {time.perf_counter() - t0:.0f} s. Units: mm, N, MPa, s.</p>"
         f"<ol style='list-style:none;padding-left:0'>{toc}</ol>"
     )
-    from studies.atomic import Outputs
+    from softcath.studies.atomic import Outputs
 
     index = out / "index.html"
     with Outputs(out) as o:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.report.html import figure, fmt, note, table
+from softcath.studies.report.html import figure, fmt, note, table
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot"]
 
@@ -24,7 +24,7 @@ LOADS = ("cap", "lumen")
 
 def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, fem_nu: float) -> Path:
     """κ/p against silicone ν (x: 0.5 − ν, log scale), section model per load, FEM points, the formula."""
-    from studies.report.figures import _plt, _save
+    from softcath.studies.report.figures import _plt, _save
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
@@ -52,10 +52,10 @@ def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, f
 
 def section_tiers(ctx):
     """Demo section: the three tiers on ``ctx.design``, and κ/p against ν (see module docstring)."""
-    import analytic
-    from fem.section_model import section_model
-    from studies.demo import SectionOutput
-    from studies.sweep.evaluators import _fem_rows, fem_check_function
+    from softcath import analytic
+    from softcath.fem.section_model import section_model
+    from softcath.studies.demo import SectionOutput
+    from softcath.studies.sweep.evaluators import _fem_rows, fem_check_function
 
     d = ctx.design
     k_f, e_f = analytic.gains(d, "cap")

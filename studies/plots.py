@@ -42,7 +42,7 @@ def analytic_plot(path: Path, response, *, title: str) -> Path:
 
 def section_plot(path: Path, design, *, title: str = "") -> Path:
     """The as-assembled cross-section with neutral axis and pressure centre."""
-    from analytic import composite_section
+    from softcath.analytic import composite_section
 
     plt = _pyplot()
     s = design.section

@@ -40,8 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DataError
-from studies.atomic import write_json
+from softcath.design.errors import DataError
+from softcath.studies.atomic import write_json
 
 __all__ = [
     "add_derived_columns", "has_model", "model_columns", "read_results", "write_results", "COLUMN_UNITS",
@@ -174,7 +174,7 @@ def model_columns(df, model: str):
     without that model's value become NaN (so a selection skips them), and
     ``source`` names the model.
     """
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     if model not in MODEL_COLUMNS:
         raise DesignError("model", model, f"must be one of {', '.join(MODEL_COLUMNS)}")

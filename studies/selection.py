@@ -25,7 +25,7 @@ sweep) are skipped; a design with no defined row fails the constraint.
 
 Model and load: the best-estimate columns ``curvature_per_mm``,
 ``elongation``, ``bend_angle_deg``, ``max_strain`` and ``bend_per_MPa_deg``
-resolve to one model's columns (:func:`studies.results.model_columns`). By
+resolve to one model's columns (:func:`softcath.studies.results.model_columns`). By
 default that is the section model under the lumen load (the real load) when
 the sweep has section-model columns, else the paper's formula (analytic
 model) under the cap load, with a note saying so; ``model`` and ``load``
@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import SoftcathError
+from softcath.design.errors import SoftcathError
 
 __all__ = [
     "Constraint",
@@ -395,7 +395,7 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     See the module docstring for the defaults; ``note`` says what was chosen
     for the user when it was not asked for.
     """
-    from studies.results import has_model, model_columns
+    from softcath.studies.results import has_model, model_columns
 
     loads = sorted(set(df["load"]))
     notes = []
@@ -437,7 +437,7 @@ def select(
     Parameters
     ----------
     df
-        The results table (:func:`studies.results.read_results`).
+        The results table (:func:`softcath.studies.results.read_results`).
     constraints, objectives
         Expression strings.
     load

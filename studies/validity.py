@@ -17,7 +17,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = [
     "LINEAR_BEND_LIMIT_DEG",
@@ -32,7 +32,7 @@ log = logging.getLogger("softcath.validity")
 
 #: Bend angle beyond which the linear models depart from finite strain by ≳ 5 % (docs/nonlinear.md).
 LINEAR_BEND_LIMIT_DEG = 5.0
-#: The silicone strain limit the sweeps use by default (``studies.sweep.spec``).
+#: The silicone strain limit the sweeps use by default (``softcath.studies.sweep.spec``).
 SILICONE_STRAIN_LIMIT = 0.3
 #: Largest pressure any command accepts, MPa: 100× the 1 MPa where the paper's tip already
 #: bends > 50°; beyond it every model's answer is meaningless (and 1e300 overflows).

@@ -3,15 +3,15 @@
 import json
 from pathlib import Path
 
-import design
-from analytic.calibration import calibrate
-from design.measurement import read_measurement_csv
+from softcath import design
+from softcath.analytic.calibration import calibrate
+from softcath.design.measurement import read_measurement_csv
 
 DATA = Path(__file__).parents[1] / "studies" / "data"
 
 
 def test_bundled_bench_data_names_its_hidden_hysteresis():
-    from studies.discrepancy import run_workflow
+    from softcath.studies.discrepancy import run_workflow
 
     truth = json.loads((DATA / "bench_hysteresis.truth.json").read_text())
     assert [e["name"] for e in truth["plant"]["effects"]] == ["hysteresis"]

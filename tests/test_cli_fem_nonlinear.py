@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from studies.cli import main
+from softcath.cli.main import main
 
 
 @pytest.mark.slow

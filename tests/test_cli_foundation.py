@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from studies.cli import main
+from softcath.cli.main import main
 
 ROOT = Path(__file__).parents[1]
 DATA = ROOT / "studies" / "data" / "paper_sine.csv"
@@ -72,7 +72,7 @@ def test_calibrate_writes_the_documented_keys(tmp_path):
     assert set(doc["x_opt"]) == {"a", "a_int", "b_int", "h"}
     assert doc["ratio"] == pytest.approx(doc["nrmse_nominal"] / doc["nrmse_optimized"])
     assert (tmp_path / "calibration.png").stat().st_size > 1000
-    import design
+    from softcath import design
 
     calibrated = design.load(tmp_path / "calibrated_design.toml")
     assert calibrated.tube_shape == pytest.approx(doc["x_opt"])
@@ -82,7 +82,7 @@ def test_calibrate_bad_csv_is_one_line(tmp_path):
     f = tmp_path / "bad.csv"
     f.write_text("time_s,pressure_MPa\n0,1\n")
     r = subprocess.run(
-        [sys.executable, "-m", "studies", "calibrate", str(f), "--out", str(tmp_path / "o")],
+        [sys.executable, "-m", "softcath", "calibrate", str(f), "--out", str(tmp_path / "o")],
         capture_output=True,
         text=True,
         cwd=ROOT,

@@ -5,7 +5,7 @@ Each effect is one small module exposing ``CANDIDATE`` (a
 an operator. :func:`fit_chain` fits the model plus any chain of them to data.
 Adding an effect is one module plus one line in ``_MODULES``.
 
->>> from analytic import effects
+>>> from softcath.analytic import effects
 >>> effects.names()[:3]
 ('hysteresis', 'lag', 'delay')
 """
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import importlib
 
-from analytic.effects.base import STAGE_ORDER, Candidate, Param, Scales
+from softcath.analytic.effects.base import STAGE_ORDER, Candidate, Param, Scales
 
 __all__ = [
     "Candidate",
@@ -49,7 +49,7 @@ FEM_CANDIDATES: tuple[str, ...] = ("lumen_poisson", "nonlinear_gain", "offset", 
 
 def register(candidate: Candidate) -> None:
     """Add a candidate to the registry (its ``name`` must be in ``STAGE_ORDER``)."""
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     if candidate.name not in STAGE_ORDER:
         raise DesignError("effect", candidate.name, f"must be one of {STAGE_ORDER}")
@@ -57,7 +57,7 @@ def register(candidate: Candidate) -> None:
 
 
 for _m in _MODULES:
-    register(importlib.import_module(f"analytic.effects.{_m}").CANDIDATE)
+    register(importlib.import_module(f"softcath.analytic.effects.{_m}").CANDIDATE)
 
 
 def names() -> tuple[str, ...]:
@@ -73,7 +73,7 @@ def get(name: str) -> Candidate:
     DesignError
         If no candidate has that name.
     """
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     try:
         return _REGISTRY[name]
@@ -83,5 +83,5 @@ def get(name: str) -> Candidate:
 
 def __getattr__(attr: str):  # lazy: the fitting module pulls in scipy.optimize
     if attr in ("fit_chain", "predict_chain", "ChainFit", "Segment"):
-        return getattr(importlib.import_module("analytic.effects.fit"), attr)
+        return getattr(importlib.import_module("softcath.analytic.effects.fit"), attr)
     raise AttributeError(attr)

@@ -2,7 +2,7 @@
 
 A candidate is a named, physically meaningful augmentation of the analytic
 model. It acts at one place in a fixed signal chain (the same order as the
-truth plant in ``hardware.plant``, so chains compose the same way)::
+truth plant in ``softcath.virtualbench.plant``, so chains compose the same way)::
 
     p -> lag -> dead_zone -> nonlinear_gain -> hysteresis -> viscoelastic -> x
     curvature = gain * x  [+ offset]  [+ lumen term]  -> delay -> measured

@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from analytic.effects import get
-from analytic.effects.base import STAGE_ORDER, Scales
+from softcath.analytic.effects import get
+from softcath.analytic.effects.base import STAGE_ORDER, Scales
 
 __all__ = ["Segment", "ChainFit", "fit_chain", "predict_chain", "simulate_columns"]
 
@@ -100,7 +100,7 @@ def _ordered(effects: Sequence[str]) -> tuple[str, ...]:
     for e in effects:
         get(e)  # raises on an unknown name
     if len(set(effects)) != len(effects):
-        from design.errors import DesignError
+        from softcath.design.errors import DesignError
 
         raise DesignError("effects", list(effects), "each effect at most once")
     return tuple(sorted(effects, key=STAGE_ORDER.index))

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from analytic.effects.base import Candidate, Param
+from softcath.analytic.effects.base import Candidate, Param
 
 N_PLAYS = 6
 

@@ -12,14 +12,14 @@ indistinguishable from a gain error (calibration absorbs it); against the FEM,
 where the gain is not calibrated, it is a named effect with a free coefficient
 ``scale``: 1 when the reference behaves as the section model's lumen load.
 Over design sweeps the same physics is the ``confinement`` ingredient of
-``studies.discrepancy.designs``.
+``softcath.studies.discrepancy.designs``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from analytic.effects.base import Candidate
+from softcath.analytic.effects.base import Candidate
 
 
 class LumenPoisson(Candidate):

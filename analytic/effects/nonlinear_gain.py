@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from analytic.effects.base import Candidate, Param
+from softcath.analytic.effects.base import Candidate, Param
 
 
 class NonlinearGain(Candidate):

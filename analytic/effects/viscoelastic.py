@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from analytic.effects.base import Candidate, Param, first_order
+from softcath.analytic.effects.base import Candidate, Param, first_order
 
 
 class Viscoelastic(Candidate):

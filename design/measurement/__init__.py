@@ -6,17 +6,17 @@ missing-effect workflow and the command line (``studies``). It lives in
 ``design`` because every layer may import ``design``. The schema is
 documented in ``docs/measurement-csv.md``.
 
->>> from design.measurement import Measurement, REQUIRED
+>>> from softcath.design.measurement import Measurement, REQUIRED
 >>> REQUIRED
 ('time_s', 'pressure_MPa', 'curvature_per_mm')
 """
 
 from __future__ import annotations
 
-from design.measurement.read import read_measurement_csv, read_recording
-from design.measurement.record import Measurement
-from design.measurement.schema import COLUMNS, DEFAULT_RUN, LIMITS, MIN_ROWS, OPTIONAL, REQUIRED, RUN
-from design.measurement.write import CsvSink, format_cell, write_measurement_csv
+from softcath.design.measurement.read import read_measurement_csv, read_recording
+from softcath.design.measurement.record import Measurement
+from softcath.design.measurement.schema import COLUMNS, DEFAULT_RUN, LIMITS, MIN_ROWS, OPTIONAL, REQUIRED, RUN
+from softcath.design.measurement.write import CsvSink, format_cell, write_measurement_csv
 
 __all__ = [
     "COLUMNS",

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DataError
-from design.measurement.record import Measurement, check_time, check_values
-from design.measurement.schema import MIN_ROWS, OPTIONAL, REQUIRED, RUN
+from softcath.design.errors import DataError
+from softcath.design.measurement.record import Measurement, check_time, check_values
+from softcath.design.measurement.schema import MIN_ROWS, OPTIONAL, REQUIRED, RUN
 
 __all__ = ["read_measurement_csv", "read_recording"]
 
@@ -67,7 +67,7 @@ def read_measurement_csv(
     required: tuple[str, ...] = REQUIRED,
     min_rows: int = MIN_ROWS,
 ) -> Measurement:
-    """Read and validate a measurement CSV (schema: ``design.measurement.schema``).
+    """Read and validate a measurement CSV (schema: ``softcath.design.measurement.schema``).
 
     Parameters
     ----------

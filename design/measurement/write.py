@@ -18,8 +18,8 @@ import time
 from collections.abc import Iterable
 from pathlib import Path
 
-from design.measurement.record import Measurement
-from design.measurement.schema import OPTIONAL, REQUIRED, RUN
+from softcath.design.measurement.record import Measurement
+from softcath.design.measurement.schema import OPTIONAL, REQUIRED, RUN
 
 __all__ = ["CsvSink", "format_cell", "write_measurement_csv"]
 

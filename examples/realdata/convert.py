@@ -52,8 +52,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from design.errors import DataError  # noqa: E402
-from design.measurement import Measurement, write_measurement_csv  # noqa: E402
+from softcath.design.errors import DataError  # noqa: E402
+from softcath.design.measurement import Measurement, write_measurement_csv  # noqa: E402
 
 DEFAULT_SOURCE = ROOT.parent / "shared" / "realdata"
 IJPELAAR = "ijpelaar_two_chamber_pneumatic"
@@ -169,10 +169,9 @@ def stand_in(csv_path: Path, name: str, *, length_mm: float) -> Path:
     """Write ``NAME.toml`` beside ``csv_path``: the paper design scaled to the data's gain (module docstring)."""
     import tomllib
 
-    import analytic
-    import design
-    from design import presets
-    from design.measurement import read_measurement_csv
+    from softcath import analytic, design
+    from softcath.design import presets
+    from softcath.design.measurement import read_measurement_csv
 
     m = read_measurement_csv(csv_path)
     p, k = m.pressure_MPa, m.curvature_per_mm

@@ -1,7 +1,7 @@
 """Resolved-wire coil (issue 13): the helical wire as a 3-D frame, with contact between turns.
 
->>> import design
->>> from fem.coil import resolved_coil_stiffness
+>>> from softcath import design
+>>> from softcath.fem.coil import resolved_coil_stiffness
 >>> r = resolved_coil_stiffness(design.resolve("paper").coil)
 >>> round(r.bending_contact / r.bending, 2)   # turns pivot on the concave edge
 1.88
@@ -14,6 +14,6 @@ models for comparison), ``picture``.
 
 from __future__ import annotations
 
-from fem.coil.api import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
+from softcath.fem.coil.api import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
 
 __all__ = ["CoilStiffnessResult", "bending_curve", "coil_wire", "resolved_coil_stiffness"]

@@ -1,7 +1,7 @@
 """``resolved_coil_stiffness``: a coil's axial and bending stiffness from its resolved wire.
 
 Load cases on the periodic one-turn cell (the middle of a long coil) or on
-the free end plate of an N-turn coil, measured per turn (``fem.coil.model``):
+the free end plate of an N-turn coil, measured per turn (``softcath.fem.coil.model``):
 
 - tension: EA_t = ΔF·p/Δδ between two forces above the initial tension (the
   slope once the turns have separated); the threshold force is where that
@@ -13,7 +13,7 @@ the free end plate of an N-turn coil, measured per turn (``fem.coil.model``):
 
 Initial tension F₀: the unloaded coil is a state of self-stress in which the
 contact force across any cut is F₀ and the wire carries F₀ in tension
-(``fem.coil.contact``); the coil then needs F₀ before its turns separate.
+(``softcath.fem.coil.contact``); the coil then needs F₀ before its turns separate.
 """
 
 from __future__ import annotations
@@ -23,10 +23,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from design.components import Coil
-from design.errors import DesignError
-from fem.coil.frame import WireSection
-from fem.coil.model import CoilModel, LoadState, build_coil_model
+from softcath.design.components import Coil
+from softcath.design.errors import DesignError
+from softcath.fem.coil.frame import WireSection
+from softcath.fem.coil.model import CoilModel, LoadState, build_coil_model
 
 __all__ = [
     "CoilStiffnessResult",

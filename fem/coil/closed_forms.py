@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem.coil.frame import WireSection
+from softcath.fem.coil.frame import WireSection
 
 __all__ = [
     "spring_rate_axial",

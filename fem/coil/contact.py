@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from fem.errors import SolverError
+from softcath.fem.errors import SolverError
 
 __all__ = ["ContactPairs", "solve_with_contact"]
 

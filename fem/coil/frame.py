@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["WireSection", "element_stiffness_local", "frame_stiffness", "element_frames"]
 

@@ -3,7 +3,7 @@
 The helix runs along +z from z = 0: node ``k`` sits at angle φ_k = 2π k / m
 (m elements per turn) and height p φ_k / (2π). Node ``k`` and node ``k + m``
 are one turn apart at the same angle, directly above each other: that pair
-is where neighbouring turns of a close-wound coil touch (``fem.coil.contact``).
+is where neighbouring turns of a close-wound coil touch (``softcath.fem.coil.contact``).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["HelixMesh", "helix_mesh"]
 

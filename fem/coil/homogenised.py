@@ -22,8 +22,8 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from design import coil_stiffness
-from design.components import Coil
+from softcath.design import coil_stiffness
+from softcath.design.components import Coil
 
 __all__ = ["homogenised_models", "bimodular_annulus_bending", "MODEL_LABELS"]
 

@@ -27,11 +27,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from design.errors import DesignError
-from fem.coil.contact import ContactPairs, solve_with_contact
-from fem.coil.frame import WireSection, element_frames, frame_stiffness
-from fem.coil.helix import HelixMesh, helix_mesh
-from fem.errors import SolverError
+from softcath.design.errors import DesignError
+from softcath.fem.coil.contact import ContactPairs, solve_with_contact
+from softcath.fem.coil.frame import WireSection, element_frames, frame_stiffness
+from softcath.fem.coil.helix import HelixMesh, helix_mesh
+from softcath.fem.errors import SolverError
 
 __all__ = ["CoilModel", "LoadState", "build_coil_model"]
 

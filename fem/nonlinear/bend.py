@@ -17,14 +17,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
-from fem.nonlinear.errors import NonlinearError
-from fem.nonlinear.linsolve import TangentSolver
-from fem.nonlinear.meshes import dofs_of_facets
-from fem.nonlinear.newton import NonlinearResult, solve
-from fem.nonlinear.post import bend_angle, bend_angles, curvature_variation, max_principal_strain, tip_pose
-from fem.section import FILLER, TUBE
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
+from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.linsolve import TangentSolver
+from softcath.fem.nonlinear.meshes import dofs_of_facets
+from softcath.fem.nonlinear.newton import NonlinearResult, solve
+from softcath.fem.nonlinear.post import (
+    bend_angle,
+    bend_angles,
+    curvature_variation,
+    max_principal_strain,
+    tip_pose,
+)
+from softcath.fem.section import FILLER, TUBE
 
 __all__ = ["BendCurve", "bend_curve", "departure_angle", "LOADS"]
 
@@ -211,7 +217,7 @@ def bend_curve(
     NonlinearError
         Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
     """
-    import analytic
+    from softcath import analytic
 
     if load not in LOADS:
         raise NonlinearError(f"load = {load!r}: must be one of {LOADS}")

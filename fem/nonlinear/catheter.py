@@ -1,6 +1,6 @@
 """The catheter tip as a finite-strain FEM model: mesh, regions, laws, loads.
 
-Mesh: the as-assembled cross-section (``design.section``) is triangulated
+Mesh: the as-assembled cross-section (``softcath.design.section``) is triangulated
 with gmsh (OpenCASCADE fragments, so every material interface is a mesh
 edge), each triangle is classified by its centroid (coil, tube, lumen,
 channel wall, channel bore, filler), and the section is extruded in numpy
@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import NonlinearError
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
@@ -85,7 +85,7 @@ def _section_triangles(section, *, size: float, contact: float, curvature_points
     init_here = not gmsh.isInitialized()
     if init_here:
         gmsh.initialize(interruptible=False)
-        from fem.mesh import restore_sigpipe_ignored
+        from softcath.fem.mesh import restore_sigpipe_ignored
 
         restore_sigpipe_ignored()
     try:
@@ -260,8 +260,8 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
     radius — which shrinks with the stiffness contrast through the Green-strain
     terms of the coil — stays usable. ``hoop_cap=None`` keeps the steel value.
     """
-    from design import coil_stiffness
-    from fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
+    from softcath.design import coil_stiffness
+    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
 
     silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
     e_max = max(m.youngs_modulus for m in silicones)
@@ -296,12 +296,12 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
 
 
 def from_tip_mesh(tip_mesh) -> CatheterMesh:
-    """A :class:`CatheterMesh` from the linear FEM's ``fem.mesh.TipMesh`` (same labels 1–4, its facet tags).
+    """A :class:`CatheterMesh` from the linear FEM's ``softcath.fem.mesh.TipMesh`` (same labels 1–4, its facet tags).
 
     Lets the finite-strain solver run on exactly the mesh of the linear check
     (quadratic ``MeshTet2`` with curved boundary edges when the mesher made them).
     """
-    from fem.tags import tag_facets
+    from softcath.fem.tags import tag_facets
 
     mesh = tip_mesh.skfem_mesh()
     tags = tag_facets(mesh, tip_mesh.geometry)

@@ -2,7 +2,7 @@
 
 ``studies/cmd_fem.py`` (owned by the linear FEM) wires this in with::
 
-    from fem.nonlinear import add_cli_arguments, run_cli   # in add_arguments / run
+    from softcath.fem.nonlinear import add_cli_arguments, run_cli   # in add_arguments / run
     add_cli_arguments(parser)                              # in add_arguments(parser)
     if args.nonlinear: return run_cli(args, echo=print)    # first line of run(args)
 
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import NonlinearError
 
 __all__ = ["add_cli_arguments", "run_cli", "write_outputs"]
 
@@ -73,8 +73,8 @@ def run_cli(args: argparse.Namespace, echo=None) -> int:
     line); by default the lines go to the log.
     """
     echo = echo or log.info
-    import design as design_mod
-    from fem.nonlinear.bend import bend_curve
+    from softcath import design as design_mod
+    from softcath.fem.nonlinear.bend import bend_curve
 
     d = design_mod.resolve(_get(args, "design", "paper") or "paper")
     p_max = _get(args, "pressure")
@@ -128,7 +128,7 @@ def _finite_or_none(x) -> float | None:
 
 def _add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
     """Give fem.json the keys of the linear check (``softcath fem``) at the final pressure."""
-    import analytic
+    from softcath import analytic
 
     doc = json.loads(path.read_text(encoding="utf-8"))
     p = float(curve.pressure[-1])

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from design.errors import SoftcathError
+from softcath.design.errors import SoftcathError
 
 __all__ = ["NonlinearError", "ConvergenceError"]
 

@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.nonlinear.tensors import cofactor, det
+from softcath.design.errors import DesignError
+from softcath.fem.nonlinear.tensors import cofactor, det
 
 __all__ = [
     "Yeoh",

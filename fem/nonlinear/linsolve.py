@@ -22,8 +22,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-import fem.pardiso
-from fem.nonlinear.errors import NonlinearError
+from softcath.fem import pardiso
+from softcath.fem.nonlinear.errors import NonlinearError
 
 __all__ = ["TangentSolver", "PARDISO_MIN_DOFS"]
 
@@ -60,8 +60,8 @@ class TangentSolver:
             raise NonlinearError(f"solver method = {method!r}: must be 'pardiso', 'pardiso-lu' or 'superlu'")
         n = template.shape[0]
         if method is None:
-            method = "pardiso" if n >= PARDISO_MIN_DOFS and fem.pardiso.available() else "superlu"
-        elif method.startswith("pardiso") and not fem.pardiso.available():
+            method = "pardiso" if n >= PARDISO_MIN_DOFS and pardiso.available() else "superlu"
+        elif method.startswith("pardiso") and not pardiso.available():
             raise NonlinearError(f"solver method = {method!r}: pypardiso / MKL is not installed")
         self.method = method
         self.template = template
@@ -102,7 +102,7 @@ class TangentSolver:
     def __call__(self, k: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
         try:
             return self._solve(k, b)
-        except fem.pardiso.PardisoError as exc:
+        except pardiso.PardisoError as exc:
             raise NonlinearError(str(exc)) from None
 
     def _solve(self, k: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
@@ -116,7 +116,7 @@ class TangentSolver:
         if np.max(np.abs(d_up - d_low), initial=0.0) <= 1e-13 * np.max(np.abs(d_up), initial=0.0):
             # K symmetric up to round-off (no follower load): LDLᵀ of the upper triangle, 0.6× the LU's cost
             if self._sym is None:
-                self._sym = fem.pardiso.PardisoHandle(*self._upper_pattern, mtype=-2)
+                self._sym = pardiso.PardisoHandle(*self._upper_pattern, mtype=-2)
             self._sym.factorise(0.5 * (d_up + d_low))
             x = self._sym.solve(b)
             # PARDISO perturbs tiny pivots; accept only an accurate answer
@@ -127,6 +127,6 @@ class TangentSolver:
 
     def _solve_lu(self, d: np.ndarray, b: np.ndarray) -> np.ndarray:
         if self._lu is None:
-            self._lu = fem.pardiso.PardisoHandle(self.template.indptr, self.template.indices, mtype=11)
+            self._lu = pardiso.PardisoHandle(self.template.indptr, self.template.indices, mtype=11)
         self._lu.factorise(d)
         return self._lu.solve(b)

@@ -2,7 +2,7 @@
 
 These are design-independent: boxes (cantilevers) and sectors of hollow
 cylinders (pressurised tubes). The catheter mesh comes from
-:mod:`fem.nonlinear.catheter`.
+:mod:`softcath.fem.nonlinear.catheter`.
 """
 
 from __future__ import annotations

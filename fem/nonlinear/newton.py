@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from fem.nonlinear.errors import ConvergenceError, NonlinearError
-from fem.nonlinear.linsolve import TangentSolver
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError
+from softcath.fem.nonlinear.linsolve import TangentSolver
 
 __all__ = ["StepRecord", "NonlinearResult", "solve"]
 
@@ -118,7 +118,7 @@ def solve(
     max_cutbacks
         Consecutive halvings allowed before giving up.
     method
-        Linear solver (:class:`fem.nonlinear.linsolve.TangentSolver`): ``"pardiso"``
+        Linear solver (:class:`softcath.fem.nonlinear.linsolve.TangentSolver`): ``"pardiso"``
         (default when installed and large), ``"pardiso-lu"``, ``"superlu"``.
     progress
         Show a tqdm bar over the load factor.

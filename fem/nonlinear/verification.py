@@ -11,11 +11,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from fem.nonlinear.laws import isotropic_from_young, neo_hookean
-from fem.nonlinear.meshes import box, dofs_of_facets, facets_where, hollow_cylinder
-from fem.nonlinear.newton import NonlinearResult, solve
-from fem.nonlinear.post import bend_angles
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from softcath.fem.nonlinear.laws import isotropic_from_young, neo_hookean
+from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where, hollow_cylinder
+from softcath.fem.nonlinear.newton import NonlinearResult, solve
+from softcath.fem.nonlinear.post import bend_angles
 
 __all__ = [
     "closed_cylinder_exact",

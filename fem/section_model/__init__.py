@@ -18,10 +18,10 @@ generalised plane strain), ``assembly`` (the operator, element pair),
 
 from __future__ import annotations
 
-from fem.section_model.api import COIL_BENDING, SectionResult, section_model, section_response
-from fem.section_model.bilinear import BendCurve, bend_curve
-from fem.section_model.coil_models import COIL_MODELS
-from fem.section_model.solve import LOADS
+from softcath.fem.section_model.api import COIL_BENDING, SectionResult, section_model, section_response
+from softcath.fem.section_model.bilinear import BendCurve, bend_curve
+from softcath.fem.section_model.coil_models import COIL_MODELS
+from softcath.fem.section_model.solve import LOADS
 
 __all__ = [
     "COIL_BENDING",

@@ -1,6 +1,6 @@
 """The section model's public API: gains, section stiffness and tip pose of a design.
 
->>> from fem.section_model import section_model
+>>> from softcath.fem.section_model import section_model
 >>> r = section_model("paper")
 >>> round(r.curvature_per_mm_per_MPa["lumen"], 3)   # the 3-D FEM gives 0.233 at nu = 0.49
 0.234
@@ -17,17 +17,17 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.section import TUBE
-from fem.section_model.mesh import MESH_SIZE, SEGMENTS
-from fem.section_model.solve import LOADS
+from softcath.design.errors import DesignError
+from softcath.fem.section import TUBE
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from softcath.fem.section_model.solve import LOADS
 
 __all__ = ["SectionResult", "section_model", "section_response", "COIL_BENDING"]
 
 #: ``annulus``: the coils bend as their homogenised annuli (the 3-D FEM's assumption);
 #: ``wahl``: each coil additionally carries the rest of its helical-spring (Wahl)
 #: bending stiffness, as the paper's formula assumes; ``resolved``: the coil's EA and
-#: open-coil EI of the resolved wire (``fem.section_model.coil_models``).
+#: open-coil EI of the resolved wire (``softcath.fem.section_model.coil_models``).
 COIL_BENDING = ("annulus", "wahl", "resolved")
 
 
@@ -89,8 +89,8 @@ class SectionResult:
 
     def response(self, pressure, load: str = "lumen"):
         """Curvature, elongation and tip pose (eq. 9) at ``pressure`` [MPa]: an ``analytic.BeamResponse``."""
-        from analytic import BeamResponse
-        from analytic.pose import tip_pose
+        from softcath.analytic import BeamResponse
+        from softcath.analytic.pose import tip_pose
 
         k, e = self.gains(load)
         p = np.asarray(pressure, dtype=float)
@@ -142,18 +142,18 @@ def section_model(
         One of :data:`COIL_BENDING`; ``resolved`` sets the coils' axial moduli
         itself and needs ``coil_modulus="tension"``.
     poisson_cap, silicone_poisson, poisson
-        Poisson-ratio options (``fem.section_model.laws.laws_from_design``).
+        Poisson-ratio options (``softcath.fem.section_model.laws.laws_from_design``).
     keep_fields
         Keep the mesh, operator and displacement fields (for pictures).
     """
-    import design as design_pkg
-    from analytic import gains
-    from fem.adapter import geometry_from_design
-    from fem.section_model.assembly import assemble
-    from fem.section_model.coil_models import coil_terms
-    from fem.section_model.laws import laws_from_design
-    from fem.section_model.mesh import catheter_section_mesh
-    from fem.section_model.solve import solve
+    from softcath import design as design_pkg
+    from softcath.analytic import gains
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.coil_models import coil_terms
+    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.mesh import catheter_section_mesh
+    from softcath.fem.section_model.solve import solve
 
     if coil_bending not in COIL_BENDING:
         raise DesignError("coil_bending", coil_bending, f"must be one of {COIL_BENDING}")

@@ -13,7 +13,7 @@ so the out-of-plane shears vanish and
 z as an axis of symmetry (isotropic, transversely isotropic about z), which
 is all the catheter has. The unknowns are the in-plane field U and the three
 global strains g = (eps_0, k_1, k_2); k_2 is the project's curvature
-(positive toward -y, the channel, as ``fem.post``). The virtual work of the
+(positive toward -y, the channel, as ``softcath.fem.post``). The virtual work of the
 section forces (N, M_1, M_2) = (int s_zz, int s_zz x, int s_zz y) on g closes
 the system.
 
@@ -34,9 +34,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from design.errors import DesignError
-from fem.section_model.laws import SectionLaw
-from fem.section_model.mesh import SectionMesh
+from softcath.design.errors import DesignError
+from softcath.fem.section_model.laws import SectionLaw
+from softcath.fem.section_model.mesh import SectionMesh
 
 __all__ = ["SectionOperator", "assemble"]
 

@@ -1,6 +1,6 @@
 """Coil-bound compression and initial tension in the section model: curvature against pressure.
 
-The coils' axial law is bilinear (``fem.section_model.fibres``): E_t where
+The coils' axial law is bilinear (``softcath.fem.section_model.fibres``): E_t where
 the axial strain is tensile beyond the initial-tension pre-strain, E_c = E·φ
 (coil-bound) where it is not. The concave side of a bent tip is then as
 stiff as steel and the section pivots on it; with initial tension F₀ the
@@ -20,7 +20,7 @@ Fibre placement (``coil_model``):
   depend on where the neutral axis is.
 
 >>> import numpy as np
->>> from fem.section_model.bilinear import bend_curve
+>>> from softcath.fem.section_model.bilinear import bend_curve
 >>> c = bend_curve("paper", [0.1, 0.2], load="cap", initial_tension=(0.005, 0.0))
 >>> round(c.threshold_pressure, 3)          # MPa: below it the tip barely bends
 0.14
@@ -34,10 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.section import CHANNEL, COIL
-from fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
-from fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from softcath.design.errors import DesignError
+from softcath.fem.section import CHANNEL, COIL
+from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 
 __all__ = ["BendCurve", "bend_curve", "annulus_fibres", "PLACEMENTS"]
 
@@ -124,7 +124,7 @@ def annulus_fibres(
 
 def _coil_sources(d, initial_tension, compression_modulus):
     """The coils, their F0 and E_c (None: an open coil, linear: its turns do not touch at small strains)."""
-    from design import coil_stiffness
+    from softcath.design import coil_stiffness
 
     coils = ((d.coil, COIL, "coil"), (d.channel, CHANNEL, "channel"))
     f0 = tuple(c.initial_tension for c, _, _ in coils) if initial_tension is None else tuple(initial_tension)
@@ -150,13 +150,13 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
     Returns (K_rest, fibres, owner index per fibre, coil names, condensed load of
     1 MPa, the linear model's E_z-weighted centroid y).
     """
-    from design import coil_stiffness
-    from fem.adapter import geometry_from_design
-    from fem.section_model.assembly import assemble
-    from fem.section_model.coil_models import coil_terms, helix_stiffness
-    from fem.section_model.laws import laws_from_design
-    from fem.section_model.mesh import catheter_section_mesh
-    from fem.section_model.solve import solve
+    from softcath.design import coil_stiffness
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
+    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.mesh import catheter_section_mesh
+    from softcath.fem.section_model.solve import solve
 
     mesh_opts = {k: options.pop(k) for k in ("mesh_size", "segments")}
     laws = laws_from_design(d, coil_modulus="tension", **options)
@@ -211,7 +211,7 @@ def bend_curve(
     pressures
         Pressures [MPa] (any order; solved in the given order, each warm-started).
     load
-        ``"cap"`` or ``"lumen"`` (``fem.section_model.solve.LOADS``).
+        ``"cap"`` or ``"lumen"`` (``softcath.fem.section_model.solve.LOADS``).
     coil_model
         Fibre placement, one of :data:`PLACEMENTS` (module docstring).
     initial_tension
@@ -224,9 +224,9 @@ def bend_curve(
     ring_points
         Fibres per coil ring (``resolved``).
     mesh_size, segments, silicone_poisson, poisson_cap
-        As in :func:`fem.section_model.section_model`.
+        As in :func:`softcath.fem.section_model.section_model`.
     """
-    import design as design_pkg
+    from softcath import design as design_pkg
 
     if coil_model not in PLACEMENTS:
         raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")

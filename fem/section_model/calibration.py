@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["SectionCalibration", "calibrate_section"]
 
@@ -61,7 +61,7 @@ class SectionCalibration:
     reachable, identifiable, message
         From the last inner calibration, plus the space-mapping outcome.
     inner
-        The last :class:`analytic.calibration.CalibrationResult`.
+        The last :class:`softcath.analytic.calibration.CalibrationResult`.
     design
         The calibrated design.
     """
@@ -148,11 +148,11 @@ def calibrate_section(
     Parameters
     ----------
     measurement
-        An :class:`analytic.io.Measurement` (pressure, curvature, optional arc length).
+        An :class:`softcath.analytic.io.Measurement` (pressure, curvature, optional arc length).
     design
         The design whose tube shape is calibrated (its shape is the nominal one).
     free, grid, use_elongation
-        As :func:`analytic.calibration.calibrate`.
+        As :func:`softcath.analytic.calibration.calibrate`.
     load
         The section model's load: ``lumen`` (the real load, default) or ``cap``.
     tol
@@ -161,11 +161,11 @@ def calibrate_section(
     max_iterations
         Inner calibrations at most (each followed by a section-model evaluation at its x).
     section_options
-        Passed to :func:`fem.section_model.section_model` (e.g. ``mesh_size``).
+        Passed to :func:`softcath.fem.section_model.section_model` (e.g. ``mesh_size``).
     """
-    import analytic
-    from analytic.calibration import calibrate, nrmse
-    from fem.section_model import section_model
+    from softcath import analytic
+    from softcath.analytic.calibration import calibrate, nrmse
+    from softcath.fem.section_model import section_model
 
     if load not in ("cap", "lumen"):
         raise DesignError("load", load, "must be cap or lumen")

@@ -2,7 +2,7 @@
 
 A coil's homogenised annulus enters the section model through two numbers
 only, because its law has no axial/in-plane Poisson coupling (nu_c = 0,
-``fem.adapter``): the axial modulus E_z weights the axial strain
+``softcath.fem.adapter``): the axial modulus E_z weights the axial strain
 eps_zz = eps_0 + k_1 x + k_2 y, so it contributes E_z * int phi phi^T dA
 (phi = (1, x, y)) to the global block of the section stiffness and nothing
 to the in-plane blocks. The coil's own bending beyond E_z * I_annulus is a
@@ -13,15 +13,15 @@ pure couple (``solve(..., extra_bending=...)``). The models
   FEM's default). Own EI = E_t I_a, 0.45x (outer coil) / 0.49x (channel) of Wahl;
 - ``annulus-bending``: E_z = EI_Wahl / I_a: own EI right, EA 2.2x / 2.0x too stiff;
 - ``wahl``: E_t plus the rest of Wahl's EI as a couple (the paper's formula);
-- ``resolved``: EA and open-coil EI of the resolved wire (``fem.coil``), from
-  the exact helix energies (``fem.coil.closed_forms``: shear-flexible rod with
+- ``resolved``: EA and open-coil EI of the resolved wire (``softcath.fem.coil``), from
+  the exact helix energies (``softcath.fem.coil.closed_forms``: shear-flexible rod with
   the helix angle, which the resolved wire reproduces to its 0.4 % chord
   error): E_z = EA_helix / A, couple EI_helix - E_z I_a. It differs from
   ``wahl`` where the spring-rate formula fails: the channel's D/d = 3 (direct
   shear, EA 0.94x the spring rate).
 
 With contact between turns (coil-bound compression, initial tension) the
-law is bilinear: ``fem.section_model.bilinear``.
+law is bilinear: ``softcath.fem.section_model.bilinear``.
 """
 
 from __future__ import annotations
@@ -30,10 +30,10 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from design import coil_stiffness
-from design.errors import DesignError
-from fem.section import CHANNEL, COIL
-from fem.section_model.laws import SectionLaw
+from softcath.design import coil_stiffness
+from softcath.design.errors import DesignError
+from softcath.fem.section import CHANNEL, COIL
+from softcath.fem.section_model.laws import SectionLaw
 
 __all__ = [
     "COIL_MODELS",
@@ -63,8 +63,8 @@ def model_options(coil_model: str) -> dict[str, str]:
 
 def helix_stiffness(coil) -> tuple[float, float]:
     """(EA [N], EI [N mm^2]) per unit length of the open coil from the exact helix energies."""
-    from fem.coil.api import coil_wire
-    from fem.coil.closed_forms import helix_axial_energy, helix_bending_energy
+    from softcath.fem.coil.api import coil_wire
+    from softcath.fem.coil.closed_forms import helix_axial_energy, helix_bending_energy
 
     wire = coil_wire(coil)
     r, p = coil.mean_radius, coil.pitch
@@ -110,11 +110,11 @@ def coil_section_stiffness(
     E_z-weighted centre y plus the model's couple: the coil's share of the
     section stiffness (its axial modulus enters nowhere else, module docstring).
     """
-    import design as design_pkg
-    from fem.adapter import geometry_from_design
-    from fem.section_model.assembly import assemble
-    from fem.section_model.laws import laws_from_design
-    from fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+    from softcath import design as design_pkg
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
     d = design_pkg.resolve(design)
     opts = model_options(coil_model)

@@ -3,7 +3,7 @@ r"""Bilinear axial fibres: coil-bound compression and initial tension, solved on
 A close-wound coil is soft in tension once its turns separate (the spring,
 E_t) and coil-bound in compression (E_c = E·φ); wound with initial tension
 F₀ its turns stay pressed together until the axial load has taken F₀ off
-them (``fem.coil``, docs/coil.md). Per fibre of area a at (x, y), with the
+them (``softcath.fem.coil``, docs/coil.md). Per fibre of area a at (x, y), with the
 strain eps = eps_0 + k_1 x + k_2 y measured from the unloaded (preloaded) state,
 
 .. math::
@@ -16,7 +16,7 @@ carrying the released preload. sigma is continuous and increasing, so the
 fibres' energy is convex and piecewise quadratic.
 
 Because a coil's axial modulus enters the section only through the global
-block (``fem.section_model.coil_models``), the in-plane field condenses out
+block (``softcath.fem.section_model.coil_models``), the in-plane field condenses out
 exactly and the nonlinear problem has three unknowns g = (eps_0, k_1, k_2):
 K_rest g + F_fibres(g) = f. It is solved by Newton's method on the active
 set of closed fibres (the cracked-section iteration) with a backtracking
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["Fibres", "solve_fibres", "ring_fibres", "MAX_ITERATIONS"]
 

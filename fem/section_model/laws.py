@@ -4,7 +4,7 @@ A region's law is reduced to what the section sees: the 4x4 stiffness over the
 strains (eps_xx, eps_yy, eps_zz, gamma_xy) — out-of-plane shears vanish for the
 axial force and bending moments of a pressurised tip — plus, for isotropic
 regions, the Lamé modulus lambda that the assembly treats by projection (the
-locking-free mixed part, ``fem.section_model.assembly``).
+locking-free mixed part, ``softcath.fem.section_model.assembly``).
 
 Unlike the 3-D FEM (displacement-only P2, nu <= 0.49), the section model takes
 silicone Poisson ratios up to 0.49999: the volumetric term is projected onto
@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.adapter import COIL_MODULI, coil_law
-from fem.materials import TransverselyIsotropic
-from fem.section import CHANNEL, COIL, FILLER, TUBE
+from softcath.design.errors import DesignError
+from softcath.fem.adapter import COIL_MODULI, coil_law
+from softcath.fem.materials import TransverselyIsotropic
+from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE
 
 __all__ = ["SectionLaw", "isotropic", "from_tensor", "laws_from_design", "NU_MAX"]
 
@@ -66,7 +66,7 @@ def isotropic(youngs_modulus: float, poisson_ratio: float) -> SectionLaw:
 
 
 def from_tensor(c: np.ndarray, axial_modulus: float) -> SectionLaw:
-    """Law from a full stiffness tensor ``C[i, j, k, l]`` (``fem.materials``), no projection."""
+    """Law from a full stiffness tensor ``C[i, j, k, l]`` (``softcath.fem.materials``), no projection."""
     idx = [(0, 0), (1, 1), (2, 2), (0, 1)]
     d = np.array([[c[i, j, k, m] for (k, m) in idx] for (i, j) in idx])
     return SectionLaw(d, 0.0, float(axial_modulus))
@@ -99,7 +99,7 @@ def laws_from_design(
     ----------
     coil_modulus
         ``"tension"`` or ``"bending"``: the coils' homogenised axial modulus, as
-        in the 3-D FEM (``fem.adapter``).
+        in the 3-D FEM (``softcath.fem.adapter``).
     poisson_cap
         Cap the silicones' Poisson ratios (0.49 reproduces the 3-D FEM's laws);
         ``None`` uses the design's own values.

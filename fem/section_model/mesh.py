@@ -1,7 +1,7 @@
 """Triangle meshes of a cross-section with region labels and a pressurised lumen.
 
 The catheter section comes from the same gmsh recipe as the 3-D FEM's
-extruded mesh (:func:`fem.mesh.section_triangles`: the same regions, bonded
+extruded mesh (:func:`softcath.fem.mesh.section_triangles`: the same regions, bonded
 lands and curved P2 edges), so the section model and the 3-D FEM see one
 geometry. Meshing dominates the cost of one design, so meshes are kept in a
 small per-process cache keyed by the geometry's content hash: a sweep over
@@ -22,8 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from design.errors import DesignError
-from fem.section import VOID, TipGeometry
+from softcath.design.errors import DesignError
+from softcath.fem.section import VOID, TipGeometry
 
 __all__ = ["SectionMesh", "catheter_section_mesh", "disk_section_mesh", "MESH_SIZE", "SEGMENTS"]
 
@@ -47,7 +47,7 @@ class SectionMesh:
     triangles
         Counter-clockwise triangles (m, 3).
     labels
-        Region label per triangle (``fem.section`` constants or caller's ints).
+        Region label per triangle (``softcath.fem.section`` constants or caller's ints).
     curved_edges, curved_midpoints
         Edges (k, 2) lying on curved boundaries and their exact midpoints (k, 2).
     lumen_edges
@@ -132,7 +132,7 @@ def _check_size(mesh_size: float, segments: int) -> None:
 
 @functools.lru_cache(maxsize=64)
 def _catheter_cached(geometry: TipGeometry, mesh_size: float, segments: int) -> SectionMesh:
-    from fem.mesh import section_triangles
+    from softcath.fem.mesh import section_triangles
 
     t0 = time.perf_counter()
     xy, tri, ce, cm = section_triangles(geometry, mesh_size, segments, fast=True)
@@ -150,7 +150,7 @@ def _catheter_cached(geometry: TipGeometry, mesh_size: float, segments: int) -> 
 def catheter_section_mesh(
     geometry: TipGeometry, *, mesh_size: float = MESH_SIZE, segments: int = SEGMENTS
 ) -> SectionMesh:
-    """The as-assembled catheter section of ``geometry`` (regions of ``fem.section``).
+    """The as-assembled catheter section of ``geometry`` (regions of ``softcath.fem.section``).
 
     Parameters
     ----------
@@ -185,13 +185,13 @@ def disk_section_mesh(
         ``(xc, yc, rx, ry)`` of every disc or axis-aligned ellipse whose edge is a
         region boundary; the pieces are fragmented into a conforming partition.
     classify
-        Region label (``fem.section.VOID`` for holes) at points ``(x, y)``.
+        Region label (``softcath.fem.section.VOID`` for holes) at points ``(x, y)``.
     in_lumen
         True at points inside the pressurised lumen.
     mesh_size, segments
         As in :func:`catheter_section_mesh`.
     """
-    from fem.mesh import _ellipse, _gmsh_session, p2_triangles
+    from softcath.fem.mesh import _ellipse, _gmsh_session, p2_triangles
 
     _check_size(mesh_size, segments)
     t0 = time.perf_counter()

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse.linalg import splu
 
-from design.errors import DesignError
-from fem.section_model.assembly import SectionOperator
+from softcath.design.errors import DesignError
+from softcath.fem.section_model.assembly import SectionOperator
 
 __all__ = ["LOADS", "LoadSolution", "SectionSolution", "solve"]
 

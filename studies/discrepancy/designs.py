@@ -3,7 +3,7 @@
 A sweep that holds, per design and load, the paper's formula (the analytic
 curvature) and a reference curvature (the 3-D FEM) is explained ingredient by
 ingredient. Each candidate is a switch of the section model
-(:mod:`fem.section_model`), so a named ingredient is a physical statement:
+(:mod:`softcath.fem.section_model`), so a named ingredient is a physical statement:
 
 ``coil_homogenisation``
     The coils bend as their homogenised annuli (the FEM's coils), not with the
@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DataError
+from softcath.design.errors import DataError
 
 __all__ = ["INGREDIENTS", "DesignCase", "DesignWorkflowResult", "load_sweep_cases", "run_design_workflow"]
 
@@ -71,9 +71,9 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
 
     import pandas as pd
 
-    import analytic
-    from studies.results import read_results
-    from studies.sweep.variants import build_variant
+    from softcath import analytic
+    from softcath.studies.results import read_results
+    from softcath.studies.sweep.variants import build_variant
 
     if reference != "fem":
         raise DataError(f"--reference {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
@@ -128,7 +128,7 @@ class _Models:
             coil = "annulus" if "coil_homogenisation" in physics else "wahl"
             key = (case.design_id, poisson, coil)
             if key not in self._cache:
-                from fem.section_model import section_model
+                from softcath.fem.section_model import section_model
 
                 self._cache[key] = section_model(
                     case.design, poisson=poisson, coil_bending=coil, poisson_cap=FEM_POISSON_CAP

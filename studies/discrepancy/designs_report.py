@@ -53,7 +53,7 @@ def _parity(result) -> str:
 
 def write_design_report(result, out_dir: str | Path) -> Path:
     """Write ``discrepancy.json`` and ``report.html`` into ``out_dir``; return the HTML path."""
-    from studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     doc = result.to_json()

@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.effects.fit import ChainFit, predict_chain
-from studies.discrepancy.prepare import Prepared
+from softcath.analytic.effects.fit import ChainFit, predict_chain
+from softcath.studies.discrepancy.prepare import Prepared
 
 __all__ = ["Residuals", "residuals", "binned"]
 

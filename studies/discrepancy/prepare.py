@@ -13,13 +13,13 @@ Steps, per run (``run`` column; one run if absent):
 4. anti-alias both pressure and curvature with the same shape at 4x the band,
    decimate to 40x the passband, and apply the data low-pass to the curvature
    (the target). The model input is the anti-aliased pressure; the model
-   output gets the same data low-pass (``analytic.effects.fit``), so data and
+   output gets the same data low-pass (``softcath.analytic.effects.fit``), so data and
    model see identical linear filtering (trap 2);
 5. estimate the noise floor: the raw curvature noise s.d. from what the
    anti-alias filter removes, propagated through both filters.
 
 Quasi-static data (``time_s`` a step index: one point per pressure step, no
-clock) skip all of this: ``studies.discrepancy.quasi_static``.
+clock) skip all of this: ``softcath.studies.discrepancy.quasi_static``.
 """
 
 from __future__ import annotations
@@ -31,11 +31,18 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from analytic.effects import Scales
-from analytic.effects.fit import Segment
-from design.errors import DataError
-from design.measurement import Measurement
-from hardware.filtering import PAPER_FILTER, PAPER_FS_HZ, FilterSpec, design_sos, filtfilt, resample_uniform
+from softcath.analytic.effects import Scales
+from softcath.analytic.effects.fit import Segment
+from softcath.design.errors import DataError
+from softcath.design.measurement import Measurement
+from softcath.hardware.filtering import (
+    PAPER_FILTER,
+    PAPER_FS_HZ,
+    FilterSpec,
+    design_sos,
+    filtfilt,
+    resample_uniform,
+)
 
 __all__ = ["RunInfo", "Prepared", "prepare", "prepare_static", "EXCITATIONS", "MIN_RUN_SAMPLES"]
 
@@ -170,7 +177,7 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
     Parameters
     ----------
     data
-        A :class:`design.measurement.Measurement` or a table with its columns.
+        A :class:`softcath.design.measurement.Measurement` or a table with its columns.
     filter_spec
         Force the data low-pass (default: chosen from the excitation, see above).
     excitation
@@ -182,7 +189,7 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
     m = _as_measurement(data)
     if excitation not in EXCITATIONS:
         raise DataError(f"excitation = {excitation!r}: must be one of {', '.join(EXCITATIONS)}")
-    from studies.discrepancy.quasi_static import is_quasi_static, prepare_quasi_static
+    from softcath.studies.discrepancy.quasi_static import is_quasi_static, prepare_quasi_static
 
     if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
         return prepare_quasi_static(m)

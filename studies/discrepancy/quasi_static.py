@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from analytic.effects import Scales
-from analytic.effects.fit import Segment
-from design.errors import DataError
-from design.measurement import Measurement
-from hardware.filtering import PAPER_FILTER
-from studies.discrepancy.prepare import MIN_RUN_SAMPLES, Prepared, RunInfo
+from softcath.analytic.effects import Scales
+from softcath.analytic.effects.fit import Segment
+from softcath.design.errors import DataError
+from softcath.design.measurement import Measurement
+from softcath.hardware.filtering import PAPER_FILTER
+from softcath.studies.discrepancy.prepare import MIN_RUN_SAMPLES, Prepared, RunInfo
 
 __all__ = ["TIME_DEPENDENT", "is_quasi_static", "prepare_quasi_static", "candidates_for"]
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from studies.discrepancy.maps import Residuals, binned, residuals
-from studies.discrepancy.result import DiscrepancyResult
+from softcath.studies.discrepancy.maps import Residuals, binned, residuals
+from softcath.studies.discrepancy.result import DiscrepancyResult
 
 __all__ = ["write_report"]
 
@@ -179,7 +179,7 @@ def _fmt(v) -> str:
 
 def write_report(result: DiscrepancyResult, out_dir) -> Path:
     """Write ``discrepancy.json``, ``report.html`` and PNG figures; returns the HTML path."""
-    from studies.atomic import check_finite_json, prepare_out_dir
+    from softcath.studies.atomic import check_finite_json, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     record = result.as_dict()
@@ -229,7 +229,7 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
         f"<tr><td>{html.escape(k)}</td><td>{_cell(v)}</td></tr>" for k, v in result.calibration.items()
     )
     filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.filter.items())
-    from analytic.effects import get
+    from softcath.analytic.effects import get
 
     library = "".join(
         f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"

@@ -12,13 +12,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
-from analytic.effects.fit import ChainFit
-from design.errors import DataError, DesignError
-from design.measurement import Measurement, read_measurement_csv
-from studies.discrepancy.prepare import Prepared, prepare, prepare_static
-from studies.discrepancy.quasi_static import candidates_for
-from studies.discrepancy.workflow import RATE_FAMILY, name_effects
+from softcath.analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
+from softcath.analytic.effects.fit import ChainFit
+from softcath.design.errors import DataError, DesignError
+from softcath.design.measurement import Measurement, read_measurement_csv
+from softcath.studies.discrepancy.prepare import Prepared, prepare, prepare_static
+from softcath.studies.discrepancy.quasi_static import candidates_for
+from softcath.studies.discrepancy.workflow import RATE_FAMILY, name_effects
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference", "DEFAULT_MARGIN", "QUASI_STATIC_MARGIN"]
 
@@ -117,7 +117,7 @@ def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
     cap-load model.
     """
     try:
-        import fem as fem_pkg
+        from softcath import fem as fem_pkg
     except ImportError:
         return None
     check = getattr(fem_pkg, "check", None)
@@ -135,21 +135,21 @@ def _resolve_design(design):
     if design is None:
         return None
     if isinstance(design, (str, Path)):
-        import design as design_pkg
+        from softcath import design as design_pkg
 
         return design_pkg.resolve(str(design))
     return design
 
 
 def _shape_calibration(prep: Prepared, design) -> dict:
-    """Paper eq. 8 (``analytic.calibration.calibrate``) on the filtered, scored samples.
+    """Paper eq. 8 (``softcath.analytic.calibration.calibrate``) on the filtered, scored samples.
 
     Run for the record: the workflow relies on the explicit gain, because the
     shape family may not reach the data (``reachable``) and its four shape
     parameters are not identifiable from one curvature gain.
     """
-    from analytic.calibration import calibrate
-    from design.errors import SoftcathError
+    from softcath.analytic.calibration import calibrate
+    from softcath.design.errors import SoftcathError
 
     u = np.concatenate([s.pressure_MPa[s.mask] for s in prep.segments])
     y = np.concatenate([s.target[s.mask] for s in prep.segments])
@@ -238,7 +238,7 @@ def run_workflow(
     pressures_MPa
         Pressures for the ``fem`` callable (default 12 points over 0..2 MPa).
     margin, min_share, max_effects
-        Decision rule, see :func:`studies.discrepancy.workflow.name_effects`.
+        Decision rule, see :func:`softcath.studies.discrepancy.workflow.name_effects`.
         ``margin`` defaults to 0.05, and to 0.12 on quasi-static measured points
         (:data:`QUASI_STATIC_MARGIN`).
     candidates
@@ -247,7 +247,7 @@ def run_workflow(
         Show a tqdm bar over candidate fits.
     excitation
         ``"auto"``, ``"time-series"`` or ``"quasi-static"`` (measured data; see
-        :func:`studies.discrepancy.prepare.prepare`). On quasi-static data the
+        :func:`softcath.studies.discrepancy.prepare.prepare`). On quasi-static data the
         time-dependent candidates are left out, or refused when named.
     """
     if reference not in ("measured", "fem"):
@@ -264,7 +264,7 @@ def run_workflow(
     context: dict[str, float] = {}
     nominal = None
     if d is not None:
-        import analytic
+        from softcath import analytic
 
         nominal = analytic.gains(d, "cap")[0]
     if reference == "measured":
@@ -285,7 +285,7 @@ def run_workflow(
     else:
         if d is None:
             raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
-        import analytic
+        from softcath import analytic
 
         g_cap = analytic.gains(d, "cap")[0]
         g_lum, g_sec_cap = _lumen_wall_gains(d)
@@ -461,7 +461,7 @@ def _lumen_wall_gains(d) -> tuple[float, float]:
     load on the coil-confined silicone. The one-material (1 - 2 nu) closed form it
     used before has the wrong sign inside a coil (docs/section.md).
     """
-    from fem.section_model import section_model
+    from softcath.fem.section_model import section_model
 
     r = section_model(d, poisson_cap=0.49)
     return r.curvature_per_mm_per_MPa["lumen"], r.curvature_per_mm_per_MPa["cap"]

@@ -24,9 +24,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from analytic.effects import MEASURED_CANDIDATES
-from analytic.effects.fit import ChainFit, Segment, fit_chain, predict_chain
-from studies.discrepancy.prepare import Prepared
+from softcath.analytic.effects import MEASURED_CANDIDATES
+from softcath.analytic.effects.fit import ChainFit, Segment, fit_chain, predict_chain
+from softcath.studies.discrepancy.prepare import Prepared
 
 __all__ = ["Step", "CVScore", "cross_validate", "name_effects", "RATE_FAMILY"]
 

@@ -16,10 +16,10 @@ position), ``sensitivity`` (SALib RBD-FAST), ``tier`` (one tier's band),
 
 from __future__ import annotations
 
-from studies.predict.propagate import DEFAULT_LOAD, TIERS
-from studies.predict.ranges import Range, load_ranges, parse_vary
-from studies.predict.tier import TierPrediction, predict_tier
-from studies.predict.workflow import DEFAULT_SAMPLES, predict, resolve_ranges
+from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
+from softcath.studies.predict.ranges import Range, load_ranges, parse_vary
+from softcath.studies.predict.tier import TierPrediction, predict_tier
+from softcath.studies.predict.workflow import DEFAULT_SAMPLES, predict, resolve_ranges
 
 __all__ = [
     "DEFAULT_LOAD",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["PERCENTILES", "percentiles", "measured_position"]
 

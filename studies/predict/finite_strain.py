@@ -2,7 +2,7 @@
 
 The prototype's 0.388 mm⁻¹/MPa is the slope of a straight line (with
 intercept) through curvature against pressure; the finite-strain FEM's bend
-curve (``fem.nonlinear.bend_curve``, about a minute or three) is reduced the
+curve (``softcath.fem.nonlinear.bend_curve``, about a minute or three) is reduced the
 same way: curvature = bend angle / arc length at each pressure, then the
 least-squares line's slope.
 """
@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["line_fit", "finite_strain_point"]
 
@@ -33,8 +33,8 @@ def finite_strain_point(
     progress: bool = False,
 ) -> dict:  # fmt: skip
     """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain (JSON-ready)."""
-    import design
-    from fem.nonlinear import bend_curve
+    from softcath import design
+    from softcath.fem.nonlinear import bend_curve
 
     t0 = time.perf_counter()
     c = bend_curve(design.resolve(design_ref), list(pressures), load=load, progress=progress)

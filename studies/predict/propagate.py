@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from design.errors import DesignError
-from studies.predict.sampling import split_overrides
+from softcath.design.errors import DesignError
+from softcath.studies.predict.sampling import split_overrides
 
 __all__ = ["TIERS", "TIER_OPTIONS", "DEFAULT_LOAD", "TierSample", "propagate"]
 
@@ -62,7 +62,7 @@ class TierSample:
 
 def _variants(table: Mapping[str, Any], values: list[dict[str, Any]]):
     """Yield (design or None, options, error) per sample row."""
-    from studies.sweep.variants import VariantBuilder
+    from softcath.studies.sweep.variants import VariantBuilder
 
     builder = VariantBuilder(table)
     for row in values:
@@ -109,7 +109,7 @@ def propagate(
 
 def _paper(table, values, load, gain, elong, errors) -> None:
     """The formula over the whole sample at once: one dict of input arrays."""
-    from analytic import design_inputs, gains_arrays
+    from softcath.analytic import design_inputs, gains_arrays
 
     rows, idx = [], []
     for i, (d, _options, err) in enumerate(_variants(table, values)):
@@ -127,11 +127,11 @@ def _paper(table, values, load, gain, elong, errors) -> None:
 
 def _solve(tier: str, d, options: dict[str, str], load: str) -> tuple[float, float]:
     if tier == "section":
-        from fem.section_model import section_model
+        from softcath.fem.section_model import section_model
 
         r = section_model(d, loads=(load,), **options)
         return r.curvature_per_mm_per_MPa[load], r.elongation_per_MPa[load]
-    import fem
+    from softcath import fem
 
     r = fem.check(d, pressures=(_FEM_PRESSURE,), loads=(load,), **options)
     case = r.cases[0]

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from studies.predict.ranges import Range
-from studies.sweep.sampling import latin_hypercube
+from softcath.studies.predict.ranges import Range
+from softcath.studies.sweep.sampling import latin_hypercube
 
 __all__ = ["unit_sample", "sample_values", "split_overrides"]
 

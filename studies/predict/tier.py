@@ -9,19 +9,19 @@ from typing import Any
 
 import numpy as np
 
-from design.errors import DesignError
-from studies.predict.band import measured_position, percentiles
-from studies.predict.propagate import TIER_OPTIONS, propagate
-from studies.predict.ranges import Range
-from studies.predict.sampling import sample_values, unit_sample
-from studies.predict.sensitivity import first_order
+from softcath.design.errors import DesignError
+from softcath.studies.predict.band import measured_position, percentiles
+from softcath.studies.predict.propagate import TIER_OPTIONS, propagate
+from softcath.studies.predict.ranges import Range
+from softcath.studies.predict.sampling import sample_values, unit_sample
+from softcath.studies.predict.sensitivity import first_order
 
 __all__ = ["TierPrediction", "predict_tier", "applicable"]
 
 
 @dataclass(frozen=True)
 class TierPrediction:
-    """The band of one model tier (gains per MPa; see ``studies.predict`` for the JSON keys)."""
+    """The band of one model tier (gains per MPa; see ``softcath.studies.predict`` for the JSON keys)."""
 
     model: str
     load: str

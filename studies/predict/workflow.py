@@ -6,10 +6,17 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
-from design.errors import DesignError
-from studies.predict.propagate import DEFAULT_LOAD, TIERS
-from studies.predict.ranges import Range, base_table, check_ranges, default_ranges, load_ranges, parse_vary
-from studies.predict.tier import TierPrediction, predict_tier
+from softcath.design.errors import DesignError
+from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
+from softcath.studies.predict.ranges import (
+    Range,
+    base_table,
+    check_ranges,
+    default_ranges,
+    load_ranges,
+    parse_vary,
+)
+from softcath.studies.predict.tier import TierPrediction, predict_tier
 
 __all__ = ["DEFAULT_SAMPLES", "resolve_ranges", "predict"]
 

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DataError
-from studies.report import figures
-from studies.report.html import Markup, esc, figure, fmt, note, page, table
+from softcath.design.errors import DataError
+from softcath.studies.report import figures
+from softcath.studies.report.html import Markup, esc, figure, fmt, note, page, table
 
 __all__ = ["write_report", "sweep_sections", "design_of"]
 
@@ -49,7 +49,7 @@ def design_of(sweep_dir: str | Path, design_id: int):
     """Rebuild design ``design_id`` of a sweep (base design + its swept values)."""
     import pandas as pd
 
-    from studies.sweep.variants import VariantBuilder
+    from softcath.studies.sweep.variants import VariantBuilder
 
     sweep_dir = Path(sweep_dir)
     manifest = _manifest(sweep_dir)
@@ -131,7 +131,7 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     Image links are ``prefix + file name`` so the same sections can be placed
     in another page (the demo) whose HTML sits elsewhere.
     """
-    from studies.results import read_results
+    from softcath.studies.results import read_results
 
     sweep_dir, fig_dir = Path(sweep_dir), Path(fig_dir)
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -296,7 +296,7 @@ def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list
     Returns the page's path and its sections ``(title, html)`` with image links
     prefixed by ``prefix``, for embedding the report in another page.
     """
-    from studies.atomic import staged_dir
+    from softcath.studies.atomic import staged_dir
 
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report"

@@ -2,7 +2,7 @@
 
 A task is a plain dict (picklable, so the same function runs in a local
 process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
-with one row per design × pressure × load (columns in :mod:`studies.results`).
+with one row per design × pressure × load (columns in :mod:`softcath.studies.results`).
 A design that cannot be built is reported with status ``failed`` and the
 :class:`~design.errors.DesignError` reason; it never stops the task.
 """
@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from design.errors import DesignError
-from studies.results import _FEM_RENAME
-from studies.sweep.section_eval import SECTION_KEYS, section_columns
+from softcath.design.errors import DesignError
+from softcath.studies.results import _FEM_RENAME
+from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -38,7 +38,7 @@ _FEM_KEYS = (
 def fem_check_function():
     """``fem.check`` if the FEM package provides it, else ``None``."""
     try:
-        from fem import check
+        from softcath.fem import check
     except ImportError:
         return None
     return check
@@ -51,7 +51,7 @@ def _builder(base_table: dict):
     """One :class:`VariantBuilder` per base design and process (tasks of a sweep share it)."""
     import json
 
-    from studies.sweep.variants import VariantBuilder
+    from softcath.studies.sweep.variants import VariantBuilder
 
     key = json.dumps(base_table, sort_keys=True, default=str)
     if key not in _BUILDERS:
@@ -62,8 +62,8 @@ def _builder(base_table: dict):
 
 def _analytic(designs: list, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
     """Analytic response of many designs at many pressures, arrays of shape (n_designs, n_pressures)."""
-    import analytic
-    from analytic.section import section_arrays
+    from softcath import analytic
+    from softcath.analytic.section import section_arrays
 
     inputs = [analytic.design_inputs(d) for d in designs]
     inp = {k: np.array([x[k] for x in inputs], dtype=float)[:, None] for k in inputs[0]}
@@ -170,7 +170,7 @@ _NONLINEAR_KEYS = {
 
 def _nonlinear_columns(design, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
     """Finite-strain bend angle [rad], curvature [1/mm] and max silicone strain at ``pressures`` (0 MPa: 0)."""
-    from fem.nonlinear import bend_curve
+    from softcath.fem.nonlinear import bend_curve
 
     positive = np.unique(pressures[pressures > 0])
     out = {k: np.zeros(pressures.size) for k in _NONLINEAR_KEYS}
@@ -232,7 +232,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         ``task_id``, ``design_ids``, ``variants`` (dotted path → value per design),
         ``param_paths``, ``base_table``, ``pressures_MPa``, ``loads``, ``evaluators``,
         ``mesh_size``, ``max_strain`` and, for the ``section`` evaluator, ``section``
-        (options of :func:`fem.section_model.section_model`).
+        (options of :func:`softcath.fem.section_model.section_model`).
     """
     import pandas as pd
 

@@ -1,6 +1,6 @@
 """Seeded random valid designs around a base design (verification and benchmarks).
 
->>> from studies.sweep.random_designs import random_designs
+>>> from softcath.studies.sweep.random_designs import random_designs
 >>> [d.name for d in random_designs(2, seed=1)]
 ['random 0', 'random 1']
 """
@@ -34,13 +34,13 @@ def random_designs(
     """``n`` valid designs: each path drawn uniformly in its range, invalid draws skipped.
 
     Every draw is validated exactly as a sweep validates its designs
-    (:func:`studies.sweep.variants.build_variant`).
+    (:func:`softcath.studies.sweep.variants.build_variant`).
     """
     from pathlib import Path
 
-    import design
-    from studies.sweep.spec import _base_table
-    from studies.sweep.variants import build_variant
+    from softcath import design
+    from softcath.studies.sweep.spec import _base_table
+    from softcath.studies.sweep.variants import build_variant
 
     table = _base_table(base, Path("."))  # the TOML as written, so dotted paths match a sweep spec's
     rng = np.random.default_rng(seed)

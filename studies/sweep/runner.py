@@ -23,11 +23,11 @@ import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
-from design.errors import DesignError
-from studies.sweep.evaluators import evaluate_task
-from studies.sweep.sampling import expand
-from studies.sweep.spec import SweepSpec
-from studies.sweep.store import SweepStore
+from softcath.design.errors import DesignError
+from softcath.studies.sweep.evaluators import evaluate_task
+from softcath.studies.sweep.sampling import expand
+from softcath.studies.sweep.spec import SweepSpec
+from softcath.studies.sweep.store import SweepStore
 
 __all__ = ["SweepSummary", "run_sweep", "build_tasks"]
 
@@ -139,14 +139,14 @@ def _serial(tasks):
 def _single_threaded_worker(sweep_pid: int | None = None) -> None:
     """One BLAS/MKL thread per worker process (as Dask's nanny does): N workers use N cores, not N².
 
-    With ``sweep_pid`` the worker also dies with the sweep process (``studies.sweep.lifeline``).
+    With ``sweep_pid`` the worker also dies with the sweep process (``softcath.studies.sweep.lifeline``).
     """
     import os
 
     for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
         os.environ.setdefault(var, "1")
     if sweep_pid is not None:
-        from studies.sweep.lifeline import tie_to_parent
+        from softcath.studies.sweep.lifeline import tie_to_parent
 
         tie_to_parent(sweep_pid)
 
@@ -161,7 +161,7 @@ def _pool(tasks, workers: int):
     # server is a clean process; preloading the evaluator there keeps worker start-up cheap.
     if "forkserver" in multiprocessing.get_all_start_methods():
         ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(["studies.sweep.evaluators"])
+        ctx.set_forkserver_preload(["softcath.studies.sweep.evaluators"])
     else:  # Windows
         ctx = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(
@@ -221,7 +221,7 @@ def run_sweep(
     Parameters
     ----------
     spec
-        The sweep (:func:`studies.sweep.load_spec`).
+        The sweep (:func:`softcath.studies.sweep.load_spec`).
     out_dir
         Sweep directory (created; resumed if it holds the same sweep).
     workers
@@ -238,7 +238,7 @@ def run_sweep(
     import pandas as pd
     from tqdm import tqdm
 
-    from studies.results import add_derived_columns, write_results
+    from softcath.studies.results import add_derived_columns, write_results
 
     _check_options(workers, dask_local, scheduler)
     t0 = time.perf_counter()

@@ -6,7 +6,7 @@ import itertools
 
 import numpy as np
 
-from studies.sweep.spec import SweepSpec
+from softcath.studies.sweep.spec import SweepSpec
 
 __all__ = ["expand", "latin_hypercube"]
 

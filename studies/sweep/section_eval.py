@@ -1,4 +1,4 @@
-"""The sweep's ``section`` evaluator: the 2-D section model (``fem.section_model``) per design.
+"""The sweep's ``section`` evaluator: the 2-D section model (``softcath.fem.section_model``) per design.
 
 The section model reproduces the 3-D FEM's mid-span curvature to a fraction of
 a percent in ~0.1-0.3 s per design, so a sweep can carry FEM-grade curvature for
@@ -29,7 +29,7 @@ SECTION_KEYS = (
     "section_formula_ratio",
     "section_seconds",
 )
-#: Options a spec may set under ``[sweep.section]`` (passed to ``fem.section_model.section_model``).
+#: Options a spec may set under ``[sweep.section]`` (passed to ``softcath.fem.section_model.section_model``).
 SECTION_OPTIONS = ("mesh_size", "coil_bending")
 
 
@@ -42,10 +42,10 @@ def section_columns(
     (eq. 7, cap load) of the same design; ``section_seconds`` the wall time of
     the section model for this design (mesh, assembly, solves, all loads);
     ``max_strain_section`` the largest principal strain in the silicone at
-    mid-span (:func:`fem.section_model.strain.silicone_strain_range`).
+    mid-span (:func:`softcath.fem.section_model.strain.silicone_strain_range`).
     """
-    from fem.section_model import section_model
-    from fem.section_model.strain import silicone_strain_range
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.strain import silicone_strain_range
 
     opts = {k: v for k, v in (options or {}).items() if v is not None}
     t0 = time.perf_counter()

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
@@ -142,7 +142,7 @@ class SweepSpec:
 
     @property
     def section_options(self) -> dict:
-        """Keyword options for ``fem.section_model.section_model`` (only those set)."""
+        """Keyword options for ``softcath.fem.section_model.section_model`` (only those set)."""
         opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending}
         return {k: v for k, v in opts.items() if v is not None}
 
@@ -247,8 +247,8 @@ def _parameter(path: str, entry: Any) -> Parameter:
 
 def _base_table(base: str, spec_dir: Path) -> dict:
     """The base design's TOML tables exactly as written (so dotted paths match the file)."""
-    import design
-    from design import presets
+    from softcath import design
+    from softcath.design import presets
 
     if base in presets.names():
         table = tomllib.loads(presets.text(base))
@@ -369,7 +369,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
 
 def _section_table(table: Any) -> tuple[float | None, str | None]:
     """``[sweep.section]``: mesh_size [mm] and coil_bending, both optional."""
-    from fem.section_model.api import COIL_BENDING
+    from softcath.fem.section_model.api import COIL_BENDING
 
     allowed = {"mesh_size", "coil_bending"}
     if not isinstance(table, dict) or set(table) - allowed:
@@ -394,7 +394,7 @@ def _flatten(table: dict, prefix: str = ""):
 
 
 def _check_paths(params: tuple[Parameter, ...], base_table: dict) -> None:
-    from studies.sweep.variants import check_path
+    from softcath.studies.sweep.variants import check_path
 
     seen = set()
     for p in params:

@@ -1,7 +1,7 @@
 """Build one design variant: the base design's TOML tables with some dotted fields replaced.
 
 Validation comes from :func:`design.from_dict`, so an impossible combination
-raises the same :class:`design.errors.DesignError` (parameter, value, bound)
+raises the same :class:`softcath.design.errors.DesignError` (parameter, value, bound)
 a user would get from loading that design file.
 
 Dependent fields follow the swept ones unless they are swept too:
@@ -22,7 +22,7 @@ import copy
 from collections.abc import Mapping
 from typing import Any
 
-from design.errors import DesignError
+from softcath.design.errors import DesignError
 
 __all__ = ["check_path", "set_path", "variant_table", "build_variant", "VariantBuilder"]
 
@@ -108,7 +108,7 @@ def variant_table(base_table: Mapping[str, Any], overrides: Mapping[str, Any]) -
                 table[part][k] = v
     shape_swept = [k for k in _SHAPE if f"tube.{k}" in swept]
     if shape_swept and len(shape_swept) < len(_SHAPE) and "a" not in table["tube"]:
-        import design
+        from softcath import design
 
         nominal = design.from_dict(base_table).tube_shape
         for k in _SHAPE:
@@ -127,7 +127,7 @@ def _plain(value: Any) -> Any:
 
 def build_variant(base_table: Mapping[str, Any], overrides: Mapping[str, Any], *, name: str | None = None):
     """A validated :class:`design.TipDesign` for the variant (raises DesignError if impossible)."""
-    import design
+    from softcath import design
 
     table = variant_table(base_table, overrides)
     if name is not None:
@@ -148,7 +148,7 @@ class VariantBuilder:
     _PARTS = ("coil", "tube", "channel", "tip")
 
     def __init__(self, base_table: Mapping[str, Any]) -> None:
-        import design
+        from softcath import design
 
         self.base_table = base_table
         self.base = design.from_dict(base_table)

@@ -5,11 +5,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import analytic
-import design
-from analytic.calibration import _inside, calibrate
-from design.errors import DesignError
-from design.measurement import Measurement
+from softcath import analytic, design
+from softcath.analytic.calibration import _inside, calibrate
+from softcath.design.errors import DesignError
+from softcath.design.measurement import Measurement
 
 DATA = Path(__file__).parents[2] / "studies" / "data" / "paper_sine.csv"
 
@@ -94,7 +93,7 @@ def test_bundled_example_is_reproducible_and_calibrates():
     mk = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mk)
     regenerated = mk.make()
-    from design.measurement import read_measurement_csv
+    from softcath.design.measurement import read_measurement_csv
 
     bundled = read_measurement_csv(DATA)
     assert np.allclose(bundled.curvature_per_mm, regenerated.curvature_per_mm, rtol=1e-8, atol=1e-12)

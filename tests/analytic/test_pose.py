@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-import analytic
-import design
+from softcath import analytic, design
 
 
 def test_pose_closed_form_and_zero_limit():

@@ -5,10 +5,9 @@ import math
 import numpy as np
 import pytest
 
-import analytic
-import design
-from analytic import shapes
-from analytic.section import design_inputs, section_arrays
+from softcath import analytic, design
+from softcath.analytic import shapes
+from softcath.analytic.section import design_inputs, section_arrays
 
 
 def test_closed_forms_of_simple_shapes():

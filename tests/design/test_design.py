@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-import design
-from design.section import lumen_containment, max_outer_semi_axis, paper_frame_reading
+from softcath import design
+from softcath.design.section import lumen_containment, max_outer_semi_axis, paper_frame_reading
 
 
 @pytest.fixture(scope="module")

@@ -6,8 +6,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import analytic
-import design
+from softcath import analytic, design
 
 BASE = design.to_dict(design.preset("paper"))
 

@@ -4,8 +4,8 @@ one error naming file, column and first bad line."""
 import numpy as np
 import pytest
 
-from design.errors import DataError
-from design.measurement import (
+from softcath.design.errors import DataError
+from softcath.design.measurement import (
     COLUMNS,
     Measurement,
     read_measurement_csv,

@@ -9,8 +9,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from design.errors import DataError
-from design.measurement import LIMITS, REQUIRED, read_measurement_csv
+from softcath.design.errors import DataError
+from softcath.design.measurement import LIMITS, REQUIRED, read_measurement_csv
 
 NAMES = ["time_s", "pressure_MPa", "curvature_per_mm", "arc_length_mm", "run", "note", ""]
 CELLS = st.one_of(

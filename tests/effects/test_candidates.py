@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
-from analytic import effects
-from analytic.effects import Scales, get
-from analytic.effects.base import first_order
-from analytic.effects.fit import Segment, fit_chain, predict_chain
-from analytic.effects.hysteresis import play
-from design.errors import DesignError
+from softcath.analytic import effects
+from softcath.analytic.effects import Scales, get
+from softcath.analytic.effects.base import first_order
+from softcath.analytic.effects.fit import Segment, fit_chain, predict_chain
+from softcath.analytic.effects.hysteresis import play
+from softcath.design.errors import DesignError
 
 DT = 0.05
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
-from studies.discrepancy import run_workflow
-from studies.hidden_effects import Protocol, make_case, paper_demo_case, signature_rms
+from softcath.design.errors import DesignError
+from softcath.design.measurement import Measurement, read_measurement_csv, write_measurement_csv
+from softcath.studies.discrepancy import run_workflow
+from softcath.virtualbench.hidden_effects import Protocol, make_case, paper_demo_case, signature_rms
 
 SHORT = Protocol(frequencies_hz=(0.1, 0.2), cycles=2, step_hold=True, hold_s=5.0)
 
@@ -73,7 +73,7 @@ def test_paper_demo_story_names_hysteresis_and_shrinks_the_gap():
 
 
 def test_quasi_static_protocol_records_one_point_per_hold():
-    from studies.hidden_effects import quasi_static_protocol
+    from softcath.virtualbench.hidden_effects import quasi_static_protocol
 
     proto = quasi_static_protocol()
     case = make_case(("dead_zone",), seed=2, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
@@ -96,8 +96,8 @@ def test_quasi_static_protocol_records_one_point_per_hold():
 
 
 def test_step_protocol_holds_only_steps():
-    from studies.discrepancy.prepare import prepare
-    from studies.hidden_effects import step_protocol
+    from softcath.studies.discrepancy.prepare import prepare
+    from softcath.virtualbench.hidden_effects import step_protocol
 
     case = make_case((), seed=3, protocol=step_protocol())
     assert set(case.table["run"]) == {"step_hold", "staircase"}

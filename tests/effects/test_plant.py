@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from design.errors import DataError, DesignError
-from hardware.plant import EFFECT_NAMES, Plant, make_effect, tip_pose
+from softcath.design.errors import DataError, DesignError
+from softcath.virtualbench.plant import EFFECT_NAMES, Plant, make_effect, tip_pose
 
 FS = 200.0
 
@@ -167,8 +167,7 @@ def test_bad_input_names_parameter_value_and_bound():
 
 
 def test_from_design_uses_the_analytic_gains():
-    import analytic
-    import design
+    from softcath import analytic, design
 
     d = design.preset("paper")
     for load in ("cap", "lumen"):
@@ -180,7 +179,7 @@ def test_from_design_uses_the_analytic_gains():
 
 
 def test_plant_pose_equals_the_analytic_pose():
-    import analytic
+    from softcath import analytic
 
     k = np.linspace(-0.4, 0.4, 81)
     ell = np.full_like(k, 5.2)

@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import design
-from design.errors import DataError
-from design.measurement import read_measurement_csv
-from studies.discrepancy import run_workflow
-from studies.discrepancy.prepare import prepare
-from studies.discrepancy.workflow import _experiment
+from softcath import design
+from softcath.design.errors import DataError
+from softcath.design.measurement import read_measurement_csv
+from softcath.studies.discrepancy import run_workflow
+from softcath.studies.discrepancy.prepare import prepare
+from softcath.studies.discrepancy.workflow import _experiment
 
 ROOT = Path(__file__).resolve().parents[2]
 REAL = ROOT.parent / "shared" / "realdata"
@@ -163,7 +163,7 @@ def test_quasi_static_points_refuse_time_dependent_candidates(synthetic):
 
 
 def test_cli_quasi_static_refusal_is_one_line(synthetic, tmp_path, capsys):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     _, _, out = synthetic
     code = main(
@@ -177,7 +177,7 @@ def test_stand_in_designs_carry_the_data_gain(synthetic):
     """The converter's stand-ins: the paper design with every modulus divided by one factor,
     so the formula gain is exactly that factor times the paper's, chosen (to 0.01) to equal
     the data's least-squares gain through the origin."""
-    import analytic
+    from softcath import analytic
 
     files, _, out = synthetic
     paper = design.preset("paper")
@@ -223,7 +223,7 @@ def test_real_files_convert_like_the_providers_own_conversion(tmp_path):
 
 @needs_real
 def test_real_data_through_calibrate_and_discrepancy(tmp_path, capsys):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     files = convert.convert_all(REAL, tmp_path / "csv")
     # the providers' own file, whose time_s restarts when the source log changes

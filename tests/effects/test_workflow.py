@@ -10,11 +10,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from design.errors import DataError, DesignError
-from design.measurement import Measurement, read_measurement_csv, write_measurement_csv
-from studies.discrepancy import run_workflow, write_report
-from studies.discrepancy.prepare import prepare
-from studies.hidden_effects import Protocol, make_case
+from softcath.design.errors import DataError, DesignError
+from softcath.design.measurement import Measurement, read_measurement_csv, write_measurement_csv
+from softcath.studies.discrepancy import run_workflow, write_report
+from softcath.studies.discrepancy.prepare import prepare
+from softcath.virtualbench.hidden_effects import Protocol, make_case
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -132,7 +132,7 @@ def test_two_hidden_effects_are_both_named(pair):
 
 @pytest.mark.parametrize("effect", ["hysteresis", "dead_zone", "nonlinear_gain", "offset"])
 def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect):
-    from studies.hidden_effects import quasi_static_protocol
+    from softcath.virtualbench.hidden_effects import quasi_static_protocol
 
     case = make_case(
         (effect,), seed=4, noise_fraction=0.01, effect_to_noise=1.0, protocol=quasi_static_protocol()
@@ -146,7 +146,7 @@ def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect)
 
 
 def test_quasi_static_points_never_name_a_time_effect():
-    from studies.hidden_effects import quasi_static_protocol
+    from softcath.virtualbench.hidden_effects import quasi_static_protocol
 
     case = make_case(
         ("lag",), seed=5, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol()
@@ -157,7 +157,7 @@ def test_quasi_static_points_never_name_a_time_effect():
 
 
 def test_quasi_static_two_effects_are_both_named():
-    from studies.hidden_effects import quasi_static_protocol
+    from softcath.virtualbench.hidden_effects import quasi_static_protocol
 
     pair = ("hysteresis", "offset")
     case = make_case(pair, seed=6, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
@@ -165,7 +165,7 @@ def test_quasi_static_two_effects_are_both_named():
 
 
 def test_a_threshold_and_a_stiffening_that_hide_each_other_are_named_together():
-    from studies.hidden_effects import quasi_static_protocol
+    from softcath.virtualbench.hidden_effects import quasi_static_protocol
 
     pair = ("dead_zone", "nonlinear_gain")
     case = make_case(pair, seed=0, noise_fraction=0.01, effect_to_noise=2.0, protocol=quasi_static_protocol())
@@ -178,7 +178,7 @@ def test_a_threshold_and_a_stiffening_that_hide_each_other_are_named_together():
 @pytest.mark.slow
 @pytest.mark.parametrize("effect", ["hysteresis", "dead_zone"])
 def test_effect_to_noise_1_on_the_default_and_step_protocols(effect):
-    from studies.hidden_effects import step_protocol
+    from softcath.virtualbench.hidden_effects import step_protocol
 
     for proto in (None, step_protocol()):
         case = make_case((effect,), seed=7, noise_fraction=0.01, effect_to_noise=1.0, protocol=proto)
@@ -196,9 +196,8 @@ def test_one_frequency_hysteresis_is_flagged_as_ambiguous():
 
 
 def test_fem_reference_names_the_lumen_term():
-    import analytic
-    import design
-    from fem.section_model import section_model
+    from softcath import analytic, design
+    from softcath.fem.section_model import section_model
 
     d = design.preset("paper")
     sec = section_model(d, poisson_cap=0.49).curvature_per_mm_per_MPa
@@ -231,7 +230,7 @@ def test_bad_arguments_name_the_parameter():
 
 
 def test_cli_writes_json_and_report(tmp_path):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     case = make_case(
         ("hysteresis",),
@@ -263,7 +262,7 @@ def test_cli_bad_input_is_one_line_and_exit_2(tmp_path):
         [
             sys.executable,
             "-m",
-            "studies",
+            "softcath",
             "discrepancy",
             str(tmp_path / "missing.csv"),
             "--out",
@@ -299,7 +298,7 @@ def _sine_csv(path, *, header="time_s,pressure_MPa,curvature_per_mm", extra="", 
 )
 def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
     # issue 15: two curvature columns used silently, 1e300 pressures, constant data
-    from studies.cli import main
+    from softcath.cli.main import main
 
     if kind == "duplicate":
         f = _sine_csv(
@@ -321,7 +320,7 @@ def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
 
 
 def test_excel_bom_file_goes_through_discrepancy(tmp_path, capsys):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     f = _sine_csv(tmp_path / "excel.csv", bom=True)
     assert main(["discrepancy", str(f), "--out", str(tmp_path / "o"), "--max-effects", "1"]) == 0
@@ -339,7 +338,7 @@ def test_write_report_from_api(tmp_path):
 
 @pytest.mark.slow
 def test_fem_reference_through_fem_check_when_available(tmp_path):
-    from studies.discrepancy.result import fem_reference
+    from softcath.studies.discrepancy.result import fem_reference
 
     fn = fem_reference()
     if fn is None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fem.mesh import _gmsh_session, extrude, skfem_mesh
+from softcath.fem.mesh import _gmsh_session, extrude, skfem_mesh
 
 
 def quarter_annulus(r_in: float, r_out: float, size: float, length: float, layers: int):
@@ -39,7 +39,7 @@ def quarter_annulus(r_in: float, r_out: float, size: float, length: float, layer
 
 
 def _orient(points, tets):
-    from fem.mesh import tet_volumes
+    from softcath.fem.mesh import tet_volumes
 
     tets = tets.copy()
     neg = tet_volumes(points, tets) < 0

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-import design
-from fem.coil import bending_curve, coil_wire, resolved_coil_stiffness
-from fem.coil import closed_forms as cf
-from fem.coil.contact import solve_with_contact
-from fem.errors import SolverError
+from softcath import design
+from softcath.fem.coil import bending_curve, coil_wire, resolved_coil_stiffness
+from softcath.fem.coil import closed_forms as cf
+from softcath.fem.coil.contact import solve_with_contact
+from softcath.fem.errors import SolverError
 
 
 @pytest.fixture(scope="module")

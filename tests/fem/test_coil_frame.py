@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
 
-from design.errors import DesignError
-from fem.coil import closed_forms as cf
-from fem.coil.frame import WireSection, frame_stiffness
-from fem.coil.model import build_coil_model
+from softcath.design.errors import DesignError
+from softcath.fem.coil import closed_forms as cf
+from softcath.fem.coil.frame import WireSection, frame_stiffness
+from softcath.fem.coil.model import build_coil_model
 
 STEEL = WireSection(diameter=0.1, youngs_modulus=193000.0, poisson_ratio=0.29)
 OPEN = {"radius": 1.0, "pitch": 0.3}  # spring index 20, helix angle 2.7°: an open coil

@@ -7,9 +7,9 @@ import doctest
 import numpy as np
 import pytest
 
-import design
-import fem.coil
-from fem.coil.homogenised import bimodular_annulus_bending, homogenised_models
+import softcath.fem.coil
+from softcath import design
+from softcath.fem.coil.homogenised import bimodular_annulus_bending, homogenised_models
 
 
 def test_bimodular_annulus_reduces_to_the_isotropic_annulus():
@@ -45,5 +45,5 @@ def test_homogenised_models_follow_design_coil_stiffness():
 
 
 def test_package_docstring_example():
-    result = doctest.testmod(fem.coil)
+    result = doctest.testmod(softcath.fem.coil)
     assert result.attempted == 4 and result.failed == 0  # the four lines of the example

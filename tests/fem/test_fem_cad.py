@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-import design
-from design.cad import export_step, export_stl, land_half_widths, solid_volumes
-from fem.adapter import geometry_from_design
+from softcath import design
+from softcath.design.cad import export_step, export_stl, land_half_widths, solid_volumes
+from softcath.fem.adapter import geometry_from_design
 
 
 def test_land_half_widths_match_the_fem_geometry():
@@ -24,7 +24,7 @@ def test_land_half_widths_match_the_fem_geometry():
 def test_cad_volumes_step_and_stl(tmp_path):
     import cadquery as cq
 
-    from fem.mesh import mesh_tip
+    from softcath.fem.mesh import mesh_tip
 
     d = design.preset("paper")
     cad = solid_volumes(d)
@@ -52,7 +52,7 @@ def test_helical_coil_option_has_the_wire_volume():
     import math
     from dataclasses import replace
 
-    from design.cad import build_solids
+    from softcath.design.cad import build_solids
 
     d = design.preset("paper")
     d = replace(d, tip=replace(d.tip, bending_length=1.0, cap_thickness=0.3))

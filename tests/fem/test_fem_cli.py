@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from studies.cli import main
+from softcath.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -43,7 +43,7 @@ def test_cli_writes_json_vtu_png(tmp_path, capsys):
 def test_cli_bad_input_exits_2_naming_the_parameter(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     proc = subprocess.run(
-        [sys.executable, "-m", "studies", "fem", "paper", "--pressure", "0.1",
+        [sys.executable, "-m", "softcath", "fem", "paper", "--pressure", "0.1",
          "--out", str(tmp_path), "--mesh-size", "0.001", "--no-png"],
         cwd=ROOT, env=env, capture_output=True, text=True, check=False,
     )  # fmt: skip

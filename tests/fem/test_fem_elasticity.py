@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from skfem import MeshTet
 
-from design.errors import DesignError
-from fem.elasticity import ElasticProblem
-from fem.errors import FemError, SolverError
-from fem.materials import Isotropic, TransverselyIsotropic
+from softcath.design.errors import DesignError
+from softcath.fem.elasticity import ElasticProblem
+from softcath.fem.errors import FemError, SolverError
+from softcath.fem.materials import Isotropic, TransverselyIsotropic
 from tests.fem._shapes import facets_where, quarter_annulus
 
 E, NU = 2.0, 0.3
@@ -63,7 +63,7 @@ def test_patch_test_on_a_pytetwild_mesh():
         warnings.simplefilter("ignore")  # pytetwild uses a deprecated pyvista accessor
         grid = pytetwild.tetrahedralize_pv(cube, edge_length_fac=0.25)
     tets = grid.cells_dict[10]
-    from fem.mesh import _orient
+    from softcath.fem.mesh import _orient
 
     mesh = MeshTet(np.asarray(grid.points, float).T, _orient(np.asarray(grid.points), tets).T)
     assert _patch_test(mesh, Isotropic(E, NU)) < 1e-9
@@ -184,7 +184,7 @@ def test_lame_thick_cylinder_closed_ends():
 def test_solver_refuses_a_bad_solve():
     import scipy.sparse as sp
 
-    from fem.solver import Factorized
+    from softcath.fem.solver import Factorized
 
     k = sp.diags([1.0, 2.0, 3.0]).tocsr()
     fac = Factorized(k, method="superlu", tol=1e-10)

@@ -7,11 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import design
-from design.errors import DesignError
-from fem.adapter import geometry_from_design
-from fem.mesh import mesh_tip, scaled_jacobian, tet_volumes
-from fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
+from softcath import design
+from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design
+from softcath.fem.mesh import mesh_tip, scaled_jacobian, tet_volumes
+from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +125,7 @@ if sys.argv[1] == "raw":
     gmsh.initialize()
     gmsh.finalize()
 else:
-    from fem.mesh import _gmsh_session
+    from softcath.fem.mesh import _gmsh_session
     with _gmsh_session():
         pass
 print(ignored())

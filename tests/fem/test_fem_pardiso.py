@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fem import pardiso
-from fem.solver import Factorized
+from softcath.fem import pardiso
+from softcath.fem.solver import Factorized
 
 pytestmark = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO is not installed")
 

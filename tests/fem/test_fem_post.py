@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import analytic
-from fem.post import bending_fit, principal_strain_max, tip_pose
+from softcath import analytic
+from softcath.fem.post import bending_fit, principal_strain_max, tip_pose
 
 
 def _beam_nodes(length=5.0, n=41):

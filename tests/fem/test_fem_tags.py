@@ -8,11 +8,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import design
-from fem.adapter import geometry_from_design, laws_from_design
-from fem.elasticity import ElasticProblem
-from fem.mesh import mesh_tip
-from fem.tags import tag_facets
+from softcath import design
+from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.elasticity import ElasticProblem
+from softcath.fem.mesh import mesh_tip
+from softcath.fem.tags import tag_facets
 
 
 def _ellipse_perimeter(a, b):  # Ramanujan II, relative error < 1e-9 here

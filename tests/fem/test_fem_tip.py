@@ -7,13 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import analytic
-import design
-import fem
-from fem.adapter import geometry_from_design, laws_from_design
-from fem.materials import Isotropic
-from fem.pipeline import axial_modulus, run_tip
-from fem.section import REGIONS
+from softcath import analytic, design, fem
+from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.materials import Isotropic
+from softcath.fem.pipeline import axial_modulus, run_tip
+from softcath.fem.section import REGIONS
 
 NU = 0.3
 

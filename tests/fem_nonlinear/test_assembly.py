@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from fem.nonlinear.errors import ConvergenceError, NonlinearError
-from fem.nonlinear.laws import AnisotropicSVK, neo_hookean, transversely_isotropic
-from fem.nonlinear.meshes import box, facets_where
-from fem.nonlinear.newton import solve
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError
+from softcath.fem.nonlinear.laws import AnisotropicSVK, neo_hookean, transversely_isotropic
+from softcath.fem.nonlinear.meshes import box, facets_where
+from softcath.fem.nonlinear.newton import solve
 
 SOFT = neo_hookean(shear_modulus=0.3, bulk_modulus=5.0)
 COIL = AnisotropicSVK(

@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
-import design
-from fem.nonlinear import add_cli_arguments, run_cli
-from fem.nonlinear.bend import bend_curve, departure_angle
-from fem.nonlinear.catheter import REGIONS, catheter_laws, mesh_catheter
-from fem.nonlinear.errors import NonlinearError
+from softcath import design
+from softcath.fem.nonlinear import add_cli_arguments, run_cli
+from softcath.fem.nonlinear.bend import bend_curve, departure_angle
+from softcath.fem.nonlinear.catheter import REGIONS, catheter_laws, mesh_catheter
+from softcath.fem.nonlinear.errors import NonlinearError
 
 
 @pytest.fixture(scope="module")
@@ -196,9 +196,9 @@ def test_cli_arguments_share_options_the_fem_command_already_has():
 @pytest.mark.slow
 def test_runs_on_the_linear_fem_mesh(paper):
     # the linear check's own mesher (quadratic MeshTet2, curved edges) plugs in through from_tip_mesh
-    from fem.adapter import geometry_from_design
-    from fem.mesh import mesh_tip
-    from fem.nonlinear.catheter import from_tip_mesh
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.mesh import mesh_tip
+    from softcath.fem.nonlinear.catheter import from_tip_mesh
 
     cm = from_tip_mesh(mesh_tip(geometry_from_design(paper), mesh_size=0.16, use_cache=False))
     c = bend_curve(paper, [0.001], load="cap", mesh=cm)

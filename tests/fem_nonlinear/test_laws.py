@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from fem.nonlinear.laws import (
+from softcath.design.errors import DesignError
+from softcath.fem.nonlinear.laws import (
     AnisotropicSVK,
     Yeoh,
     isotropic_from_young,

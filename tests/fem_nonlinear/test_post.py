@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fem.nonlinear.post import curvature_variation, max_principal_strain
+from softcath.fem.nonlinear.post import curvature_variation, max_principal_strain
 
 
 def test_max_principal_strain_closed_forms():

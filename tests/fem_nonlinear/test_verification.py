@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
-from fem.nonlinear.meshes import box, dofs_of_facets, facets_where
-from fem.nonlinear.newton import solve
-from fem.nonlinear.verification import closed_cylinder, closed_cylinder_exact, end_moment_cantilever
+from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
+from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
+from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where
+from softcath.fem.nonlinear.newton import solve
+from softcath.fem.nonlinear.verification import closed_cylinder, closed_cylinder_exact, end_moment_cantilever
 
 SILICONE = isotropic_from_young(youngs_modulus=2.46, poisson_ratio=0.45)
 COIL_C = transversely_isotropic(axial_modulus=1.24, transverse_modulus=400.0, axial_shear_modulus=0.8)

@@ -7,12 +7,12 @@ import json
 import numpy as np
 import pytest
 
-import design
-from design.measurement import read_measurement_csv as read_peer
-from design.measurement import read_recording
-from hardware.bench import BenchConfig, make_plant, run_bench
-from hardware.stage import SyringeModel
-from studies.cli import main
+from softcath import design
+from softcath.cli.main import main
+from softcath.design.measurement import read_measurement_csv as read_peer
+from softcath.design.measurement import read_recording
+from softcath.hardware.stage import SyringeModel
+from softcath.virtualbench.bench import BenchConfig, make_plant, run_bench
 
 SHORT = ["--freq", "2", "--cycles", "1", "--fps", "25"]
 
@@ -84,7 +84,7 @@ def test_stage_waveforms_follow_their_closed_forms(tmp_path, waveform):
 
 
 def test_effects_reach_the_plant(tmp_path):
-    pytest.importorskip("hardware.plant")
+    pytest.importorskip("softcath.virtualbench.plant")
     out = tmp_path / "e"
     assert main(["bench", "--out", str(out), *SHORT, "--effect", "offset:curvature_per_mm=0.02"]) == 0
     truth = json.loads((out / "truth.json").read_text())
@@ -112,7 +112,7 @@ def test_default_bench_run(tmp_path):
 
 
 def test_parse_effect():
-    from studies.cmd_bench import parse_effect
+    from softcath.cli.bench import parse_effect
 
     assert parse_effect("lag") == ("lag", {})
     assert parse_effect("hysteresis:n_centres=40, fraction=0.5") == (

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hardware.circlefit import fit_with_base, geometric_fit, hyper_fit, kasa_fit
+from softcath.hardware.circlefit import fit_with_base, geometric_fit, hyper_fit, kasa_fit
 
 
 def _arc(r, span_deg, n=40, xc=3.0, yc=-2.0, start_deg=10.0):

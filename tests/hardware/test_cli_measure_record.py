@@ -11,12 +11,12 @@ import cv2
 import numpy as np
 import pytest
 
-from design.measurement import read_recording
-from hardware.protocol import encode_frame
-from hardware.recorder import Recorder, RecorderConfig
-from hardware.render import Scene, render_frame, tip_pose
-from hardware.sensors import SerialSensor
-from studies.cli import main
+from softcath.cli.main import main
+from softcath.design.measurement import read_recording
+from softcath.hardware.protocol import encode_frame
+from softcath.hardware.recorder import Recorder, RecorderConfig
+from softcath.hardware.sensors import SerialSensor
+from softcath.virtualbench.render import Scene, render_frame, tip_pose
 
 SCENE = Scene(px_per_mm=40.0)
 ANGLES = [15.0, 45.0, 90.0, 135.0]
@@ -152,8 +152,8 @@ def test_socket_device_reconnects_without_losing_rows(tmp_path):
 
 
 def test_record_cli_with_stage_and_camera(video, tmp_path, capsys):
-    from hardware.stage import ZaberStage
-    from hardware.virtual_devices import VirtualClock, VirtualLineDevice, VirtualStage
+    from softcath.hardware.stage import ZaberStage
+    from softcath.virtualbench.devices import VirtualClock, VirtualLineDevice, VirtualStage
 
     clock = VirtualClock(manual=True)
     stage_dev = VirtualStage(clock)
@@ -210,7 +210,7 @@ def test_record_cli_with_stage_and_camera(video, tmp_path, capsys):
 
 
 def test_measure_cli_scale_from_a_chessboard(video, tmp_path, capsys):
-    from hardware.render import render_chessboard
+    from softcath.virtualbench.render import render_chessboard
 
     # 40 px squares of 1 mm: the frames' 40 px/mm
     board = render_chessboard(squares=(10, 7), square_px=40.0, size=(640, 480), origin=(40.0, 40.0))

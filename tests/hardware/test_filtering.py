@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from design.errors import DataError
-from hardware.filtering import (
+from softcath.design.errors import DataError
+from softcath.hardware.filtering import (
     PAPER_FILTER,
     FilterSpec,
     causal_filter,
@@ -90,6 +90,6 @@ def test_bad_specs_name_the_bound():
 
 
 def test_recorder_time_base_is_the_filters():
-    from hardware import filtering, recorder
+    from softcath.hardware import filtering, recorder
 
     assert recorder.RecorderConfig().fs_hz == recorder.PAPER_FS_HZ == filtering.PAPER_FS_HZ

@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from design.measurement import read_recording
-from hardware.recorder import CsvSink, Recorder, RecorderConfig
-from hardware.sensors import SerialSensor
-from hardware.virtual_devices import VirtualLineDevice
+from softcath.design.errors import DesignError
+from softcath.design.measurement import read_recording
+from softcath.hardware.recorder import CsvSink, Recorder, RecorderConfig
+from softcath.hardware.sensors import SerialSensor
+from softcath.virtualbench.devices import VirtualLineDevice
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -116,7 +116,16 @@ def test_csv_sink_syncs_at_least_every_second(tmp_path):
 
 def _record_subprocess(press, enc, out, *extra: str, stdout) -> subprocess.Popen:
     """``softcath record`` on the two virtual devices in a child process, as a user runs it."""
-    cmd = [sys.executable, "-m", "studies", "record", "--pressure-port", press.url, "--encoder-port", enc.url]
+    cmd = [
+        sys.executable,
+        "-m",
+        "softcath",
+        "record",
+        "--pressure-port",
+        press.url,
+        "--encoder-port",
+        enc.url,
+    ]
     return subprocess.Popen(
         [*cmd, *extra, "--out", str(out)],
         cwd=ROOT,

@@ -7,11 +7,11 @@ import time
 import numpy as np
 import pytest
 
-from hardware.errors import DeviceError
-from hardware.ports import LineReader, open_port
-from hardware.protocol import LineDecoder, checksum, encode_frame, encode_plain
-from hardware.sensors import SerialSensor
-from hardware.virtual_devices import VirtualLineDevice
+from softcath.hardware.errors import DeviceError
+from softcath.hardware.ports import LineReader, open_port
+from softcath.hardware.protocol import LineDecoder, checksum, encode_frame, encode_plain
+from softcath.hardware.sensors import SerialSensor
+from softcath.virtualbench.devices import VirtualLineDevice
 
 
 def _collect(sensor: SerialSensor, n: int, timeout_s: float = 5.0):

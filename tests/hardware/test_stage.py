@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from hardware.errors import DeviceError
-from hardware.stage import (
+from softcath.design.errors import DesignError
+from softcath.hardware.errors import DeviceError
+from softcath.hardware.stage import (
     SyringeModel,
     ZaberStage,
     format_command,
@@ -15,7 +15,7 @@ from hardware.stage import (
     parse_reply,
     sine_trajectory,
 )
-from hardware.virtual_devices import VirtualClock, VirtualStage
+from softcath.virtualbench.devices import VirtualClock, VirtualStage
 
 
 def test_lrc_makes_byte_sum_zero():

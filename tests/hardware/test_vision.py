@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from hardware.calibration import scale_from_chessboard, scale_from_points
-from hardware.errors import FrameSourceError
-from hardware.frames import VideoWriter, open_source
-from hardware.render import Scene, render_chessboard, render_frame, tip_pose
-from hardware.tipvision import Calibration, draw_overlay, measure
+from softcath.design.errors import DesignError
+from softcath.hardware.calibration import scale_from_chessboard, scale_from_points
+from softcath.hardware.errors import FrameSourceError
+from softcath.hardware.frames import VideoWriter, open_source
+from softcath.hardware.tipvision import Calibration, draw_overlay, measure
+from softcath.virtualbench.render import Scene, render_chessboard, render_frame, tip_pose
 
 L_MM = 5.0
 SCENE = Scene(px_per_mm=40.0, noise=2.0)
@@ -127,7 +127,7 @@ def test_unreadable_sources_say_so(tmp_path):
 
 @pytest.mark.parametrize("method", ["default", "paper"])
 def test_overlay_draws_the_fitted_arc_on_the_tube(method):
-    from hardware.render import arc_points
+    from softcath.virtualbench.render import arc_points
 
     k, f = _frame(80)
     m = measure(f, CAL, method=method)
@@ -147,7 +147,7 @@ def test_overlay_draws_the_fitted_arc_on_the_tube(method):
 def test_camera_intrinsics_recover_a_known_focal_length():
     import cv2
 
-    from hardware.calibration import camera_intrinsics
+    from softcath.hardware.calibration import camera_intrinsics
 
     # board: 10x7 squares of 30 px at origin (40, 40) -> 1 board px = 0.1 mm (3 mm squares)
     board = render_chessboard(squares=(10, 7), square_px=30.0, size=(400, 300), origin=(40.0, 40.0))

@@ -57,8 +57,8 @@ class CliRun:
 
 @pytest.fixture
 def cli(capsys):
-    """``cli(*argv) -> CliRun``: run :func:`studies.cli.main` in this process."""
-    from studies.cli import main
+    """``cli(*argv) -> CliRun``: run :func:`softcath.cli.main.main` in this process."""
+    from softcath.cli.main import main
 
     def run(*argv) -> CliRun:
         capsys.readouterr()

@@ -1,4 +1,4 @@
-"""studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one line."""
+"""softcath.studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one line."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import sys
 
 import pytest
 
-from design.errors import DataError, DesignError
-from studies.atomic import (
+from softcath.design.errors import DataError, DesignError
+from softcath.studies.atomic import (
     Outputs,
     atomic_path,
     check_parent,

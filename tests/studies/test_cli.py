@@ -1,4 +1,4 @@
-"""studies.cli: one error path for every command (one line, exit 2, --debug traceback, stdout failures)."""
+"""softcath.cli.main: one error path for every command (one line, exit 2, --debug traceback, stdout failures)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-import studies.cmd_analytic
-from studies.cli import main
+import softcath.cli.analytic
+from softcath.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
@@ -58,7 +58,7 @@ def test_an_unexpected_exception_is_one_line_and_exit_2(monkeypatch, cli):
     def broken(args):
         raise KeyError("internal")
 
-    monkeypatch.setattr(studies.cmd_analytic, "run", broken)
+    monkeypatch.setattr(softcath.cli.analytic, "run", broken)
     r = cli("analytic", "paper", "--out", "unused")
     assert r.status == 2 and "Traceback" not in r.err
     (line,) = r.err.strip().splitlines()
@@ -75,7 +75,7 @@ def test_stdout_to_a_full_device_is_an_error_not_a_traceback():
         pytest.skip("no /dev/full on this system")
     with open("/dev/full", "w") as full:
         proc = subprocess.run(
-            [sys.executable, "-m", "studies", "design", "show", "paper"],
+            [sys.executable, "-m", "softcath", "design", "show", "paper"],
             cwd=ROOT,
             env=dict(os.environ, PYTHONPATH=str(ROOT)),
             stdout=full,
@@ -91,7 +91,7 @@ def test_stdout_to_a_full_device_is_an_error_not_a_traceback():
 
 def test_a_closed_pipe_is_an_error_not_a_traceback():
     proc = subprocess.Popen(
-        [sys.executable, "-m", "studies", "design", "show", "paper", "--toml"],
+        [sys.executable, "-m", "softcath", "design", "show", "paper", "--toml"],
         cwd=ROOT,
         env=dict(os.environ, PYTHONPATH=str(ROOT)),
         stdout=subprocess.PIPE,

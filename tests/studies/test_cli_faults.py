@@ -15,8 +15,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from design.measurement import read_recording
-from hardware.virtual_devices import VirtualLineDevice
+from softcath.design.measurement import read_recording
+from softcath.virtualbench.devices import VirtualLineDevice
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
@@ -26,7 +26,7 @@ ENV = dict(os.environ, PYTHONPATH=str(ROOT))
 def _softcath(*argv, **kw) -> subprocess.Popen:
     kw = {"stdout": subprocess.PIPE, "stderr": subprocess.PIPE, **kw}
     return subprocess.Popen(
-        [sys.executable, "-m", "studies", *map(str, argv)], cwd=ROOT, env=ENV, text=True, **kw
+        [sys.executable, "-m", "softcath", *map(str, argv)], cwd=ROOT, env=ENV, text=True, **kw
     )
 
 
@@ -170,7 +170,7 @@ def test_calibrate_killed_mid_write_keeps_whole_outputs(tmp_path, cli, sig):
     now = _digest(out)
     assert set(now) == set(good)  # every output still there, none half-written:
     json.loads((out / "calibration.json").read_text(), parse_constant=pytest.fail)
-    import design
+    from softcath import design
 
     design.load(out / "calibrated_design.toml")
     if sig == signal.SIGTERM:

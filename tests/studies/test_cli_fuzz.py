@@ -5,7 +5,7 @@ The property, for every input: exit 0 with finite outputs, or exit 2 with one li
 ``softcath CMD: error: ...`` naming the parameter; never a traceback, a NaN in a JSON
 output, or an earlier good output destroyed. Commands whose valid runs take seconds
 (fem, bench, record, discrepancy, demo) are fuzzed on the inputs they must refuse before
-any work; the others on everything. Runs in-process through ``studies.cli.main``.
+any work; the others on everything. Runs in-process through ``softcath.cli.main.main``.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ import pytest
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
-import design
-from fem.limits import check_fem_budget
+from softcath import design
+from softcath.fem.limits import check_fem_budget
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
@@ -236,7 +236,7 @@ def test_sweep_spec(cli, tmp_path, f):
 
 @pytest.fixture(scope="module")
 def sweep_dir(tmp_path_factory):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     root = tmp_path_factory.mktemp("fuzz-sweep")
     spec = root / "spec.toml"
@@ -462,7 +462,7 @@ def test_demo_options(cli, tmp_path, workers, only, design_ref):
 @pytest.fixture(scope="module")
 def frames(tmp_path_factory):
     cv2 = pytest.importorskip("cv2")
-    from hardware.render import Scene, render_frame
+    from softcath.virtualbench.render import Scene, render_frame
 
     scene = Scene(px_per_mm=40.0)
     folder = tmp_path_factory.mktemp("frames")

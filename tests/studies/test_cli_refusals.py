@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import design
+from softcath import design
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
@@ -171,7 +171,7 @@ def test_demo_with_a_binary_data_file_is_refused_up_front(tmp_path, cli):
 
 def test_measure_with_a_base_outside_the_image_is_refused(tmp_path, cli):
     cv2 = pytest.importorskip("cv2")
-    from hardware.render import Scene, render_frame
+    from softcath.virtualbench.render import Scene, render_frame
 
     scene = Scene(px_per_mm=40.0)
     rng = np.random.default_rng(0)
@@ -227,7 +227,7 @@ def test_paper_preset_and_design_show_agree_on_material_keys(tmp_path, cli):
 def test_small_fem_example_states_the_fem_default_mesh_size():
     import inspect
 
-    import fem
+    from softcath import fem
 
     default = inspect.signature(fem.check).parameters["mesh_size"].default
     text = (ROOT / "examples" / "sweeps" / "small_fem.toml").read_text()

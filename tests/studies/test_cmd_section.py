@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import json
 
-from studies.cli import main
+from softcath.cli.main import main
 
 KEYS = (
     "curvature_per_mm_per_MPa", "elongation_per_MPa", "EA_N", "EI_N_mm2", "neutral_axis_mm",
@@ -50,7 +50,7 @@ def test_bad_poisson_is_one_line(tmp_path, capsys):
 def test_coil_models_and_coil_bound(tmp_path, capsys):
     import pytest
 
-    from fem.section_model import bend_curve, section_model
+    from softcath.fem.section_model import bend_curve, section_model
 
     out = tmp_path / "r"
     assert main(["section", "paper", "--coil-model", "resolved", "--no-png", "--out", str(out)]) == 0

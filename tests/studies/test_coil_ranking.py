@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import design
-from fem.section_model import section_model
-from studies.coil_ranking import COIL_SWEEP, random_coil_designs, rank_by_coil_model
+from softcath import design
+from softcath.fem.section_model import section_model
+from softcath.studies.coil_ranking import COIL_SWEEP, random_coil_designs, rank_by_coil_model
 
 
 @pytest.fixture(scope="module")

@@ -7,10 +7,9 @@ import json
 import numpy as np
 import pytest
 
-import analytic
-import design
-from fem.section_model import section_model
-from studies.discrepancy.designs import DesignCase, run_design_workflow
+from softcath import analytic, design
+from softcath.fem.section_model import section_model
+from softcath.studies.discrepancy.designs import DesignCase, run_design_workflow
 
 
 def _cases(designs, reference, seed, noise):
@@ -27,7 +26,7 @@ def _cases(designs, reference, seed, noise):
 
 @pytest.fixture(scope="module")
 def designs():
-    from studies.sweep.random_designs import random_designs
+    from softcath.studies.sweep.random_designs import random_designs
 
     return random_designs(12, seed=3)
 
@@ -65,7 +64,7 @@ def test_real_fem_sweep_names_the_ingredients(tmp_path):
     """A real 3-D FEM sweep through ``softcath sweep`` and ``softcath discrepancy SWEEP --reference fem``."""
     from pathlib import Path
 
-    from studies.cli import main
+    from softcath.cli.main import main
 
     spec = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / "ingredients_fem.toml"
     sweep = tmp_path / "sweep"

@@ -8,11 +8,10 @@ import tomllib
 import numpy as np
 import pytest
 
-import analytic
-import design
-from design import presets
-from studies.predict import Range, predict_tier
-from studies.predict.band import measured_position, percentiles
+from softcath import analytic, design
+from softcath.design import presets
+from softcath.studies.predict import Range, predict_tier
+from softcath.studies.predict.band import measured_position, percentiles
 
 E_PATH = "materials.medical_silicone_tubing.youngs_modulus"
 E_LOW, E_HIGH = 1.648, 4.43
@@ -87,7 +86,7 @@ def test_categorical_levels_split_the_unit_interval_evenly():
 def test_section_tier_percentiles_bracket_the_section_model_at_the_quantiles():
     # The section tier with only the tube's nu on the nu-log scale: kappa/p rises with nu (checked),
     # so its median lies between the section model at the u = 0.5 -/+ 2/n quantiles (as above).
-    from fem.section_model import section_model
+    from softcath.fem.section_model import section_model
 
     nu = Range("materials.medical_silicone_tubing.poisson_ratio", low=0.49, high=0.4999, scale="nu-log")
 

@@ -9,11 +9,11 @@ import tomllib
 import numpy as np
 import pytest
 
-from design import presets
-from design.errors import DesignError
-from studies.cli import main
-from studies.predict import Range, predict, predict_tier, resolve_ranges
-from studies.predict.ranges import default_ranges, load_ranges
+from softcath.cli.main import main
+from softcath.design import presets
+from softcath.design.errors import DesignError
+from softcath.studies.predict import Range, predict, predict_tier, resolve_ranges
+from softcath.studies.predict.ranges import default_ranges, load_ranges
 
 E_PATH = "materials.medical_silicone_tubing.youngs_modulus"
 TABLE = tomllib.loads(presets.text("paper"))

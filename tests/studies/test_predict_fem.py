@@ -7,8 +7,8 @@ import tomllib
 import numpy as np
 import pytest
 
-from design import presets
-from studies.predict import Range, predict_tier
+from softcath.design import presets
+from softcath.studies.predict import Range, predict_tier
 
 TABLE = tomllib.loads(presets.text("paper"))
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from design.errors import DesignError
-from studies.predict.finite_strain import finite_strain_point, line_fit
+from softcath.design.errors import DesignError
+from softcath.studies.predict.finite_strain import finite_strain_point, line_fit
 
 
 def test_line_fit_recovers_slope_and_intercept_of_points_on_a_line():
@@ -35,7 +35,7 @@ def test_finite_strain_gain_tends_to_the_linear_fem_on_the_same_mesh():
 def test_cli_adds_the_finite_strain_point_to_json_and_picture(tmp_path):
     import json
 
-    from studies.cli import main
+    from softcath.cli.main import main
 
     argv = ["predict", "paper", "--model", "paper", "--samples", "8", "--finite-strain", "--pressures",
             "0.005,0.01", "--measured-gain", "0.388", "--no-progress", "--out", str(tmp_path)]  # fmt: skip
@@ -46,7 +46,7 @@ def test_cli_adds_the_finite_strain_point_to_json_and_picture(tmp_path):
 
 
 def test_cli_refuses_bad_pressures_in_one_line(tmp_path, capsys):
-    from studies.cli import main
+    from softcath.cli.main import main
 
     argv = ["predict", "paper", "--model", "paper", "--samples", "8", "--finite-strain", "--pressures", "0.1,x",
             "--out", str(tmp_path)]  # fmt: skip

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from design import presets
-from design.errors import DesignError
-from studies.predict import predict, resolve_ranges
+from softcath.design import presets
+from softcath.design.errors import DesignError
+from softcath.studies.predict import predict, resolve_ranges
 
 
 @pytest.fixture

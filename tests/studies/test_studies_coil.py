@@ -6,10 +6,10 @@ import json
 
 import pytest
 
-import design
-from fem.coil import closed_forms as cf
-from fem.coil import coil_wire
-from studies.cli import main
+from softcath import design
+from softcath.cli.main import main
+from softcath.fem.coil import closed_forms as cf
+from softcath.fem.coil import coil_wire
 
 
 def test_coil_writes_json_and_png(tmp_path):

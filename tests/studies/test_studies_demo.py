@@ -12,11 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import analytic
-import design
-from studies import demo
-from studies.cli import main
-from studies.sweep import fem_check_function
+from softcath import analytic, design
+from softcath.cli.main import main
+from softcath.studies import demo
+from softcath.studies.sweep import fem_check_function
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -84,8 +83,8 @@ def test_tiers_section_shows_the_three_tiers_and_the_nu_plot(tmp_path, fem):
     With the FEM (one 3-D design, ~10-20 s: slow) its mid-span curvature agrees with the section model's
     within 1 % under both loads (0.3 % measured on the paper design; the FEM's default mesh adds < 0.5 %).
     """
-    from fem.section_model import section_model
-    from studies.demo_tiers import NU_SWEEP
+    from softcath.fem.section_model import section_model
+    from softcath.studies.demo_tiers import NU_SWEEP
 
     if fem and fem_check_function() is None:
         pytest.skip("fem.check is not installed")
@@ -115,7 +114,7 @@ def test_full_demo_subprocess(tmp_path):
     """`softcath demo --out DIR` end to end as a user runs it; no section may fail."""
     out = tmp_path / "demo"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.run([sys.executable, "-m", "studies", "demo", "--out", str(out)], cwd=ROOT, env=env,
+    proc = subprocess.run([sys.executable, "-m", "softcath", "demo", "--out", str(out)], cwd=ROOT, env=env,
                           capture_output=True, text=True, timeout=900)  # fmt: skip
     assert proc.returncode == 0, proc.stderr[-2000:]
     sections = json.loads((out / "demo.json").read_text())["sections"]

@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
-import design
-from fem.section_model import section_model
-from studies.cli import main
+from softcath import design
+from softcath.cli.main import main
+from softcath.fem.section_model import section_model
 
 COLUMNS = ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
 

@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from studies.report import write_report
-from studies.sweep import load_spec, run_sweep
+from softcath.studies.report import write_report
+from softcath.studies.sweep import load_spec, run_sweep
 
 
 @pytest.mark.slow

@@ -6,9 +6,9 @@ import re
 
 import pytest
 
-from studies.cli import main
-from studies.report import design_of
-from studies.sweep import expand, load_spec, variant_table
+from softcath.cli.main import main
+from softcath.studies.report import design_of
+from softcath.studies.sweep import expand, load_spec, variant_table
 
 
 def _images(html: str) -> list[str]:
@@ -18,7 +18,7 @@ def _images(html: str) -> list[str]:
 def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
-    from studies.report import _selection_html
+    from softcath.studies.report import _selection_html
 
     assert "No selection yet" in _selection_html(out)
     select = [
@@ -46,7 +46,7 @@ def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, ca
 
 
 def test_design_of_rebuilds_the_swept_design(small_spec, tmp_path):
-    import design
+    from softcath import design
 
     out = tmp_path / "o"
     assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
@@ -84,7 +84,7 @@ def test_lhs_sweep_report_has_rbd_fast(spec_writer, tmp_path, n):
     # Closed form: κ = p A_p (y_p − ȳ)/ΣEI does not depend on the bending length, and rises with h.
     import pandas as pd
 
-    from studies.report import figures
+    from softcath.studies.report import figures
 
     df = pd.read_parquet(out / "results.parquet")
     _, rows = figures.sensitivity(df, ["tube.h", "tip.bending_length"], True, tmp_path / "s.png")

@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
-from design.errors import DesignError
-from studies.report import design_of
-from studies.results import model_columns, read_results
-from studies.sweep import load_spec, run_sweep
-from studies.sweep.spec import SECTION_CHUNK, parse_spec
+from softcath.design.errors import DesignError
+from softcath.studies.report import design_of
+from softcath.studies.results import model_columns, read_results
+from softcath.studies.sweep import load_spec, run_sweep
+from softcath.studies.sweep.spec import SECTION_CHUNK, parse_spec
 
 SPEC = """
 [sweep]
@@ -36,8 +36,8 @@ def section_sweep(tmp_path_factory):
 
 
 def test_section_columns_equal_the_section_model_of_each_design(section_sweep):
-    from fem.section_model import section_model
-    from fem.section_model.strain import silicone_strain_range
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.strain import silicone_strain_range
 
     _, out, df = section_sweep
     ok = df[df.status == "ok"]
@@ -146,8 +146,8 @@ def test_shipped_section_example_parses():
 
 
 def test_select_ranks_on_the_section_model_under_the_lumen_load_by_default(section_sweep, capsys):
-    from studies.cli import main
-    from studies.selection import SelectionError, select
+    from softcath.cli.main import main
+    from softcath.studies.selection import SelectionError, select
 
     _, out, df = section_sweep
     sel = select(df, objectives=["maximise bend_per_MPa_deg"])
@@ -174,8 +174,8 @@ def test_select_ranks_on_the_section_model_under_the_lumen_load_by_default(secti
 
 
 def test_select_on_an_analytic_sweep_says_the_papers_formula_was_used(small_spec, tmp_path, capsys):
-    from studies.cli import main
-    from studies.selection import SelectionError, select
+    from softcath.cli.main import main
+    from softcath.studies.selection import SelectionError, select
 
     run_sweep(load_spec(small_spec), tmp_path / "old", workers=1, progress=False)
     df = read_results(tmp_path / "old")
@@ -191,8 +191,8 @@ def test_select_on_an_analytic_sweep_says_the_papers_formula_was_used(small_spec
 
 
 def test_report_shows_the_tiers_side_by_side(section_sweep, small_spec, tmp_path):
-    from studies.report import write_report
-    from studies.report.figures import tier_agreement
+    from softcath.studies.report import write_report
+    from softcath.studies.report.figures import tier_agreement
 
     _, out, df = section_sweep
     path, _ = write_report(out)
@@ -214,7 +214,7 @@ def test_fem_and_section_agree_in_a_sweep(spec_writer, tmp_path):
     within 2 % on random designs (fem/section_model tests); the FEM's coarse
     0.16 mm mesh adds < 1 %: 2 % here.
     """
-    from studies.report import write_report
+    from softcath.studies.report import write_report
 
     spec = spec_writer(
         """

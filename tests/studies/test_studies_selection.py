@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from studies.cli import main
-from studies.selection import SelectionError, pareto_front, parse_constraint, parse_objective, select
+from softcath.cli.main import main
+from softcath.studies.selection import SelectionError, pareto_front, parse_constraint, parse_objective, select
 
 
 def _table() -> pd.DataFrame:

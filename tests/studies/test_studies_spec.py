@@ -7,10 +7,10 @@ import itertools
 import numpy as np
 import pytest
 
-import design
-from design.errors import DesignError
-from studies.sweep import expand, latin_hypercube, load_spec, parse_spec, variant_table
-from studies.sweep.variants import VariantBuilder
+from softcath import design
+from softcath.design.errors import DesignError
+from softcath.studies.sweep import expand, latin_hypercube, load_spec, parse_spec, variant_table
+from softcath.studies.sweep.variants import VariantBuilder
 
 
 def _spec(params: dict, **sweep) -> dict:
@@ -171,7 +171,7 @@ def test_fem_result_forms_are_read_the_same():
     """The FEM adapter's reader: the same numbers in each accepted result layout give the same rows."""
     from dataclasses import dataclass
 
-    from studies.sweep.evaluators import fem_records
+    from softcath.studies.sweep.evaluators import fem_records
 
     @dataclass(frozen=True)
     class Case:  # the layout of one (load, pressure) entry of fem.json

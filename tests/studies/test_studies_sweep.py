@@ -10,12 +10,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import analytic
-import design
-from design.errors import DataError
-from studies.cli import main
-from studies.results import add_derived_columns
-from studies.sweep import (
+from softcath import analytic, design
+from softcath.cli.main import main
+from softcath.design.errors import DataError
+from softcath.studies.results import add_derived_columns
+from softcath.studies.sweep import (
     FEM_UNAVAILABLE,
     SweepStore,
     build_tasks,
@@ -231,7 +230,7 @@ def test_sigkill_midway_resumes_without_recomputation(spec_writer, tmp_path):
     cmd = [
         sys.executable,
         "-m",
-        "studies",
+        "softcath",
         "sweep",
         str(spec_path),
         "--out",
@@ -310,7 +309,7 @@ def test_material_paths_scale_exactly(spec_writer, tmp_path):
 
 
 def test_failed_task_rows_keep_analytic_values(small_spec):
-    from studies.sweep.runner import _failed_frame
+    from softcath.studies.sweep.runner import _failed_frame
 
     spec = load_spec(small_spec)
     task = build_tasks(spec, expand(spec))[0]
@@ -374,7 +373,7 @@ def test_dask_malloc_threshold_is_undone_in_a_worker_process():
     import subprocess
     import sys
 
-    code = "from studies.sweep.evaluators import restore_malloc_thresholds as r; print(r(), r())"
+    code = "from softcath.studies.sweep.evaluators import restore_malloc_thresholds as r; print(r(), r())"
     env = {k: v for k, v in os.environ.items() if k != "MALLOC_TRIM_THRESHOLD_"}
     plain = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert plain.stdout.split() == ["False", "False"]

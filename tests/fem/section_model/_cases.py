@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
-from fem.section_model.assembly import assemble
-from fem.section_model.laws import isotropic
-from fem.section_model.mesh import disk_section_mesh
-from fem.section_model.solve import solve
+from softcath.fem.section_model.assembly import assemble
+from softcath.fem.section_model.laws import isotropic
+from softcath.fem.section_model.mesh import disk_section_mesh
+from softcath.fem.section_model.solve import solve
 
 SOLID, FILL, STEEL, VOID = 2, 4, 1, 0
 

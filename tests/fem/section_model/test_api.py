@@ -5,9 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import analytic
-import design
-from fem.section_model import section_model, section_response
+from softcath import analytic, design
+from softcath.fem.section_model import section_model, section_response
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +52,7 @@ def test_wahl_coils_stiffen_bending_only():
 
 
 def test_picture(tmp_path, paper):
-    from fem.section_model.picture import axial_stress, section_picture
+    from softcath.fem.section_model.picture import axial_stress, section_picture
 
     path = section_picture(paper, tmp_path / "s.png", pressure=0.3)
     assert path.stat().st_size > 10_000

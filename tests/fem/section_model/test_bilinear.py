@@ -8,18 +8,18 @@ import math
 import numpy as np
 import pytest
 
-import design
-from fem.coil import bending_curve
-from fem.coil.homogenised import bimodular_annulus_bending
-from fem.section import COIL
-from fem.section_model import section_model
-from fem.section_model.assembly import assemble
-from fem.section_model.bilinear import annulus_fibres, bend_curve
-from fem.section_model.coil_models import helix_stiffness
-from fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
-from fem.section_model.laws import laws_from_design
-from fem.section_model.mesh import disk_section_mesh
-from fem.section_model.solve import solve
+from softcath import design
+from softcath.fem.coil import bending_curve
+from softcath.fem.coil.homogenised import bimodular_annulus_bending
+from softcath.fem.section import COIL
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.assembly import assemble
+from softcath.fem.section_model.bilinear import annulus_fibres, bend_curve
+from softcath.fem.section_model.coil_models import helix_stiffness
+from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
+from softcath.fem.section_model.laws import laws_from_design
+from softcath.fem.section_model.mesh import disk_section_mesh
+from softcath.fem.section_model.solve import solve
 
 
 @pytest.fixture(scope="module")

@@ -15,10 +15,10 @@ import math
 import numpy as np
 import pytest
 
-from fem.section_model.assembly import assemble
-from fem.section_model.laws import isotropic
-from fem.section_model.mesh import disk_section_mesh
-from fem.section_model.solve import solve
+from softcath.fem.section_model.assembly import assemble
+from softcath.fem.section_model.laws import isotropic
+from softcath.fem.section_model.mesh import disk_section_mesh
+from softcath.fem.section_model.solve import solve
 from tests.fem.section_model._cases import SOLID, VOID, eccentric_tube, eccentric_tube_exact
 
 TOL = 2e-4
@@ -177,9 +177,8 @@ def test_nu0_composite_against_sectionproperties():
 def test_paper_design_without_poisson_and_with_wahl_coils_is_the_papers_formula():
     """All nu = 0, coils with Wahl's EI: the paper's eq. 7. The residual is the bonded lands
     (< 0.5 % of the section's stiffness, measured 0.3 %), which the formula does not have."""
-    import analytic
-    import design
-    from fem.section_model import section_model
+    from softcath import analytic, design
+    from softcath.fem.section_model import section_model
 
     d = design.preset("paper")
     r = section_model(d, poisson=False, coil_bending="wahl", loads=("cap",))

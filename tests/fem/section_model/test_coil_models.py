@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-import design
-from fem.coil import resolved_coil_stiffness
-from fem.section_model import section_model
-from fem.section_model.coil_models import COIL_MODELS, coil_section_stiffness, model_options
+from softcath import design
+from softcath.fem.coil import resolved_coil_stiffness
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.coil_models import COIL_MODELS, coil_section_stiffness, model_options
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fem.section_model import section_model
+from softcath.fem.section_model import section_model
 
 
 def test_observed_order_and_default_mesh_at_nu_04999():

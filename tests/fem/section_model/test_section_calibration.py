@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import design
-from analytic.io import Measurement
-from design.errors import DesignError
-from fem.section_model import section_model
-from fem.section_model.calibration import calibrate_section
+from softcath import design
+from softcath.analytic.io import Measurement
+from softcath.design.errors import DesignError
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.calibration import calibrate_section
 
 
 def section_series(truth, load="lumen"):

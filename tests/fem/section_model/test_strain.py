@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fem.section_model.assembly import assemble
-from fem.section_model.laws import isotropic
-from fem.section_model.mesh import disk_section_mesh
-from fem.section_model.solve import solve
-from fem.section_model.strain import principal_strain_range
+from softcath.fem.section_model.assembly import assemble
+from softcath.fem.section_model.laws import isotropic
+from softcath.fem.section_model.mesh import disk_section_mesh
+from softcath.fem.section_model.solve import solve
+from softcath.fem.section_model.strain import principal_strain_range
 
 
 @pytest.mark.parametrize("nu", [0.3, 0.49])

@@ -15,14 +15,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import design
-from fem.section_model import section_model
+from softcath import design
+from softcath.fem.section_model import section_model
 
 pytestmark = pytest.mark.slow
 
 
 def _fem3d(d, loads=("cap", "lumen")):
-    import fem
+    from softcath import fem
 
     r = fem.check(d, pressures=[0.1], loads=loads)
     return {ld: r.case(ld, 0.1).curvature_per_mm / 0.1 for ld in loads}, r
@@ -39,7 +39,7 @@ def test_paper_design_within_1_percent_both_loads():
 
 
 def test_random_designs_within_2_percent():
-    from studies.sweep.random_designs import random_designs
+    from softcath.studies.sweep.random_designs import random_designs
 
     designs = random_designs(10, seed=11)
     worst = 0.0
@@ -55,7 +55,7 @@ def test_random_designs_within_2_percent():
 
 def _midspan_curvature(curve, step: int = 0) -> float:
     """Slope of the section rotation over the middle of the tip (the linear check's reading)."""
-    from fem.nonlinear.post import bend_angle
+    from softcath.fem.nonlinear.post import bend_angle
 
     nodes = curve.model.body.nodes
     u = curve.result.displacements[step]
@@ -83,16 +83,16 @@ def test_finite_strain_mixed_fem_at_small_load(nu):
     """
     from dataclasses import replace
 
-    from fem.adapter import geometry_from_design
-    from fem.materials import TransverselyIsotropic
-    from fem.mesh import mesh_tip
-    from fem.nonlinear import bend_curve
-    from fem.nonlinear.catheter import from_tip_mesh
-    from fem.section import CHANNEL, COIL
-    from fem.section_model.assembly import assemble
-    from fem.section_model.laws import from_tensor, laws_from_design
-    from fem.section_model.mesh import catheter_section_mesh
-    from fem.section_model.solve import solve
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.materials import TransverselyIsotropic
+    from softcath.fem.mesh import mesh_tip
+    from softcath.fem.nonlinear import bend_curve
+    from softcath.fem.nonlinear.catheter import from_tip_mesh
+    from softcath.fem.section import CHANNEL, COIL
+    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.laws import from_tensor, laws_from_design
+    from softcath.fem.section_model.mesh import catheter_section_mesh
+    from softcath.fem.section_model.solve import solve
 
     base = design.preset("paper")
     tube = replace(base.tube, material=replace(base.tube.material, poisson_ratio=nu))

@@ -59,10 +59,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import math
 
-    from design.errors import DataError, DesignError
-    from studies.atomic import prepare_out_dir, staged_dir, unstage
-    from studies.discrepancy import run_workflow, write_report
-    from studies.discrepancy.result import fem_reference
+    from softcath.design.errors import DataError, DesignError
+    from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
+    from softcath.studies.discrepancy import run_workflow, write_report
+    from softcath.studies.discrepancy.result import fem_reference
 
     out = prepare_out_dir(args.out)
     if args.margin is not None and not (math.isfinite(args.margin) and 0 <= args.margin < 1):
@@ -127,8 +127,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_designs(args: argparse.Namespace) -> int:
-    from studies.discrepancy.designs import load_sweep_cases, run_design_workflow
-    from studies.discrepancy.designs_report import write_design_report
+    from softcath.studies.discrepancy.designs import load_sweep_cases, run_design_workflow
+    from softcath.studies.discrepancy.designs_report import write_design_report
 
     cases = load_sweep_cases(args.measured, reference="fem")  # a sweep holds no measurement
     margin = 0.05 if args.margin is None else args.margin

@@ -23,8 +23,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import design
-    from analytic import composite_section, gains
+    from softcath import design
+    from softcath.analytic import composite_section, gains
 
     d = design.resolve(args.design)
     if args.action == "validate":
@@ -34,8 +34,8 @@ def run(args: argparse.Namespace) -> int:
     if args.action == "export":
         if not (args.step or args.stl):
             raise design.DesignError("export", None, "give --step PATH and/or --stl PATH")
-        from design import cad  # CadQuery: lazily, only for export
-        from studies.atomic import atomic_path, check_parent
+        from softcath.design import cad  # CadQuery: lazily, only for export
+        from softcath.studies.atomic import atomic_path, check_parent
 
         targets = [(args.step, "--step", cad.export_step), (args.stl, "--stl", cad.export_stl)]
         targets = [(check_parent(path, param=param), param, fn) for path, param, fn in targets if path]
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     out = None
     if args.out:
-        from studies.atomic import prepare_out_dir
+        from softcath.studies.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
     cs = composite_section(d)
@@ -74,8 +74,8 @@ def run(args: argparse.Namespace) -> int:
     )
     print(f"gains (cap load): {kc:.4g} 1/(mm MPa), {ec:.4g} 1/MPa;  (lumen load): {kl:.4g}, {el:.4g}")
     if out is not None:
-        from studies.atomic import Outputs
-        from studies.plots import section_plot
+        from softcath.studies.atomic import Outputs
+        from softcath.studies.plots import section_plot
 
         doc = {
             "name": d.name,

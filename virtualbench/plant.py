@@ -1,9 +1,9 @@
 """The TRUTH plant: pressure in, tip curvature, elongation and pose out, with hidden effects.
 
 This is the physical stand-in that the virtual bench measures and that the
-hidden-effect generator (``studies.hidden_effects``) hides effects in. It is
+hidden-effect generator (``softcath.virtualbench.hidden_effects``) hides effects in. It is
 deliberately written independently of the candidate library in
-``analytic.effects``, and where the missing-effect issue asks for it the
+``softcath.analytic.effects``, and where the missing-effect issue asks for it the
 truth forms differ from the candidate forms, so that the workflow is never
 tested on a model that contains its own answer:
 
@@ -41,7 +41,7 @@ from typing import Any, ClassVar
 import numpy as np
 from scipy import signal
 
-from design.errors import DataError, DesignError
+from softcath.design.errors import DataError, DesignError
 
 __all__ = [
     "EFFECT_NAMES",
@@ -511,7 +511,7 @@ class Plant:
 
         The analytic model is linear in pressure, so its response at 1 MPa is the gain.
         """
-        import analytic
+        from softcath import analytic
 
         r = analytic.response(design, np.array([1.0]), load=load)
         return cls(

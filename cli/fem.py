@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from design.errors import DataError, DesignError
+from softcath.design.errors import DataError, DesignError
 
 HELP = "one FEM bending check (mesh, solve, compare with the analytic model)"
 
@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-cache", action="store_true", help="do not read/write the mesh cache")
     parser.add_argument("--no-png", action="store_true", help="skip the PNG rendering")
-    from fem.nonlinear import add_cli_arguments  # --nonlinear, --steps, --mixed, --compare-linear
+    from softcath.fem.nonlinear import add_cli_arguments  # --nonlinear, --steps, --mixed, --compare-linear
 
     add_cli_arguments(parser)
 
@@ -51,8 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _run_nonlinear(args: argparse.Namespace) -> int:
     import copy
 
-    from fem.nonlinear import run_cli
-    from studies.atomic import staged_dir
+    from softcath.fem.nonlinear import run_cli
+    from softcath.studies.atomic import staged_dir
 
     out = Path(args.out)
     lines: list[str] = []
@@ -68,10 +68,10 @@ def _run_nonlinear(args: argparse.Namespace) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    import design
-    from fem.limits import check_fem_budget
-    from studies.atomic import Outputs, prepare_out_dir
-    from studies.validity import check_pressure, warn_linear_range
+    from softcath import design
+    from softcath.fem.limits import check_fem_budget
+    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.validity import check_pressure, warn_linear_range
 
     out = prepare_out_dir(args.out)
     check_pressure(args.pressure)
@@ -83,8 +83,8 @@ def run(args: argparse.Namespace) -> int:
         if not 1 <= args.steps <= 1000:
             raise DesignError("--steps", args.steps, "must be an integer in [1, 1000]")
         return _run_nonlinear(args)
-    import fem
-    from fem.export import render_png, write_vtu
+    from softcath import fem
+    from softcath.fem.export import render_png, write_vtu
 
     stages = iter(range(1, 5))
 

@@ -79,8 +79,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[float, float] | None]:
     """(section_model coil keywords, bilinear placement or None, initial tension override)."""
-    from design.errors import DesignError
-    from fem.section_model.coil_models import model_options
+    from softcath.design.errors import DesignError
+    from softcath.fem.section_model.coil_models import model_options
 
     if args.coil_model is not None:
         if args.coil_modulus is not None or args.coil_bending is not None:
@@ -116,12 +116,12 @@ def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[flo
 
 
 def run(args: argparse.Namespace) -> int:
-    from fem.section_model import section_model
-    from fem.section_model.mesh import MESH_SIZE, SEGMENTS
-    from fem.section_model.picture import section_picture
-    from studies.atomic import Outputs, prepare_out_dir
-    from studies.cmd_analytic import parse_range
-    from studies.validity import check_pressure
+    from softcath.cli.analytic import parse_range
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+    from softcath.fem.section_model.picture import section_picture
+    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.validity import check_pressure
 
     out = prepare_out_dir(args.out)
     pressures = check_pressure(parse_range(args.pressure))
@@ -151,7 +151,7 @@ def run(args: argparse.Namespace) -> int:
     }  # fmt: skip
     curve = None
     if placement is not None:
-        from fem.section_model.bilinear import bend_curve
+        from softcath.fem.section_model.bilinear import bend_curve
 
         curve = bend_curve(
             args.design, pressures, load=ld, coil_model=placement, initial_tension=f0,
@@ -195,8 +195,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _curve_response(curve, length_mm: float):
     """The bilinear curve as an ``analytic.BeamResponse`` (eq. 9 pose)."""
-    from analytic import BeamResponse
-    from analytic.pose import tip_pose
+    from softcath.analytic import BeamResponse
+    from softcath.analytic.pose import tip_pose
 
     length = length_mm * (1 + curve.elongation)
     tip_x, tip_y, theta = tip_pose(curve.curvature, length)

@@ -55,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
     """``"lag:tau_s=0.2"`` -> ``("lag", {"tau_s": 0.2})``."""
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     name, _, rest = text.partition(":")
     params: dict[str, float | int] = {}
@@ -77,7 +77,7 @@ def _plot(out, truth_csv, run_csv) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from design.measurement import read_recording
+    from softcath.design.measurement import read_recording
 
     d = read_recording(run_csv)
     tr = read_recording(truth_csv)
@@ -103,9 +103,9 @@ def run(args: argparse.Namespace) -> int:
     """Run ``softcath bench``."""
     from pathlib import Path
 
-    import design
-    from design.errors import DesignError
-    from hardware.bench import BenchConfig, run_bench
+    from softcath import design
+    from softcath.design.errors import DesignError
+    from softcath.virtualbench.bench import BenchConfig, run_bench
 
     try:
         freqs = tuple(float(f) for f in args.freq.split(",") if f.strip())
@@ -125,10 +125,10 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
     )
     effects = [parse_effect(e) for e in args.effect]
-    from hardware.bench import make_plant
+    from softcath.virtualbench.bench import make_plant
 
     make_plant(d, effects=effects, load=args.load)  # bad effect names or parameters fail here, first
-    from studies.atomic import prepare_out_dir, staged_dir, unstage
+    from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
 
     out = prepare_out_dir(args.out)
     print(

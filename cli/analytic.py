@@ -1,7 +1,7 @@
 """Curvature, elongation and tip pose of a design over a pressure range.
 
 ``--model paper`` (default) is the paper's formula (eqs. 4, 7, 9), kept as the
-reference; ``--model section`` is the 2-D section model (``fem.section_model``,
+reference; ``--model section`` is the 2-D section model (``softcath.fem.section_model``,
 3-D-FEM-grade curvature in a fraction of a second). Both write the same
 ``analytic.csv`` columns and ``analytic.png``.
 """
@@ -19,7 +19,7 @@ def parse_range(text: str):
     """START:STOP:N → numpy array (N ≥ 2 points, inclusive)."""
     import numpy as np
 
-    from design.errors import DataError
+    from softcath.design.errors import DataError
 
     parts = text.split(":")
     try:
@@ -55,17 +55,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    import analytic
-    import design
-    from studies.atomic import Outputs, prepare_out_dir
-    from studies.plots import analytic_plot
-    from studies.validity import check_finite_columns, check_pressure, warn_linear_range
+    from softcath import analytic, design
+    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.plots import analytic_plot
+    from softcath.studies.validity import check_finite_columns, check_pressure, warn_linear_range
 
     out = prepare_out_dir(args.out)
     d = design.resolve(args.design)
     p = check_pressure(parse_range(args.pressure))
     if args.model == "section":
-        from fem.section_model import section_model
+        from softcath.fem.section_model import section_model
 
         sm = section_model(d, loads=(args.load,))
         r = sm.response(p, args.load)

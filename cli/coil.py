@@ -27,9 +27,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
     """The coil.json entry of one coil (resolved wire, ratios, homogenised models, closed forms)."""
-    from fem.coil import closed_forms as cf
-    from fem.coil import coil_wire, resolved_coil_stiffness
-    from fem.coil.homogenised import homogenised_models
+    from softcath.fem.coil import closed_forms as cf
+    from softcath.fem.coil import coil_wire, resolved_coil_stiffness
+    from softcath.fem.coil.homogenised import homogenised_models
 
     r = resolved_coil_stiffness(coil, elements_per_turn=elements_per_turn)
     models = homogenised_models(coil)
@@ -83,8 +83,8 @@ def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    import design
-    from studies.atomic import Outputs, prepare_out_dir
+    from softcath import design
+    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     out = prepare_out_dir(args.out)
     d = design.resolve(args.design)
@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     with Outputs(out) as o:  # both files or neither
         o.json("coil.json", doc)
         if not args.no_png:
-            from fem.coil.picture import bent_coil_picture
+            from softcath.fem.coil.picture import bent_coil_picture
 
             bent_coil_picture(o.path("coil.png"), {"outer coil": d.coil, "channel": d.channel})
     for name in coils:

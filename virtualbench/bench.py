@@ -3,17 +3,17 @@
 What runs (mirroring the paper's rig, section II.A / IV.1):
 
 1. A virtual Zaber-style stage on a pseudo-terminal is driven through the
-   real :class:`hardware.stage.ZaberStage` driver: ``move sin`` for sine
+   real :class:`softcath.hardware.stage.ZaberStage` driver: ``move sin`` for sine
    excitation (as the paper drove it from the Zaber console), timed
    ``move abs`` commands for triangle and step waveforms.
 2. The syringe model turns the stage trajectory into inlet pressure; the
-   plant (``hardware.plant``: the analytic model of the design plus optional
+   plant (``softcath.virtualbench.plant``: the analytic model of the design plus optional
    hidden effects) turns pressure into curvature and arc length.
 3. A virtual pressure sensor (kPa, framed, seeded noise) and encoder
-   (stage microsteps) speak :mod:`hardware.protocol` on pseudo-terminals; a
-   virtual camera renders frames of the bent tip (:mod:`hardware.render`).
-4. The real :class:`hardware.recorder.Recorder` reads the ptys and the
-   camera through the real measurement pipeline (:mod:`hardware.tipvision`)
+   (stage microsteps) speak :mod:`softcath.hardware.protocol` on pseudo-terminals; a
+   virtual camera renders frames of the bent tip (:mod:`softcath.virtualbench.render`).
+4. The real :class:`softcath.hardware.recorder.Recorder` reads the ptys and the
+   camera through the real measurement pipeline (:mod:`softcath.hardware.tipvision`)
    onto the 200 Hz base.
 
 Everything runs on a virtual clock, faster than real time, and is
@@ -33,15 +33,15 @@ from pathlib import Path
 
 import numpy as np
 
-from design.errors import DesignError
-from design.measurement import read_recording
-from hardware.frames import VideoWriter
-from hardware.recorder import Recorder, RecorderConfig, RecordSummary
-from hardware.render import Scene, render_frame
-from hardware.sensors import SerialSensor
-from hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
-from hardware.tipvision import Calibration, measure
-from hardware.virtual_devices import VirtualClock, VirtualLineDevice, VirtualStage
+from softcath.design.errors import DesignError
+from softcath.design.measurement import read_recording
+from softcath.hardware.frames import VideoWriter
+from softcath.hardware.recorder import Recorder, RecorderConfig, RecordSummary
+from softcath.hardware.sensors import SerialSensor
+from softcath.hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
+from softcath.hardware.tipvision import Calibration, measure
+from softcath.virtualbench.devices import VirtualClock, VirtualLineDevice, VirtualStage
+from softcath.virtualbench.render import Scene, render_frame
 
 __all__ = ["WAVEFORMS", "BenchConfig", "BenchResult", "make_plant", "run_bench"]
 
@@ -145,14 +145,14 @@ class BenchResult:
 
 
 def make_plant(design, *, effects=(), load: str = "cap"):
-    """The bench's plant: ``hardware.plant.Plant`` (analytic model + effects).
+    """The bench's plant: ``softcath.virtualbench.plant.Plant`` (analytic model + effects).
 
-    ``effects`` is a sequence of ``(name, params_dict)``. If ``hardware.plant``
+    ``effects`` is a sequence of ``(name, params_dict)``. If ``softcath.virtualbench.plant``
     is not installed yet, a no-effect adapter over :func:`analytic.response`
     is returned, and asking for an effect is an error.
     """
     try:
-        from hardware.plant import Plant, make_effect
+        from softcath.virtualbench.plant import Plant, make_effect
     except ImportError:
         if effects:
             raise DesignError(
@@ -167,7 +167,7 @@ class _AnalyticPlant:
     """No-effect fallback plant: the analytic model, linear in pressure."""
 
     def __init__(self, design, load: str) -> None:
-        import analytic
+        from softcath import analytic
 
         r = analytic.response(design, np.array([1.0]), load=load)
         self.curvature_per_mpa = float(np.ravel(r.curvature)[0])
@@ -342,7 +342,7 @@ def run_bench(
     rms = float(np.sqrt(np.mean((k_meas[ok] - k_true_rows[ok]) ** 2))) if ok.any() else math.nan
     _write_truth_csv(out / "truth.csv", t, p_true, x_mm, resp)
     try:
-        import design as design_pkg
+        from softcath import design as design_pkg
 
         design_toml = design_pkg.dumps(design)
     except Exception:  # noqa: BLE001 - a design object without TOML support still runs
@@ -419,7 +419,7 @@ def _json_default(o):
 
 
 def _write_truth_csv(path: Path, t, p_true, x_mm, resp) -> None:
-    from design.measurement import CsvSink
+    from softcath.design.measurement import CsvSink
 
     cols = ("time_s", "pressure_MPa", "stage_mm", "curvature_per_mm", "arc_length_mm")
     sink = CsvSink(path, cols)

@@ -39,14 +39,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studies.results import read_results
-    from studies.selection import MODEL_NAMES, SelectionError, select, write_selection
+    from softcath.studies.results import read_results
+    from softcath.studies.selection import MODEL_NAMES, SelectionError, select, write_selection
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
     from pathlib import Path
 
-    from design.errors import DataError
+    from softcath.design.errors import DataError
 
     if not Path(args.dir).is_dir():
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")

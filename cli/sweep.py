@@ -27,8 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studies.atomic import prepare_out_dir
-    from studies.sweep import load_spec, run_sweep
+    from softcath.studies.atomic import prepare_out_dir
+    from softcath.studies.sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)
     out = prepare_out_dir(args.out)

@@ -1,12 +1,12 @@
 """The ``softcath`` command line.
 
-Each subcommand lives in its own module ``studies/cmd_<name>.py`` exposing
+Each subcommand lives in its own module ``softcath.cli.<name>`` (``cli/<name>.py``) exposing
 ``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``.
 Modules import their heavy dependencies inside ``run`` so that
 ``softcath --help`` stays fast.
 
 Every way a command can fail ends here, in :func:`main`: an input error
-(:class:`~design.errors.SoftcathError`) or any other exception becomes one
+(:class:`~softcath.design.errors.SoftcathError`) or any other exception becomes one
 line ``softcath CMD: error: ...`` on stderr and exit status 2; ``--debug``
 adds the traceback. SIGTERM ends a command like Ctrl-C (its clean-up runs,
 e.g. the recorder writes its summary); a failure to write stdout (a closed
@@ -24,25 +24,26 @@ import sys
 import traceback
 import warnings
 
-from design.errors import SoftcathError
+from softcath import __version__
+from softcath.design.errors import SoftcathError
 
 # (subcommand, module): a missing module simply means the subcommand has not landed yet.
 SUBCOMMANDS: tuple[tuple[str, str], ...] = (
-    ("demo", "studies.cmd_demo"),
-    ("design", "studies.cmd_design"),
-    ("analytic", "studies.cmd_analytic"),
-    ("calibrate", "studies.cmd_calibrate"),
-    ("fem", "studies.cmd_fem"),
-    ("section", "studies.cmd_section"),
-    ("sweep", "studies.cmd_sweep"),
-    ("report", "studies.cmd_report"),
-    ("select", "studies.cmd_select"),
-    ("measure", "studies.cmd_measure"),
-    ("record", "studies.cmd_record"),
-    ("bench", "studies.cmd_bench"),
-    ("discrepancy", "studies.cmd_discrepancy"),
-    ("coil", "studies.cmd_coil"),
-    ("predict", "studies.cmd_predict"),
+    ("demo", "softcath.cli.demo"),
+    ("design", "softcath.cli.design"),
+    ("analytic", "softcath.cli.analytic"),
+    ("calibrate", "softcath.cli.calibrate"),
+    ("fem", "softcath.cli.fem"),
+    ("section", "softcath.cli.section"),
+    ("sweep", "softcath.cli.sweep"),
+    ("report", "softcath.cli.report"),
+    ("select", "softcath.cli.select"),
+    ("measure", "softcath.cli.measure"),
+    ("record", "softcath.cli.record"),
+    ("bench", "softcath.cli.bench"),
+    ("discrepancy", "softcath.cli.discrepancy"),
+    ("coil", "softcath.cli.coil"),
+    ("predict", "softcath.cli.predict"),
 )
 
 EXIT_ERROR = 2
@@ -95,6 +96,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Design, check and measure a hydraulically actuated soft micro-catheter tip. "
         "Units: mm, N, MPa, s.",
     )
+    parser.add_argument("--version", action="version", version=f"softcath {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
     parser.add_argument(
         "--debug", action="store_true", help="show the full traceback of an error (for bug reports)"

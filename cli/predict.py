@@ -49,10 +49,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from design.errors import DesignError
-    from studies.atomic import Outputs, prepare_out_dir
-    from studies.predict import predict
-    from studies.predict.plot import band_picture
+    from softcath.design.errors import DesignError
+    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.predict import predict
+    from softcath.studies.predict.plot import band_picture
 
     out = prepare_out_dir(args.out)
     pressures = _pressures(args.pressures) if args.finite_strain else None  # refuse bad input before any run
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     )  # fmt: skip
     points = {}
     if args.finite_strain:
-        from studies.predict.finite_strain import finite_strain_point
+        from softcath.studies.predict.finite_strain import finite_strain_point
 
         fs = finite_strain_point(
             args.design, pressures, load=args.load or "lumen",
@@ -117,7 +117,7 @@ def _write_samples(path: Path, tiers) -> None:
 
 
 def _pressures(text: str) -> list[float]:
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     try:
         return [float(v) for v in text.split(",") if v.strip()]

@@ -15,8 +15,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from design.errors import DataError
-    from studies.report import write_report
+    from softcath.design.errors import DataError
+    from softcath.studies.report import write_report
 
     if not Path(args.dir).is_dir():
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")

@@ -2,7 +2,7 @@
 
 The data look like what the recorder writes (``docs/measurement-csv.md``,
 raw, 200 Hz): by default several sine runs at different frequencies plus a
-step-and-hold run (``studies.hidden_protocols``: also steps only, or
+step-and-hold run (``softcath.virtualbench.hidden_protocols``: also steps only, or
 quasi-static points, one per pressure step), curvature noise of a stated fraction of full scale, small
 pressure-sensor noise, and a true gain that differs from the design's by a
 random calibration error. The effect's strength is set so that its
@@ -14,7 +14,7 @@ where the signature is the clean curvature with the effect minus its best
 pure-gain fit (what calibration cannot absorb), over all runs, and the noise
 s.d. is that of the raw curvature samples. The truth forms (Preisach, RC
 ladder, two Kelvin units, softplus threshold, exponential gain) differ from
-the candidates in ``analytic.effects``; the workflow is not told which. Both
+the candidates in ``softcath.analytic.effects``; the workflow is not told which. Both
 sensors have a 10 Hz causal response (the acquisition chain) before their
 noise; the CSV holds raw samples, and the workflow applies the paper's filter.
 """
@@ -28,14 +28,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from design.errors import DesignError
-from hardware.plant import EFFECT_NAMES, Plant, make_effect
-from studies.hidden_protocols import (
+from softcath.design.errors import DesignError
+from softcath.virtualbench.hidden_protocols import (
     Protocol,
     default_protocol,
     quasi_static_protocol,
     step_protocol,
 )
+from softcath.virtualbench.plant import EFFECT_NAMES, Plant, make_effect
 
 __all__ = [
     "Protocol",
@@ -176,7 +176,7 @@ def make_case(
     Parameters
     ----------
     effects
-        Truth effect names (``hardware.plant.EFFECT_NAMES``), each scaled to
+        Truth effect names (``softcath.virtualbench.plant.EFFECT_NAMES``), each scaled to
         ``effect_to_noise`` on its own.
     seed
         Random seed: secondary effect parameters, calibration error, noise.

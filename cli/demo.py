@@ -21,8 +21,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from design.errors import DesignError
-    from studies.demo import SECTIONS, run_demo
+    from softcath.design.errors import DesignError
+    from softcath.studies.demo import SECTIONS, run_demo
 
     keys = [k for k, _, _ in SECTIONS]
     only = None
@@ -33,13 +33,13 @@ def run(args: argparse.Namespace) -> int:
             raise DesignError("only", bad[0], f"unknown section; choose from {', '.join(keys)}")
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
-    import design
-    from studies.atomic import prepare_out_dir
+    from softcath import design
+    from softcath.studies.atomic import prepare_out_dir
 
     out = prepare_out_dir(args.out)
     design.resolve(args.design)  # a bad design is refused before any section runs
     if args.data is not None:
-        from analytic.io import read_measurement_csv
+        from softcath.analytic.io import read_measurement_csv
 
         read_measurement_csv(args.data)  # so is a bad data file (the sections would each fail on it)
     res = run_demo(
@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"demo: {res.index_html} ({res.seconds:.0f} s)")
     failed = [s["key"] for s in res.sections if s["status"] == "failed"]
     if failed:
-        from design.errors import DataError
+        from softcath.design.errors import DataError
 
         raise DataError(
             f"{len(failed)} section(s) failed: {', '.join(failed)} (reasons in {res.index_html}; "

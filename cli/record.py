@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from studies.cmd_measure import add_chessboard_arguments
+from softcath.cli.measure import add_chessboard_arguments
 
 HELP = "record serial sensors (and a camera) into the measurement CSV at 200 Hz"
 
@@ -82,11 +82,11 @@ def run(args: argparse.Namespace) -> int:
 
     import math
 
-    from design.errors import DataError, DesignError
-    from hardware.recorder import Recorder, RecorderConfig
-    from hardware.sensors import SerialSensor
-    from studies.atomic import prepare_out_dir, write_text
-    from studies.cmd_measure import calibration_from_args
+    from softcath.cli.measure import calibration_from_args
+    from softcath.design.errors import DataError, DesignError
+    from softcath.hardware.recorder import Recorder, RecorderConfig
+    from softcath.hardware.sensors import SerialSensor
+    from softcath.studies.atomic import prepare_out_dir, write_text
 
     if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
         raise DesignError("--duration", args.duration, "must be a finite time > 0 s")
@@ -104,14 +104,14 @@ def run(args: argparse.Namespace) -> int:
     cfg = RecorderConfig(clock=args.clock, device_rate_hz=args.device_rate)
     camera = stage = source = None
     if args.camera is not None:
-        from hardware.frames import open_source
-        from hardware.measure_video import measured_frames
+        from softcath.hardware.frames import open_source
+        from softcath.hardware.measure_video import measured_frames
 
         cal = calibration_from_args(args)
         source = open_source(args.camera)
         camera = measured_frames(source, cal, method=args.method, host_time=source.kind == "camera")
     if args.stage_port:
-        from hardware.stage import ZaberStage
+        from softcath.hardware.stage import ZaberStage
 
         stage = ZaberStage(args.stage_port).open()
 

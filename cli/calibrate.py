@@ -44,13 +44,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import analytic
-    import design
-    from analytic.calibration import calibrate
-    from design.measurement import Measurement, read_measurement_csv
-    from studies.atomic import Outputs, check_finite_json, prepare_out_dir
-    from studies.plots import calibration_plot
-    from studies.validity import check_pressure
+    from softcath import analytic, design
+    from softcath.analytic.calibration import calibrate
+    from softcath.design.measurement import Measurement, read_measurement_csv
+    from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
+    from softcath.studies.plots import calibration_plot
+    from softcath.studies.validity import check_pressure
 
     out = prepare_out_dir(args.out)
     if not 1 <= args.grid <= 20:
@@ -59,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     m = read_measurement_csv(args.measured)
     check_pressure(m.pressure_MPa, param=f"{args.measured}: pressure_MPa")
     if args.filter:
-        from hardware.filtering import filtfilt
+        from softcath.hardware.filtering import filtfilt
 
         opt = {k: filtfilt(v) for k, v in m.optional.items()}
         m = Measurement.from_arrays(
@@ -77,8 +76,8 @@ def run(args: argparse.Namespace) -> int:
         )
     load = args.load or ("lumen" if args.model == "section" else "cap")
     if args.model == "section":
-        from fem.section_model import section_model
-        from fem.section_model.calibration import calibrate_section
+        from softcath.fem.section_model import section_model
+        from softcath.fem.section_model.calibration import calibrate_section
 
         res = calibrate_section(m, d, free=free, load=load, grid=args.grid)
 

@@ -72,7 +72,7 @@ def add_chessboard_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _scale_from_args(args: argparse.Namespace) -> float:
-    from design.errors import DesignError
+    from softcath.design.errors import DesignError
 
     board = getattr(args, "chessboard", None)
     if board is None:
@@ -81,8 +81,8 @@ def _scale_from_args(args: argparse.Namespace) -> float:
         return args.px_per_mm
     import cv2
 
-    from hardware.calibration import scale_from_chessboard
-    from hardware.errors import FrameSourceError
+    from softcath.hardware.calibration import scale_from_chessboard
+    from softcath.hardware.errors import FrameSourceError
 
     if args.square_mm is None:
         raise DesignError("--square-mm", None, "is required with --chessboard")
@@ -97,11 +97,11 @@ def _scale_from_args(args: argparse.Namespace) -> float:
 
 
 def calibration_from_args(args: argparse.Namespace):
-    """A :class:`hardware.tipvision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
+    """A :class:`softcath.hardware.tipvision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
     import math
 
-    from design.errors import DesignError
-    from hardware.tipvision import Calibration
+    from softcath.design.errors import DesignError
+    from softcath.hardware.tipvision import Calibration
 
     scale = _scale_from_args(args)  # the scale, base angle and diameter are checked by Calibration
     diameter = getattr(args, "diameter", 0.8)
@@ -127,16 +127,16 @@ def run(args: argparse.Namespace) -> int:
     import logging
     import math
 
-    from hardware.frames import open_source
-    from hardware.measure_video import measure_video
+    from softcath.hardware.frames import open_source
+    from softcath.hardware.measure_video import measure_video
 
     cal = calibration_from_args(args)
     if getattr(args, "chessboard", None):
         print(f"scale from the chessboard: {cal.px_per_mm:.3f} px/mm")
     # per-frame misses are counted and summarised below rather than logged one by one
-    logging.getLogger("hardware.measure_video").setLevel(logging.ERROR)
-    from design.errors import DataError, DesignError
-    from studies.atomic import staged_dir, unstage
+    logging.getLogger("softcath.hardware.measure_video").setLevel(logging.ERROR)
+    from softcath.design.errors import DataError, DesignError
+    from softcath.studies.atomic import staged_dir, unstage
 
     if args.fps is not None and not (math.isfinite(args.fps) and args.fps > 0):
         raise DesignError("--fps", args.fps, "must be a finite frame rate > 0 Hz")

@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hardware.ports import PtyPair
-from hardware.protocol import encode_frame, encode_plain
-from hardware.stage import ZABER_VELOCITY_UNIT, lrc
+from softcath.hardware.ports import PtyPair
+from softcath.hardware.protocol import encode_frame, encode_plain
+from softcath.hardware.stage import ZABER_VELOCITY_UNIT, lrc
 
 __all__ = ["VirtualClock", "VirtualLineDevice", "VirtualStage", "ZABER_VELOCITY_UNIT"]
 
@@ -51,7 +51,7 @@ class VirtualClock:
 
 
 class VirtualLineDevice:
-    """A sensor or encoder writing :mod:`hardware.protocol` lines into a pty.
+    """A sensor or encoder writing :mod:`softcath.hardware.protocol` lines into a pty.
 
     Parameters
     ----------
@@ -178,7 +178,7 @@ class VirtualStage:
     """A Zaber-style ASCII stage answering on a pty, its motion following a :class:`VirtualClock`.
 
     Moves run at constant speed (no acceleration ramp); ``move sin`` follows
-    :func:`hardware.stage.sine_trajectory`. Positions are microsteps,
+    :func:`softcath.hardware.stage.sine_trajectory`. Positions are microsteps,
     velocities Zaber units (microsteps/s x 1.6384).
     """
 

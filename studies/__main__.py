@@ -1,5 +1,0 @@
-import sys
-
-from studies.cli import main
-
-sys.exit(main())
