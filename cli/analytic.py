@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import argparse
 import csv
-from pathlib import Path
+
+from softcath.cli.options import add_design, add_out, add_pressure_range
 
 HELP = "curvature, elongation, tip pose over a pressure range"
 
@@ -38,8 +39,8 @@ def parse_range(text: str):
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
-    p.add_argument("--pressure", default="0:3:31", help="START:STOP:N in MPa (default 0:3:31)")
+    add_design(p)
+    add_pressure_range(p, default="0:3:31")
     p.add_argument(
         "--load", choices=("cap", "lumen"), default="cap", help="load model (default: cap, the paper's)"
     )
@@ -49,7 +50,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default="paper",
         help="paper: the paper's formula (default, the reference); section: the 2-D section model",
     )
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    add_out(p)
 
 
 def run(args: argparse.Namespace) -> int:

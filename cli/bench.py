@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import argparse
 
+from softcath.cli.options import add_design, add_out, add_seed
+
 HELP = "virtual bench: simulated devices and camera recorded through the real pipeline"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of ``softcath bench``."""
-    parser.add_argument("--design", default="paper", help="preset name or design .toml (default: paper)")
+    add_design(parser, optional=True)
     parser.add_argument(
         "--effect",
         action="append",
@@ -42,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="LEVEL",
         help="noise multiplier: 1 = 2 kPa sensor, 2 grey levels camera (1)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="random seed (0)")
+    add_seed(parser, what="random seed of the sensors' noise")
     parser.add_argument("--fps", type=float, default=50.0, help="camera frame rate, Hz (50)")
     parser.add_argument(
         "--method", choices=("default", "paper"), default="default", help="tip measurement method"
@@ -50,7 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--load", choices=("cap", "lumen"), default="cap", help="analytic load case of the plant"
     )
-    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_out(parser)
 
 
 def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:

@@ -11,15 +11,17 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath.cli.options import add_design, add_out
+
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    add_design(p, optional=True)
     p.add_argument(
         "measured", type=Path, help="measurement CSV (time_s, pressure_MPa, curvature_per_mm, ...)"
     )
-    p.add_argument("--design", default="paper", help="preset name or TOML path (default: paper)")
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    add_out(p)
     p.add_argument(
         "--free",
         default="a,a_int,b_int,h",

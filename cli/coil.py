@@ -11,14 +11,15 @@ Stiffness per unit length: EA = F/ε [N], EI = M/κ [N mm²].
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+
+from softcath.cli.options import add_design, add_out
 
 HELP = "resolved-wire coil stiffness (tension, compression, bending with contact) vs homogenised models"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", help="preset name (e.g. paper) or path to a design .toml")
-    parser.add_argument("--out", required=True, type=Path, help="output folder")
+    add_design(parser)
+    add_out(parser)
     parser.add_argument(
         "--elements-per-turn", type=int, default=48, help="frame elements per turn of wire (default 48, >= 6)"
     )

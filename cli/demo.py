@@ -6,12 +6,14 @@ from __future__ import annotations
 
 import argparse
 
+from softcath.cli.options import add_design, add_out
+
 HELP = "run the whole story on the paper's design and write DIR/index.html"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--out", required=True, help="output directory")
-    parser.add_argument("--design", default="paper", help="preset name or design TOML (default: paper)")
+    add_design(parser, optional=True)
+    add_out(parser)
     parser.add_argument(
         "--data", default=None, help="measurement CSV (default: the bundled bench_hysteresis.csv)"
     )

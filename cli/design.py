@@ -5,21 +5,24 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath.cli.options import add_design, add_out
+
 HELP = "show / validate / export (STEP, STL) a design"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     sub = p.add_subparsers(dest="action", required=True, metavar="ACTION")
     show = sub.add_parser("show", help="print a design, its as-assembled section and stiffness")
-    show.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
+    add_design(show)
     show.add_argument("--toml", action="store_true", help="print the design as TOML instead")
-    show.add_argument("--out", type=Path, help="also write section.png and design.json here")
+    add_out(show, required=False, what="also write section.png and design.json here")
     val = sub.add_parser("validate", help="check a design file; exit non-zero with the reason if impossible")
-    val.add_argument("design")
+    add_design(val)
     exp = sub.add_parser("export", help="write CAD solids (STEP: one solid per component; STL: the assembly)")
-    exp.add_argument("design")
-    exp.add_argument("--step", type=Path, help="STEP output path")
-    exp.add_argument("--stl", type=Path, help="STL output path")
+    add_design(exp)
+    add_out(exp, required=False, what="write NAME.step and NAME.stl here (or the --step / --stl files)")
+    exp.add_argument("--step", type=Path, help="STEP output path (relative: inside --out)")
+    exp.add_argument("--stl", type=Path, help="STL output path (relative: inside --out)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,12 +35,18 @@ def run(args: argparse.Namespace) -> int:
         print(d.fit_report())
         return 0
     if args.action == "export":
-        if not (args.step or args.stl):
-            raise design.DesignError("export", None, "give --step PATH and/or --stl PATH")
+        if not (args.step or args.stl or args.out):
+            raise design.DesignError("export", None, "give --out DIR, --step PATH and/or --stl PATH")
         from softcath.design import cad  # CadQuery: lazily, only for export
-        from softcath.studies.atomic import atomic_path, check_parent
+        from softcath.studies.atomic import atomic_path, check_parent, prepare_out_dir
 
-        targets = [(args.step, "--step", cad.export_step), (args.stl, "--stl", cad.export_stl)]
+        step, stl = args.step, args.stl
+        if args.out:
+            out = prepare_out_dir(args.out)
+            if not (step or stl):
+                step, stl = Path(f"{d.name}.step"), Path(f"{d.name}.stl")
+            step, stl = (out / path if path and not path.is_absolute() else path for path in (step, stl))
+        targets = [(step, "--step", cad.export_step), (stl, "--stl", cad.export_stl)]
         targets = [(check_parent(path, param=param), param, fn) for path, param, fn in targets if path]
         for path, _param, fn in targets:
             with atomic_path(path) as tmp:

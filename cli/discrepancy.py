@@ -12,10 +12,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath.cli.options import add_design, add_out, design_or_data
+
 HELP = "name the effect the model is missing (hysteresis, lag, ...) and show the gap shrink"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_design(parser, optional=True)
     parser.add_argument(
         "measured",
         nargs="?",
@@ -25,8 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "from the FEM, or a sweep directory with analytic and 3-D FEM results "
         "(names which section-model ingredients the paper's formula lacks)",
     )
-    parser.add_argument("--design", default="paper", help="design preset name or TOML file (default: paper)")
-    parser.add_argument("--out", type=Path, required=True, help="output directory")
+    add_out(parser)
     parser.add_argument(
         "--reference",
         choices=("measured", "fem"),
@@ -70,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     if not 1 <= args.max_effects <= 10:
         raise DesignError("--max-effects", args.max_effects, "must be an integer in [1, 10]")
 
+    args.design, args.measured = design_or_data(args.design, args.measured)
     data = args.measured
     if data is not None and data.is_dir():
         return _run_designs(args)

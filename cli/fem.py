@@ -1,67 +1,167 @@
 """Run one FEM bending check of a design and compare it with the analytic model.
 
-Writes DIR/fem.json (curvature, elongation, tip pose, strain, run facts and
-the analytic values for the same design, pressure and load model), DIR/tip.vtu
-(open in ParaView) and DIR/tip.png (deformed tip coloured by strain).
+Linear (default): writes DIR/fem.json (curvature, elongation, tip pose,
+strain, run facts and the analytic values for the same design, pressure and
+load model), DIR/tip.vtu (open in ParaView) and DIR/tip.png (deformed tip
+coloured by strain).
+
+``--nonlinear``: the finite-strain pressure sweep (docs/nonlinear.md), writing
+DIR/fem.json (the linear check's keys plus steps and Newton iterations),
+pressure_sweep.csv, tip_series.pvd + vtu/, deformed_tip.png and bend_curve.png.
+
+The two modes have their own documented defaults:
+
+==================  ==========  ==============
+option              linear      ``--nonlinear``
+==================  ==========  ==============
+``--pressure``      required    1.0 MPa (the sweep's largest)
+``--load``          cap         lumen
+``--mesh-size``     0.16 mm     0.15 mm
+==================  ==========  ==============
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
+from dataclasses import dataclass
 
-from softcath.design.errors import DataError, DesignError
+from softcath.cli.options import add_design, add_out
+from softcath.design.errors import DesignError
 
-HELP = "one FEM bending check (mesh, solve, compare with the analytic model)"
+HELP = "one FEM bending check (mesh, solve, compare with the analytic model); --nonlinear for finite strain"
+
+# (linear, nonlinear) defaults, as documented above and in docs/fem.md / docs/nonlinear.md.
+DEFAULT_LOAD = {"linear": "cap", "nonlinear": "lumen"}
+DEFAULT_MESH_SIZE = {"linear": 0.16, "nonlinear": 0.15}
+DEFAULT_NONLINEAR_PRESSURE = 1.0
+DEFAULT_STEPS = 8
+DEFAULT_LAYERS = 4
+DEFAULT_CURVATURE_POINTS = 12
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", help="preset name (e.g. paper) or path to a design .toml")
-    parser.add_argument("--pressure", type=float, required=True, help="lumen pressure [MPa] (e.g. 0.1)")
+    add_design(parser)
+    parser.add_argument(
+        "--pressure",
+        type=float,
+        default=None,
+        help=f"lumen pressure [MPa]; linear: required; --nonlinear: the sweep's largest "
+        f"(default {DEFAULT_NONLINEAR_PRESSURE:g})",
+    )
     parser.add_argument(
         "--load",
         choices=("cap", "lumen"),
-        default="cap",
-        help="cap: end-cap force only (the paper's model); lumen: wall + cap (the real load)",
+        default=None,
+        help="cap: end-cap force only (the paper's model); lumen: wall + cap (the real load). "
+        "Default: cap (linear), lumen (--nonlinear)",
     )
-    parser.add_argument("--out", required=True, help="output folder")
+    add_out(parser)
     parser.add_argument(
-        "--mesh-size", type=float, default=0.16, help="section element size [mm] (default 0.16)"
+        "--mesh-size",
+        type=float,
+        default=None,
+        help="section element size [mm] (default 0.16 linear, 0.15 --nonlinear)",
     )
-    parser.add_argument(
+    lin = parser.add_argument_group("linear check")
+    lin.add_argument(
         "--mesher",
         choices=("gmsh", "tetwild"),
         default="gmsh",
         help="gmsh: 2-D section + extrusion, seconds (default); tetwild: pytetwild, minutes",
     )
-    parser.add_argument(
+    lin.add_argument(
         "--coil-modulus",
         choices=("tension", "bending"),
         default="tension",
         help="homogenised coil axial modulus: spring tension (paper's E_eq) or Wahl bending",
     )
-    parser.add_argument("--no-cache", action="store_true", help="do not read/write the mesh cache")
-    parser.add_argument("--no-png", action="store_true", help="skip the PNG rendering")
-    from softcath.fem.nonlinear import add_cli_arguments  # --nonlinear, --steps, --mixed, --compare-linear
+    lin.add_argument("--no-cache", action="store_true", help="do not read/write the mesh cache")
+    lin.add_argument("--no-png", action="store_true", help="skip the PNG rendering")
+    nl = parser.add_argument_group("finite strain (--nonlinear)")
+    nl.add_argument(
+        "--nonlinear", action="store_true", help="geometrically nonlinear FEM, hyperelastic silicone"
+    )
+    nl.add_argument(
+        "--steps",
+        type=int,
+        default=DEFAULT_STEPS,
+        help=f"pressure steps of the sweep (default {DEFAULT_STEPS})",
+    )
+    nl.add_argument(
+        "--layers",
+        type=int,
+        default=DEFAULT_LAYERS,
+        help=f"element layers along the bending length (default {DEFAULT_LAYERS})",
+    )
+    nl.add_argument(
+        "--curvature-points",
+        type=int,
+        default=DEFAULT_CURVATURE_POINTS,
+        help=f"mesh segments per full circle (default {DEFAULT_CURVATURE_POINTS})",
+    )
+    nl.add_argument("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
+    nl.add_argument(
+        "--compare-linear",
+        action="store_true",
+        help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%",
+    )
 
-    add_cli_arguments(parser)
+
+@dataclass(frozen=True)
+class LinearSettings:
+    """The linear check's settings after the mode's defaults are applied."""
+
+    pressure: float
+    load: str
+    mesh_size: float
 
 
-def _run_nonlinear(args: argparse.Namespace) -> int:
-    import copy
+def linear_settings(args: argparse.Namespace) -> LinearSettings:
+    """The linear check's pressure, load and mesh size from the parsed options."""
+    if args.pressure is None:
+        raise DesignError("--pressure", None, "is required for the linear check (e.g. --pressure 0.1)")
+    return LinearSettings(
+        pressure=args.pressure,
+        load=args.load or DEFAULT_LOAD["linear"],
+        mesh_size=args.mesh_size if args.mesh_size is not None else DEFAULT_MESH_SIZE["linear"],
+    )
 
-    from softcath.fem.nonlinear import run_cli
+
+def nonlinear_settings(args: argparse.Namespace):
+    """The :class:`~softcath.fem.nonlinear.NonlinearSettings` of the parsed options."""
+    from softcath.fem.nonlinear.outputs import NonlinearSettings
+
+    pressure = DEFAULT_NONLINEAR_PRESSURE if args.pressure is None else args.pressure
+    if not pressure > 0:
+        raise DesignError("--pressure", pressure, "must be > 0 MPa for --nonlinear")
+    if not 1 <= args.steps <= 1000:
+        raise DesignError("--steps", args.steps, "must be an integer in [1, 1000]")
+    if args.layers < 1:
+        raise DesignError("--layers", args.layers, "must be >= 1")
+    if args.curvature_points < 6:
+        raise DesignError("--curvature-points", args.curvature_points, "must be >= 6")
+    return NonlinearSettings(
+        pressure=pressure,
+        steps=args.steps,
+        load=args.load or DEFAULT_LOAD["nonlinear"],
+        mesh_size=args.mesh_size if args.mesh_size is not None else DEFAULT_MESH_SIZE["nonlinear"],
+        layers=args.layers,
+        curvature_points=args.curvature_points,
+        mixed=args.mixed,
+        compare_linear=args.compare_linear,
+    )
+
+
+def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
+    from softcath.fem.limits import check_fem_budget
+    from softcath.fem.nonlinear.outputs import run_check
     from softcath.studies.atomic import staged_dir
 
-    out = Path(args.out)
-    lines: list[str] = []
+    settings = nonlinear_settings(args)
+    check_fem_budget(d, mesh_size=settings.mesh_size)  # before minutes of meshing, not after
     with staged_dir(out) as stage:  # every output appears only if the whole run succeeded
-        staged = copy.copy(args)
-        staged.out = str(stage)
-        status = run_cli(staged, echo=lines.append)
-        if status:
-            raise DataError(f"the finite-strain check stopped with status {status}; nothing written")
+        _, lines = run_check(d, settings, stage)
     for line in lines:
         print(line.replace(str(stage), str(out)))
     return 0
@@ -74,15 +174,13 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.validity import check_pressure, warn_linear_range
 
     out = prepare_out_dir(args.out)
-    check_pressure(args.pressure)
+    if args.pressure is not None:
+        check_pressure(args.pressure)
     d = design.resolve(args.design)
-    check_fem_budget(d, mesh_size=args.mesh_size)  # before minutes of meshing, not after
-    if getattr(args, "nonlinear", False):
-        if args.pressure <= 0:
-            raise DesignError("--pressure", args.pressure, "must be > 0 MPa for --nonlinear")
-        if not 1 <= args.steps <= 1000:
-            raise DesignError("--steps", args.steps, "must be an integer in [1, 1000]")
-        return _run_nonlinear(args)
+    if args.nonlinear:
+        return _run_nonlinear(d, args, out)
+    s = linear_settings(args)
+    check_fem_budget(d, mesh_size=s.mesh_size)  # before minutes of meshing, not after
     from softcath import fem
     from softcath.fem.export import render_png, write_vtu
 
@@ -93,25 +191,25 @@ def run(args: argparse.Namespace) -> int:
 
     result = fem.check(
         d,
-        pressures=[args.pressure],
-        loads=(args.load,),
-        mesh_size=args.mesh_size,
+        pressures=[s.pressure],
+        loads=(s.load,),
+        mesh_size=s.mesh_size,
         mesher=args.mesher,
         coil_modulus=args.coil_modulus,
         use_cache=not args.no_cache,
         progress=status,
     )
-    c = result.case(args.load, args.pressure)
-    doc = result.to_json(args.load, args.pressure)
+    c = result.case(s.load, s.pressure)
+    doc = result.to_json(s.load, s.pressure)
     with Outputs(out) as o:
         o.json("fem.json", doc)
-        write_vtu(result.solution, args.load, args.pressure, o.path("tip.vtu"))
+        write_vtu(result.solution, s.load, s.pressure, o.path("tip.vtu"))
         if not args.no_png:
-            render_png(result.solution, args.load, args.pressure, o.path("tip.png"))
-    warn_linear_range(args.pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
+            render_png(result.solution, s.load, s.pressure, o.path("tip.png"))
+    warn_linear_range(s.pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
     ratio = c.ratio_fem_over_analytic["curvature_per_mm"]
     print(
-        f"{result.design_name}: {args.load} load at {args.pressure:g} MPa -> "
+        f"{result.design_name}: {s.load} load at {s.pressure:g} MPa -> "
         f"curvature {c.curvature_per_mm:.4g} 1/mm (analytic {c.analytic['curvature_per_mm']:.4g}, "
         f"ratio {ratio:.3g}), elongation {c.elongation:.3g}, bend {c.bend_angle_rad:.3g} rad, "
         f"max silicone strain {c.max_strain:.3g}"

@@ -14,6 +14,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath.cli.options import add_out
+
 HELP = "measure the tip in a video / image folder / camera into a CSV and an overlay video"
 
 
@@ -55,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="HZ",
         help="frame rate for image folders (default 30) or to override a video's",
     )
-    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_out(parser)
 
 
 def add_chessboard_arguments(parser: argparse.ArgumentParser) -> None:

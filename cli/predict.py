@@ -17,11 +17,13 @@ import argparse
 import csv
 from pathlib import Path
 
+from softcath.cli.options import add_design, add_out, add_progress, add_seed
+
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
+    add_design(p)
     p.add_argument("--model", choices=("paper", "section", "fem"), default="section",
                    help="model tier (default section)")  # fmt: skip
     p.add_argument("--compare", default="", metavar="TIER,TIER",
@@ -37,15 +39,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples", type=int, default=None,
                    help="samples of the paper and section tiers (default 4096 and 512)")  # fmt: skip
     p.add_argument("--fem-samples", type=int, default=None, help="samples of the 3-D FEM tier (default 8)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the sample and the bootstrap (default 0)")
+    add_seed(p, what="seed of the sample and the bootstrap")
     p.add_argument("--measured-gain", type=float, default=None, metavar="K",
                    help="measured curvature per pressure [1/(mm MPa)] to place in the bands")  # fmt: skip
     p.add_argument("--finite-strain", action="store_true",
                    help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)")  # fmt: skip
     p.add_argument("--pressures", default="0.1,0.3,0.6", metavar="P,P,...",
                    help="pressures of --finite-strain [MPa], increasing (default 0.1,0.3,0.6, the prototype's)")  # fmt: skip
-    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    add_progress(p)
+    add_out(p)
 
 
 def run(args: argparse.Namespace) -> int:

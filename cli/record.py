@@ -12,6 +12,7 @@ import argparse
 import sys
 
 from softcath.cli.measure import add_chessboard_arguments
+from softcath.cli.options import add_out
 
 HELP = "record serial sensors (and a camera) into the measurement CSV at 200 Hz"
 
@@ -33,7 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="SRC",
         help="camera index, video file or image folder measured into the rows",
     )
-    parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_out(parser)
     parser.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
     parser.add_argument(
         "--clock",

@@ -21,12 +21,14 @@ import argparse
 import csv
 from pathlib import Path
 
+from softcath.cli.options import add_design, add_out, add_pressure_range
+
 HELP = "2-D section model: FEM-grade curvature per MPa in milliseconds"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("design", help="preset name (e.g. paper) or path to a .toml file")
-    p.add_argument("--pressure", default="0:0.6:13", help="START:STOP:N in MPa (default 0:0.6:13)")
+    add_design(p)
+    add_pressure_range(p, default="0:0.6:13")
     p.add_argument(
         "--load",
         choices=("cap", "lumen"),
@@ -74,7 +76,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "resolved: the resolved wire's EA and EI",
     )
     p.add_argument("--no-png", action="store_true", help="skip the PNG")
-    p.add_argument("--out", type=Path, required=True, help="output directory")
+    add_out(p)
 
 
 def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[float, float] | None]:

@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import argparse
 
+from softcath.cli.options import add_out, add_progress
+
 HELP = "run a design sweep (local processes or Dask), resumable"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("spec", help="sweep specification TOML (see examples/sweeps/)")
-    parser.add_argument("--out", required=True, help="sweep directory (created, or resumed)")
+    add_out(parser, what="sweep directory (created, or resumed)")
     backend = parser.add_mutually_exclusive_group()
     backend.add_argument("--workers", type=int, default=None, help="local worker processes (default: CPUs)")
     backend.add_argument(
@@ -23,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     backend.add_argument(
         "--scheduler", default=None, metavar="tcp://HOST:PORT", help="run on an existing Dask scheduler"
     )
-    parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    add_progress(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -21,7 +21,7 @@ from softcath.cli.main import main
 
 ARGS = [
     "bench",
-    "--design", str(Path(__file__).with_name("bench_tip.toml")),
+    str(Path(__file__).with_name("bench_tip.toml")),
     "--effect", "hysteresis:loop_width_MPa=0.4,fraction=0.3,range_MPa=2.0",
     "--waveform", "sine",
     "--freq", "0.1,0.25",

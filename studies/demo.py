@@ -129,7 +129,7 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
         return _unavailable("the finite-strain FEM", "switched off with --no-fem", lead="Not run")
     try:
         from softcath.fem.nonlinear import bend_curve
-        from softcath.fem.nonlinear.cli import plot_curve, plot_deformed
+        from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
     except ImportError as exc:
         return _unavailable("the finite-strain FEM", f"fem.nonlinear is not importable: {exc}")
     d = ctx.design

@@ -18,9 +18,9 @@ from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError
 __all__ = [
     "ConvergenceError",
     "NonlinearError",
-    "add_cli_arguments",
+    "NonlinearSettings",
     "bend_curve",
-    "run_cli",
+    "run_check",
 ]
 
 
@@ -31,15 +31,9 @@ def bend_curve(design, pressures, **kwargs):
     return _bend_curve(design, pressures, **kwargs)
 
 
-def add_cli_arguments(parser) -> None:
-    """Add ``--nonlinear`` and its options to ``softcath fem`` (see :mod:`softcath.fem.nonlinear.cli`)."""
-    from softcath.fem.nonlinear.cli import add_cli_arguments as _add
+def __getattr__(name: str):  # lazy: the check's writers pull in pyvista and matplotlib
+    if name in ("NonlinearSettings", "run_check"):
+        from softcath.fem.nonlinear import outputs
 
-    _add(parser)
-
-
-def run_cli(args, echo=None) -> int:
-    """Run ``softcath fem --nonlinear``; ``echo`` prints the summary (see :mod:`softcath.fem.nonlinear.cli`)."""
-    from softcath.fem.nonlinear.cli import run_cli as _run
-
-    return _run(args, echo=echo)
+        return getattr(outputs, name)
+    raise AttributeError(name)

@@ -1,124 +1,120 @@
-"""``softcath fem --nonlinear``: the finite-strain bending check of one design.
+"""The finite-strain check of one design and its files: ``fem.json``, the sweep CSV, VTU series, PNGs.
 
-``studies/cmd_fem.py`` (owned by the linear FEM) wires this in with::
-
-    from softcath.fem.nonlinear import add_cli_arguments, run_cli   # in add_arguments / run
-    add_cli_arguments(parser)                              # in add_arguments(parser)
-    if args.nonlinear: return run_cli(args, echo=print)    # first line of run(args)
-
-Outputs in ``--out DIR``: ``fem.json``, ``pressure_sweep.csv``,
-``tip_series.pvd`` + ``vtu/step_XXX.vtu`` (ParaView opens the .pvd as an
-animation over pressure), ``deformed_tip.png`` and ``bend_curve.png``.
+:func:`run_check` runs :func:`~softcath.fem.nonlinear.bend.bend_curve` for one
+:class:`NonlinearSettings` and writes, into one folder, ``fem.json`` (with the
+linear check's keys), ``pressure_sweep.csv``, ``tip_series.pvd`` +
+``vtu/step_XXX.vtu`` (ParaView opens the .pvd as an animation over pressure),
+``deformed_tip.png`` and ``bend_curve.png``. ``softcath fem --nonlinear`` is
+its command line (:mod:`softcath.cli.fem`).
 """
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import logging
+import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from softcath.fem.nonlinear.errors import NonlinearError
 
-__all__ = ["add_cli_arguments", "run_cli", "write_outputs"]
+__all__ = ["NonlinearSettings", "run_check", "write_outputs"]
 
 log = logging.getLogger(__name__)
 
 
-def add_cli_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add the ``--nonlinear`` options (the design positional and ``--out`` belong to ``softcath fem``).
+@dataclass(frozen=True, kw_only=True)
+class NonlinearSettings:
+    """One finite-strain check: the pressure sweep and the mesh (defaults as in docs/nonlinear.md).
 
-    Options the parser already has (e.g. the linear check's ``--pressure`` or
-    ``--load``) are left alone and shared.
+    Parameters
+    ----------
+    pressure : float
+        Largest pressure [MPa]; the sweep is ``pressure * (1..steps) / steps``.
+    steps : int
+        Pressure steps of the sweep.
+    load : {"lumen", "cap"}
+        Lumen wall + sealed cap (the real load) or the cap force alone (the paper's formula).
+    mesh_size : float
+        Largest section triangle edge [mm].
+    layers : int
+        Element layers along the bending length.
+    curvature_points : int
+        Mesh segments per full circle.
+    mixed : bool
+        Mixed u-p (P2-P0) formulation for the silicones.
+    compare_linear : bool
+        Report where the linear FEM and the analytic model depart from it by 5 %.
     """
-    g = parser.add_argument_group("finite strain (--nonlinear)")
-    existing = set(parser._option_string_actions)
 
-    def add(flag, **kw):
-        if flag not in existing:
-            g.add_argument(flag, **kw)
+    pressure: float = 1.0
+    steps: int = 8
+    load: str = "lumen"
+    mesh_size: float = 0.15
+    layers: int = 4
+    curvature_points: int = 12
+    mixed: bool = False
+    compare_linear: bool = False
 
-    add("--nonlinear", action="store_true", help="geometrically nonlinear FEM with hyperelastic silicone")
-    add("--pressure", type=float, default=None, help="largest pressure [MPa] (nonlinear: default 1.0)")
-    add("--steps", type=int, default=8, help="pressure steps of the sweep (default 8)")
-    add(
-        "--load",
-        choices=("lumen", "cap"),
-        default="lumen",
-        help="pressure on lumen wall + cap (real load) or cap only (paper's formula)",
-    )
-    add("--mesh-size", type=float, default=0.15, help="largest section triangle edge [mm]")
-    add("--layers", type=int, default=4, help="element layers along the bending length (default 4)")
-    add("--curvature-points", type=int, default=12, help="mesh segments per full circle (default 12)")
-    add("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
-    add(
-        "--compare-linear",
-        action="store_true",
-        help="report the bend angle where linear FEM / analytic depart from nonlinear by 5%%",
-    )
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.pressure) and self.pressure > 0):
+            raise NonlinearError(f"pressure = {self.pressure!r}: must be a finite pressure > 0 MPa")
+        if not (isinstance(self.steps, int) and 1 <= self.steps <= 1000):
+            raise NonlinearError(f"steps = {self.steps!r}: must be an integer in [1, 1000]")
+        if self.load not in ("lumen", "cap"):
+            raise NonlinearError(f"load = {self.load!r}: must be 'lumen' or 'cap'")
+        if not (math.isfinite(self.mesh_size) and self.mesh_size > 0):
+            raise NonlinearError(f"mesh_size = {self.mesh_size!r}: must be > 0 mm")
+        if self.layers < 1:
+            raise NonlinearError(f"layers = {self.layers!r}: must be >= 1")
+        if self.curvature_points < 6:
+            raise NonlinearError(f"curvature_points = {self.curvature_points!r}: must be >= 6")
+
+    @property
+    def pressures(self) -> np.ndarray:
+        """The sweep's pressures [MPa]."""
+        return self.pressure * np.arange(1, self.steps + 1) / self.steps
 
 
-def _get(args, name, default=None):
-    return getattr(args, name, default)
+def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, list[str]]:
+    """Run the finite-strain sweep of ``design`` and write its files into ``out``.
 
-
-def run_cli(args: argparse.Namespace, echo=None) -> int:
-    """Run the nonlinear check for ``args.design`` and write outputs to ``args.out``.
-
-    ``echo`` receives the human summary line by line (``print`` from the command
-    line); by default the lines go to the log.
+    Returns the ``fem.json`` document and the human summary, line by line.
     """
-    echo = echo or log.info
-    from softcath import design as design_mod
     from softcath.fem.nonlinear.bend import bend_curve
 
-    d = design_mod.resolve(_get(args, "design", "paper") or "paper")
-    p_max = _get(args, "pressure")
-    if isinstance(p_max, (list, tuple, np.ndarray)):  # a linear check's pressure list: sweep to its largest
-        p_max = max(p_max) if len(p_max) else None
-    p_max = 1.0 if p_max is None else float(p_max)
-    steps = int(_get(args, "steps", 8))
-    if not (np.isfinite(p_max) and p_max > 0):
-        raise NonlinearError(f"--pressure = {p_max!r}: must be a finite pressure > 0 MPa")
-    if steps < 1:
-        raise NonlinearError(f"--steps = {steps!r}: must be >= 1")
-    out = Path(_get(args, "out", None) or "fem_nonlinear_out")
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    pressures = p_max * np.arange(1, steps + 1) / steps
+    s = settings
     t_start = time.perf_counter()
     curve = bend_curve(
-        d,
-        pressures,
-        load=_get(args, "load", "lumen"),
-        size=float(_get(args, "mesh_size", 0.15)),
-        layers=int(_get(args, "layers", 4)),
-        curvature_points=int(_get(args, "curvature_points", 12)),
-        mixed=bool(_get(args, "mixed", False)),
+        design,
+        s.pressures,
+        load=s.load,
+        size=s.mesh_size,
+        layers=s.layers,
+        curvature_points=s.curvature_points,
+        mixed=s.mixed,
         progress=True,
     )
     seconds = time.perf_counter() - t_start
-    summary = write_outputs(
-        curve, out, design_name=d.name, compare_linear=bool(_get(args, "compare_linear", False))
-    )
-    _add_linear_check_keys(out / "fem.json", curve, d, seconds)
-    echo(
-        f"softcath fem --nonlinear: {d.name}, {curve.load} load, {curve.ndofs} DOFs, "
-        f"{len(curve.result.steps)} steps, {curve.result.newton_iterations} Newton iterations"
-    )
-    echo(
-        f"  at {p_max:g} MPa: bend angle {np.degrees(curve.bend_angle[-1]):.2f} deg nonlinear, "
+    summary = write_outputs(curve, out, design_name=design.name, compare_linear=s.compare_linear)
+    add_linear_check_keys(out / "fem.json", curve, design, seconds)
+    lines = [
+        f"softcath fem --nonlinear: {design.name}, {curve.load} load, {curve.ndofs} DOFs, "
+        f"{len(curve.result.steps)} steps, {curve.result.newton_iterations} Newton iterations",
+        f"  at {s.pressure:g} MPa: bend angle {np.degrees(curve.bend_angle[-1]):.2f} deg nonlinear, "
         f"{np.degrees(curve.linear_bend_angle[-1]):.2f} deg linear FEM, "
-        f"{np.degrees(curve.analytic_bend_angle[-1]):.2f} deg analytic"
-    )
-    if "departure_5pct_deg" in summary:
-        for k, v in summary["departure_5pct_deg"].items():
-            echo(f"  {k} departs by 5 %: " + ("not within the sweep" if v is None else f"at {v:.1f} deg"))
-    echo(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
-    return 0
+        f"{np.degrees(curve.analytic_bend_angle[-1]):.2f} deg analytic",
+    ]
+    for k, v in summary.get("departure_5pct_deg", {}).items():
+        lines.append(f"  {k} departs by 5 %: " + ("not within the sweep" if v is None else f"at {v:.1f} deg"))
+    lines.append(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
+    return summary, lines
 
 
 def _finite_or_none(x) -> float | None:
@@ -126,7 +122,7 @@ def _finite_or_none(x) -> float | None:
     return x if np.isfinite(x) else None
 
 
-def _add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
+def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
     """Give fem.json the keys of the linear check (``softcath fem``) at the final pressure."""
     from softcath import analytic
 

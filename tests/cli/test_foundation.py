@@ -10,7 +10,7 @@ import pytest
 
 from softcath.cli.main import main
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 DATA = ROOT / "studies" / "data" / "paper_sine.csv"
 
 
@@ -57,7 +57,7 @@ def test_analytic_bad_range(capsys, tmp_path):
 
 
 def test_calibrate_writes_the_documented_keys(tmp_path):
-    assert main(["calibrate", str(DATA), "--design", "paper", "--out", str(tmp_path)]) == 0
+    assert main(["calibrate", "paper", str(DATA), "--out", str(tmp_path)]) == 0
     doc = json.loads((tmp_path / "calibration.json").read_text())
     for key in (
         "x_opt",

@@ -455,7 +455,7 @@ def test_discrepancy_options(cli, tmp_path, margin, max_effects):
 )
 def test_demo_options(cli, tmp_path, workers, only, design_ref):
     out = tmp_path / "demo"
-    r = cli("demo", "--workers", workers, "--only", only, "--design", design_ref, "--no-fem", "--out", out)
+    r = cli("demo", design_ref, "--workers", workers, "--only", only, "--no-fem", "--out", out)
     _check(r, out, {}, ("workers", "only", "design", "nosuch", "nonexistent"))
 
 

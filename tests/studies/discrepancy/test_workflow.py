@@ -16,7 +16,7 @@ from softcath.studies.discrepancy import run_workflow, write_report
 from softcath.studies.discrepancy.prepare import prepare
 from softcath.virtualbench.hidden_effects import Protocol, make_case
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 # ------------------------------------------------------------------ CSV loader
@@ -241,7 +241,7 @@ def test_cli_writes_json_and_report(tmp_path):
     )
     csv = write_measurement_csv(tmp_path / "bench.csv", Measurement.from_table(case.table))
     out = tmp_path / "out"
-    assert main(["discrepancy", str(csv), "--design", "paper", "--out", str(out)]) == 0
+    assert main(["discrepancy", "paper", str(csv), "--out", str(out)]) == 0
     rec = json.loads((out / "discrepancy.json").read_text())
     for key in ("named", "steps", "nrmse_before", "nrmse_after", "ambiguous_with"):
         assert key in rec

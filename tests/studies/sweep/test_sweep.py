@@ -225,7 +225,7 @@ def test_sigkill_midway_resumes_without_recomputation(spec_writer, tmp_path):
         """
     )
     out = tmp_path / "out"
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[3]
     env = {**os.environ, "PYTHONPATH": str(root)}
     cmd = [
         sys.executable,

@@ -141,7 +141,7 @@ def test_spec_section_options_and_chunks():
 def test_shipped_section_example_parses():
     from pathlib import Path
 
-    spec = load_spec(Path(__file__).parents[2] / "examples" / "sweeps" / "section.toml")
+    spec = load_spec(Path(__file__).parents[3] / "examples" / "sweeps" / "section.toml")
     assert "section" in spec.evaluators and spec.n_samples >= 200
 
 

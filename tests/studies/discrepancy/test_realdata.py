@@ -21,7 +21,7 @@ from softcath.studies.discrepancy import run_workflow
 from softcath.studies.discrepancy.prepare import prepare
 from softcath.studies.discrepancy.workflow import _experiment
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 REAL = ROOT.parent / "shared" / "realdata"
 EXAMPLES = ROOT / "examples" / "realdata"
 
@@ -231,10 +231,10 @@ def test_real_data_through_calibrate_and_discrepancy(tmp_path, capsys):
     assert len(raw.runs) == 5
     seg = tmp_path / "csv" / "marchese_cylindrical.csv"
     toml = str(tmp_path / "csv" / "marchese_cylindrical.toml")
-    assert main(["calibrate", str(seg), "--design", toml, "--out", str(tmp_path / "c")]) == 0
+    assert main(["calibrate", toml, str(seg), "--out", str(tmp_path / "c")]) == 0
     cal = json.loads((tmp_path / "c" / "calibration.json").read_text())
     assert cal["gain_data_uncertainty"]["curvature_per_mm_per_MPa_stderr"] > 0
-    assert main(["discrepancy", str(seg), "--design", toml, "--out", str(tmp_path / "d")]) == 0
+    assert main(["discrepancy", toml, str(seg), "--out", str(tmp_path / "d")]) == 0
     rec = json.loads((tmp_path / "d" / "discrepancy.json").read_text())
     # the provenance: "almost no bending up to about 30 kPa, then a jump": a threshold
     assert rec["named"][0] == "dead_zone"

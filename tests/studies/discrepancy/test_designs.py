@@ -66,7 +66,7 @@ def test_real_fem_sweep_names_the_ingredients(tmp_path):
 
     from softcath.cli.main import main
 
-    spec = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / "ingredients_fem.toml"
+    spec = Path(__file__).resolve().parents[3] / "examples" / "sweeps" / "ingredients_fem.toml"
     sweep = tmp_path / "sweep"
     assert main(["sweep", str(spec), "--out", str(sweep), "--workers", "1"]) == 0
     out = tmp_path / "disc"

@@ -1,6 +1,5 @@
 """The catheter model: mesh regions and tags, small-load equality with linear FEM, the CLI outputs."""
 
-import argparse
 import csv
 import json
 
@@ -8,7 +7,7 @@ import numpy as np
 import pytest
 
 from softcath import design
-from softcath.fem.nonlinear import add_cli_arguments, run_cli
+from softcath.fem.nonlinear import NonlinearSettings, run_check
 from softcath.fem.nonlinear.bend import bend_curve, departure_angle
 from softcath.fem.nonlinear.catheter import REGIONS, catheter_laws, mesh_catheter
 from softcath.fem.nonlinear.errors import NonlinearError
@@ -114,35 +113,10 @@ def test_small_pressure_nonlinear_equals_linear_fem(paper, coarse):
     assert c.bend_angle[0] > 0 and c.analytic_bend_angle[0] > 0
 
 
-def _parser():
-    p = argparse.ArgumentParser()
-    p.add_argument("design")
-    p.add_argument("--out")
-    add_cli_arguments(p)
-    return p
-
-
 @pytest.mark.slow
-def test_cli_writes_json_csv_vtu_series_and_png(tmp_path):
-    args = _parser().parse_args(
-        [
-            "paper",
-            "--nonlinear",
-            "--pressure",
-            "0.02",
-            "--steps",
-            "2",
-            "--load",
-            "cap",
-            "--layers",
-            "2",
-            "--compare-linear",
-            "--out",
-            str(tmp_path),
-        ]
-    )
-    lines = []
-    assert run_cli(args, echo=lines.append) == 0
+def test_run_check_writes_json_csv_vtu_series_and_png(tmp_path, paper):
+    settings = NonlinearSettings(pressure=0.02, steps=2, load="cap", layers=2, compare_linear=True)
+    summary, lines = run_check(paper, settings, tmp_path)
     assert any("Newton iterations" in ln for ln in lines)
     summary = json.loads((tmp_path / "fem.json").read_text())
     for key in (
@@ -178,19 +152,18 @@ def test_cli_writes_json_csv_vtu_series_and_png(tmp_path):
     assert (tmp_path / "bend_curve.png").stat().st_size > 5000
 
 
-def test_cli_rejects_bad_pressure(tmp_path):
-    args = _parser().parse_args(["paper", "--nonlinear", "--pressure", "-1", "--out", str(tmp_path)])
-    with pytest.raises(NonlinearError, match=r"--pressure = -1.0: must be a finite pressure > 0 MPa"):
-        run_cli(args)
-
-
-def test_cli_arguments_share_options_the_fem_command_already_has():
-    p = argparse.ArgumentParser()
-    p.add_argument("design")
-    p.add_argument("--pressure", type=float, nargs="+", default=[0.5])
-    add_cli_arguments(p)  # must not clash with the existing --pressure
-    args = p.parse_args(["paper", "--nonlinear", "--pressure", "0.2", "0.4", "--steps", "3"])
-    assert args.nonlinear and args.pressure == [0.2, 0.4] and args.steps == 3 and args.load == "lumen"
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("pressure", -1.0, r"pressure = -1.0: must be a finite pressure > 0 MPa"),
+        ("steps", 0, r"steps = 0: must be an integer in \[1, 1000\]"),
+        ("load", "wall", r"load = 'wall': must be 'lumen' or 'cap'"),
+        ("mesh_size", 0.0, r"mesh_size = 0.0: must be > 0 mm"),
+    ],
+)
+def test_settings_refuse_bad_values_naming_them(field, value, message):
+    with pytest.raises(NonlinearError, match=message):
+        NonlinearSettings(**{field: value})
 
 
 @pytest.mark.slow

@@ -1,0 +1,93 @@
+"""``softcath fem``: each mode's documented defaults are the ones the command applies.
+
+The defaults are written in three places a user reads (``softcath fem
+--help``, docs/fem.md, docs/nonlinear.md); one test per default checks the
+command against the documents.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from softcath.cli import fem as fem_cmd
+from softcath.cli.main import build_parser
+from softcath.design.errors import DesignError
+
+DOCS = Path(__file__).resolve().parents[2] / "docs"
+NONLINEAR_DOC = (DOCS / "nonlinear.md").read_text()
+LINEAR_DOC = (DOCS / "fem.md").read_text()
+
+
+def _args(*extra):
+    return build_parser().parse_args(["fem", "paper", "--out", "unused", *extra])
+
+
+def _documented(doc: str, option: str) -> str:
+    m = re.search(rf"`{option}[^`]*`[^`]*?default (\S+?)[),;]", doc)
+    assert m, f"{option} has no documented default"
+    return m.group(1)
+
+
+@pytest.mark.parametrize(
+    ("option", "field"),
+    [
+        ("--load", "load"),
+        ("--mesh-size", "mesh_size"),
+        ("--pressure", "pressure"),
+        ("--steps", "steps"),
+        ("--layers", "layers"),
+        ("--curvature-points", "curvature_points"),
+    ],
+)
+def test_nonlinear_default_is_the_documented_one(option, field):
+    applied = getattr(fem_cmd.nonlinear_settings(_args("--nonlinear")), field)
+    documented = _documented(NONLINEAR_DOC, option)
+    assert str(applied) == documented or float(applied) == pytest.approx(float(documented))
+
+
+@pytest.mark.parametrize(("option", "field"), [("--load", "load"), ("--mesh-size", "mesh_size")])
+def test_linear_default_is_the_documented_one(option, field):
+    applied = getattr(fem_cmd.linear_settings(_args("--pressure", "0.1")), field)
+    documented = _documented(LINEAR_DOC, option)
+    assert str(applied) == documented or float(applied) == pytest.approx(float(documented))
+
+
+def test_the_modes_differ_where_documented():
+    assert fem_cmd.nonlinear_settings(_args("--nonlinear")).load == "lumen"
+    assert fem_cmd.linear_settings(_args("--pressure", "0.1")).load == "cap"
+
+
+def test_options_given_override_the_mode_defaults():
+    s = fem_cmd.nonlinear_settings(
+        _args("--nonlinear", "--load", "cap", "--mesh-size", "0.2", "--pressure", "0.5")
+    )
+    assert (s.load, s.mesh_size, s.pressure) == ("cap", 0.2, 0.5)
+
+
+def test_help_states_both_modes_defaults(capsys):
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["fem", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "Default: cap (linear), lumen (--nonlinear)" in text
+    assert "default 0.16 linear, 0.15 --nonlinear" in text
+
+
+def test_the_linear_check_needs_a_pressure():
+    with pytest.raises(DesignError, match=r"--pressure.*required for the linear check"):
+        fem_cmd.linear_settings(_args())
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (("--pressure", "-1"), r"--pressure = -1(\.0)?: must be > 0 MPa"),
+        (("--steps", "0"), r"--steps = 0: must be an integer in \[1, 1000\]"),
+        (("--layers", "0"), r"--layers = 0: must be >= 1"),
+    ],
+)
+def test_bad_nonlinear_options_are_refused_by_name(extra, message):
+    with pytest.raises(DesignError, match=message):
+        fem_cmd.nonlinear_settings(_args("--nonlinear", *extra))
