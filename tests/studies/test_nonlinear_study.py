@@ -34,7 +34,7 @@ def test_nonlinear_evaluator_and_bend_curve_report(spec_writer, tmp_path):
     # models (docs/nonlinear.md): the nonlinear default mesh is coarse (12 segments per circle, the coil
     # area under-filled ~2 %, the tube grown 3 % to flatten its tangent contacts) and it reports the end-
     # section rotation where fem.check reports mid-length curvature x length (~6 %): 20 % bounds both.
-    # Same-mesh agreement (<= 0.5 %) is verified in tests/fem_nonlinear.
+    # Same-mesh agreement (<= 0.5 %) is verified in tests/fem/nonlinear.
     lin = df.bend_angle_fem_rad.to_numpy(float)
     assert angle[1:] == pytest.approx(lin[1:], rel=0.2)
     index, _ = write_report(tmp_path / "o")
