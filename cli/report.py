@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import argparse
 
+from softcath.cli.options import add_out
+
 HELP = "write a static HTML report of a sweep directory"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("dir", help="sweep directory (from `softcath sweep`)")
+    add_out(parser, required=False, what="report folder (default: DIR/report)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -21,7 +24,12 @@ def run(args: argparse.Namespace) -> int:
     if not Path(args.dir).is_dir():
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
 
-    path, _ = write_report(args.dir)
+    out = None
+    if args.out is not None:
+        from softcath.studies.atomic import prepare_out_dir
+
+        out = prepare_out_dir(args.out)
+    path, _ = write_report(args.dir, out=out)
     n = len(list(path.parent.glob("*.png")))
     print(f"report: {path} ({n} figures)")
     return 0

@@ -12,11 +12,16 @@ from __future__ import annotations
 
 import argparse
 
+from softcath.cli.options import add_out
+
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("dir", help="sweep directory (with results.parquet or results.csv)")
+    add_out(
+        parser, required=False, what="where selection.json goes (default: DIR, where the report finds it)"
+    )
     parser.add_argument(
         "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
     )
@@ -55,7 +60,12 @@ def run(args: argparse.Namespace) -> int:
         df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top,
         model=args.model,
     )  # fmt: skip
-    path = write_selection(sel, args.dir)
+    out = args.dir
+    if args.out is not None:
+        from softcath.studies.atomic import prepare_out_dir
+
+        out = prepare_out_dir(args.out)
+    path = write_selection(sel, out)
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
         print(f"note: {sel.note}")

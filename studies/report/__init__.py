@@ -290,8 +290,10 @@ def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
     return out
 
 
-def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list[tuple[str, str]]]:
-    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``.
+def write_report(
+    sweep_dir: str | Path, *, prefix: str = "", out: str | Path | None = None
+) -> tuple[Path, list[tuple[str, str]]]:
+    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``; ``out`` moves the folder.
 
     Returns the page's path and its sections ``(title, html)`` with image links
     prefixed by ``prefix``, for embedding the report in another page.
@@ -299,7 +301,7 @@ def write_report(sweep_dir: str | Path, *, prefix: str = "") -> tuple[Path, list
     from softcath.studies.atomic import staged_dir
 
     sweep_dir = Path(sweep_dir)
-    out = sweep_dir / "report"
+    out = sweep_dir / "report" if out is None else Path(out)
     with staged_dir(out) as stage:  # the page and its figures replace the old ones only as a whole
         sections = sweep_sections(sweep_dir, stage, prefix=prefix)
         mark = '<img src="' + prefix
