@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     out = prepare_out_dir(args.out)
     design.resolve(args.design)  # a bad design is refused before any section runs
     if args.data is not None:
-        from softcath.analytic.io import read_measurement_csv
+        from softcath.design.measurement import read_measurement_csv
 
         read_measurement_csv(args.data)  # so is a bad data file (the sections would each fail on it)
     res = run_demo(

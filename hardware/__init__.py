@@ -1,10 +1,9 @@
-"""softcath hardware package: the paper's bench and a virtual one that speaks the same protocols.
+"""Real devices: what a lab plugs in. The simulated rig is :mod:`softcath.virtualbench`.
 
 Modules: ``protocol`` (sensor line framing), ``ports`` / ``sensors`` (pyserial
-readers), ``stage`` (Zaber-style ASCII driver, syringe model),
-``virtual_devices`` (pty devices), ``render`` (synthetic frames),
-``circlefit`` / ``tipvision`` / ``calibration`` / ``frames`` /
-``measure_video`` (tip measurement), ``recorder`` (crash-safe 200 Hz CSV),
-``filtering`` (the paper's IIR filter), ``bench`` (the virtual bench).
-Heavy imports (cv2, serial) happen inside functions.
+readers), ``stage`` (Zaber-style ASCII driver, syringe model), ``recorder``
+(crash-safe 200 Hz CSV), ``circlefit`` / ``tipvision`` / ``calibration`` /
+``frames`` / ``measure_video`` (tip measurement from camera frames),
+``filtering`` (the paper's IIR filter). Heavy imports (cv2, serial) happen
+inside functions.
 """

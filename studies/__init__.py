@@ -1,1 +1,8 @@
-"""softcath studies package."""
+"""Studies over designs and data: sweeps, reports, selection, discrepancy, prediction bands, the demo.
+
+Sub-packages: ``sweep`` (specs, runner, evaluators, store), ``report`` (the
+sweep's HTML report), ``discrepancy`` (the missing-effect workflow over time
+series and over design sweeps), ``predict`` (prediction bands); modules:
+``selection``, ``results``, ``coil_ranking``, ``atomic`` (whole-or-nothing
+outputs), ``validity`` (range warnings and refusals), ``plots``, ``demo``.
+"""

@@ -148,7 +148,7 @@ def calibrate_section(
     Parameters
     ----------
     measurement
-        An :class:`softcath.analytic.io.Measurement` (pressure, curvature, optional arc length).
+        An :class:`softcath.design.measurement.Measurement` (pressure, curvature, optional arc length).
     design
         The design whose tube shape is calibrated (its shape is the nominal one).
     free, grid, use_elongation

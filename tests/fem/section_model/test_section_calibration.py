@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from softcath import design
-from softcath.analytic.io import Measurement
+from softcath.design.measurement import Measurement
 from softcath.design.errors import DesignError
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.calibration import calibrate_section
