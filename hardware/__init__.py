@@ -3,7 +3,7 @@
 Modules: ``protocol`` (sensor line framing), ``ports`` / ``sensors`` (pyserial
 readers), ``stage`` (Zaber-style ASCII driver, syringe model),
 ``virtual_devices`` (pty devices), ``render`` (synthetic frames),
-``circlefit`` / ``tipvision`` / ``calibration`` / ``frames`` /
+``circlefit`` / ``vision`` (``tipvision`` re-exports it) / ``calibration`` / ``frames`` /
 ``measure_video`` (tip measurement), ``recorder`` (crash-safe 200 Hz CSV),
 ``filtering`` (the paper's IIR filter), ``bench`` (the virtual bench).
 Heavy imports (cv2, serial) happen inside functions.
