@@ -5,22 +5,7 @@ Kept so that ``from softcath.hardware.tipvision import Calibration, measure`` ke
 
 from __future__ import annotations
 
-from softcath.hardware.vision import (
-    METHODS,
-    Calibration,
-    TipMeasurement,
-    draw_overlay,
-    find_red_tip,
-    measure,
-    track_centre_line,
-)
+from softcath.hardware import vision as _vision
+from softcath.hardware.vision import *  # noqa: F403 - the same names, by design
 
-__all__ = [
-    "Calibration",
-    "TipMeasurement",
-    "measure",
-    "draw_overlay",
-    "METHODS",
-    "find_red_tip",
-    "track_centre_line",
-]
+__all__ = list(_vision.__all__)

@@ -35,8 +35,8 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from scipy import signal
 
+from softcath.analytic.effects.base import first_order
 from softcath.design.errors import DesignError
 
 __all__ = [
@@ -105,13 +105,7 @@ def _first_order(t: np.ndarray, u: np.ndarray, tau: float) -> np.ndarray:
         return u.copy()
     h = _uniform_dt(t)
     if h is not None:
-        a = math.exp(-h / tau)
-        c = tau * (1 - a) / h
-        b = np.array([1 - c, c - a])
-        den = np.array([1.0, -a])
-        zi = signal.lfiltic(b, den, y=[u[0]], x=[u[0]])
-        z, _ = signal.lfilter(b, den, u, zi=zi)
-        return z
+        return first_order(h, u, tau)  # the same exact update as a filter (the candidates' helper)
     z = np.empty_like(u)
     z[0] = u[0]
     for k in range(u.size - 1):
