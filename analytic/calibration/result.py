@@ -148,23 +148,15 @@ def describe_fit(
     nre_nom = nre_opt = None
     if eps is not None and np.ptp(eps) > 0:
         nre_nom, nre_opt = nrmse(g_e_nom * p, eps), nrmse(g_e_opt * p, eps)
-    if reachable:
-        msg = (
-            f"fit reaches the data's gains (curvature {g_k_opt:.5g} vs {data_gk:.5g} 1/(mm MPa)); "
-            f"{n_optimal} of {n_solved} starts reached the best objective"
-        )
-    else:
-        msg = (
-            f"the shape family cannot reach the data's gains inside X: curvature gain "
-            f"{g_k_opt:.5g} vs data {data_gk:.5g} 1/(mm MPa) ({100 * miss_k:.2g} % short)"
-            + (
-                f", elongation {g_e_opt:.5g} vs {data_ge:.5g} 1/MPa ({100 * miss_e:.2g} %)"
-                if data.w_e > 0
-                else ""
-            )
-            + "; this is the best constrained fit"
-        )
     dg = data_gain(measurement)
+    msg = _message(
+        reachable=reachable,
+        gains=(g_k_opt, g_e_opt),
+        data_gains=(data_gk, data_ge),
+        misses=(miss_k, miss_e),
+        fits_elongation=data.w_e > 0,
+        counts=(n_optimal, n_solved),
+    )
     msg += "; " + dg.describe()
     if not identifiable:
         msg += (
@@ -200,3 +192,26 @@ def _rank(problem: ShapeProblem, data: FitData, z_best, p_fixed, factors) -> int
     jac = np.asarray(problem.jac_fn(z_best, p_fixed, factors))
     rows = [0] if data.w_e == 0 else ([1] if data.w_k == 0 else [0, 1])
     return int(np.linalg.matrix_rank(jac[rows, :] / np.maximum(np.abs(jac[rows, :]).max(), 1e-300), tol=1e-8))
+
+
+def _message(*, reachable: bool, gains, data_gains, misses, fits_elongation: bool, counts) -> str:
+    """The outcome in words: the fit reaches the data's gains, or how far short it stays."""
+    g_k_opt, g_e_opt = gains
+    data_gk, data_ge = data_gains
+    miss_k, miss_e = misses
+    n_optimal, n_solved = counts
+    if reachable:
+        return (
+            f"fit reaches the data's gains (curvature {g_k_opt:.5g} vs {data_gk:.5g} 1/(mm MPa)); "
+            f"{n_optimal} of {n_solved} starts reached the best objective"
+        )
+    return (
+        f"the shape family cannot reach the data's gains inside X: curvature gain "
+        f"{g_k_opt:.5g} vs data {data_gk:.5g} 1/(mm MPa) ({100 * miss_k:.2g} % short)"
+        + (
+            f", elongation {g_e_opt:.5g} vs {data_ge:.5g} 1/MPa ({100 * miss_e:.2g} %)"
+            if fits_elongation
+            else ""
+        )
+        + "; this is the best constrained fit"
+    )

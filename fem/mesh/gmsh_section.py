@@ -110,39 +110,49 @@ def section_triangles(
         pieces = coil + channel + channel_lumen + tube + lumen + rest
         occ.fragment(pieces[:1], pieces[1:])
         occ.synchronize()
-        # Grade the mesh down to ~2 x land_gap around the land corners: the thin
-        # cusps beside the lands then get short boundary edges, whose curved
-        # midpoints cannot fold the wedge triangles (with 16 segments per turn
-        # they did, and straightening them cost the channel 0.6 % of its area).
-        corners = []
-        for dim, tag in gmsh.model.getEntities(0):
-            px, _, _ = gmsh.model.getValue(dim, tag, [])
-            if any(abs(abs(px) - xl) < 1e-7 for xl in lands.values() if xl > 0):
-                corners.append(tag)
-        if corners:
-            field = gmsh.model.mesh.field
-            dist = field.add("Distance")
-            field.setNumbers(dist, "PointsList", corners)
-            thr = field.add("Threshold")
-            field.setNumber(thr, "InField", dist)
-            field.setNumber(thr, "SizeMin", min(mesh_size, 3.0 * g.land_gap))
-            field.setNumber(thr, "SizeMax", mesh_size)
-            field.setNumber(thr, "DistMin", g.land_gap)
-            field.setNumber(thr, "DistMax", 5.0 * g.land_gap)
-            field.setAsBackgroundMesh(thr)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", mesh_size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        if fast:
-            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-            gmsh.option.setNumber("Mesh.MinimumCirclePoints", segments_per_turn or _SEGMENTS_PER_TURN)
-            gmsh.option.setNumber("Mesh.Algorithm", 5)  # Delaunay
-            gmsh.option.setNumber("Mesh.Smoothing", 0)  # half of the meshing time; Delaunay shapes suffice
-        else:
-            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", segments_per_turn or _SEGMENTS_PER_TURN)
-            gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
+        _grade_at_land_corners(gmsh, g, lands, mesh_size)
+        _set_sizing(gmsh, mesh_size, segments_per_turn, fast)
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(2)  # midside nodes on the exact curves
         return p2_triangles(gmsh)
+
+
+def _grade_at_land_corners(gmsh, g: TipGeometry, lands: dict[str, float], mesh_size: float) -> None:
+    """A background size field that refines the section mesh around the land corners."""
+    # Grade the mesh down to ~2 x land_gap around the land corners: the thin
+    # cusps beside the lands then get short boundary edges, whose curved
+    # midpoints cannot fold the wedge triangles (with 16 segments per turn
+    # they did, and straightening them cost the channel 0.6 % of its area).
+    corners = []
+    for dim, tag in gmsh.model.getEntities(0):
+        px, _, _ = gmsh.model.getValue(dim, tag, [])
+        if any(abs(abs(px) - xl) < 1e-7 for xl in lands.values() if xl > 0):
+            corners.append(tag)
+    if corners:
+        field = gmsh.model.mesh.field
+        dist = field.add("Distance")
+        field.setNumbers(dist, "PointsList", corners)
+        thr = field.add("Threshold")
+        field.setNumber(thr, "InField", dist)
+        field.setNumber(thr, "SizeMin", min(mesh_size, 3.0 * g.land_gap))
+        field.setNumber(thr, "SizeMax", mesh_size)
+        field.setNumber(thr, "DistMin", g.land_gap)
+        field.setNumber(thr, "DistMax", 5.0 * g.land_gap)
+        field.setAsBackgroundMesh(thr)
+
+
+def _set_sizing(gmsh, mesh_size: float, segments_per_turn: int, fast: bool) -> None:
+    """Mesh size and algorithm options of the section mesh (see :func:`section_triangles`)."""
+    gmsh.option.setNumber("Mesh.MeshSizeMax", mesh_size)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+    if fast:
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.MinimumCirclePoints", segments_per_turn or _SEGMENTS_PER_TURN)
+        gmsh.option.setNumber("Mesh.Algorithm", 5)  # Delaunay
+        gmsh.option.setNumber("Mesh.Smoothing", 0)  # half of the meshing time; Delaunay shapes suffice
+    else:
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", segments_per_turn or _SEGMENTS_PER_TURN)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
 
 
 def p2_triangles(gmsh):
