@@ -16,7 +16,7 @@ log = logging.getLogger(__name__)
 
 #: Curvature sizing of the section mesh (elements per full turn of a boundary).
 #: With the midside nodes on the exact curves the faceting error is O(theta^4),
-#: so 16 segments keep region volumes within 0.02 % (tests/fem/test_fem_mesh.py).
+#: so 16 segments keep region volumes within 0.02 % (tests/fem/mesh/test_fem_mesh.py).
 _SEGMENTS_PER_TURN = 16
 
 
