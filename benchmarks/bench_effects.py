@@ -43,7 +43,7 @@ from softcath.virtualbench.hidden_effects import (  # noqa: E402
     quasi_static_protocol,
     step_protocol,
 )
-from softcath.virtualbench.plant import EFFECT_NAMES  # noqa: E402
+from softcath.virtualbench.truth_effects import EFFECT_NAMES  # noqa: E402
 
 CLASSES = ("none", *EFFECT_NAMES)
 PROTOCOLS = {"default": default_protocol, "step": step_protocol, "quasi-static": quasi_static_protocol}

@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 
 from softcath.hardware.recorder import Recorder, RecorderConfig  # noqa: E402
 from softcath.hardware.sensors import SerialSensor  # noqa: E402
-from softcath.hardware.tipvision import Calibration, measure  # noqa: E402
+from softcath.hardware.vision import Calibration, measure  # noqa: E402
 from softcath.virtualbench.devices import VirtualLineDevice  # noqa: E402
 from softcath.virtualbench.render import Scene, render_frame  # noqa: E402
 

@@ -2,8 +2,8 @@
 
 Modules: ``protocol`` (sensor line framing), ``ports`` / ``sensors`` (pyserial
 readers), ``stage`` (Zaber-style ASCII driver, syringe model), ``recorder``
-(crash-safe 200 Hz CSV), ``circlefit`` / ``tipvision`` / ``calibration`` /
-``frames`` / ``measure_video`` (tip measurement from camera frames),
-``filtering`` (the paper's IIR filter). Heavy imports (cv2, serial) happen
-inside functions.
+with ``record_types`` and ``timebase`` (crash-safe 200 Hz CSV),
+``circlefit`` / ``vision`` / ``calibration`` / ``frames`` / ``measure_video``
+(tip measurement from camera frames), ``filtering`` (the paper's IIR filter).
+Heavy imports (cv2, serial) happen inside functions.
 """

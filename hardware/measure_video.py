@@ -12,7 +12,7 @@ import numpy as np
 from softcath.design.measurement import CsvSink
 from softcath.hardware.frames import FrameSource, VideoWriter
 from softcath.hardware.recorder import CAMERA_COLUMNS
-from softcath.hardware.tipvision import Calibration, TipMeasurement, draw_overlay, measure
+from softcath.hardware.vision import Calibration, TipMeasurement, draw_overlay, measure
 
 __all__ = ["FRAME_COLUMNS", "MeasureSummary", "measured_frames", "measure_video"]
 

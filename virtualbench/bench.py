@@ -13,7 +13,7 @@ What runs (mirroring the paper's rig, section II.A / IV.1):
    (stage microsteps) speak :mod:`softcath.hardware.protocol` on pseudo-terminals; a
    virtual camera renders frames of the bent tip (:mod:`softcath.virtualbench.render`).
 4. The real :class:`softcath.hardware.recorder.Recorder` reads the ptys and the
-   camera through the real measurement pipeline (:mod:`softcath.hardware.tipvision`)
+   camera through the real measurement pipeline (:mod:`softcath.hardware.vision`)
    onto the 200 Hz base.
 
 Everything runs on a virtual clock, faster than real time, and is
@@ -39,7 +39,7 @@ from softcath.hardware.frames import VideoWriter
 from softcath.hardware.recorder import Recorder, RecorderConfig, RecordSummary
 from softcath.hardware.sensors import SerialSensor
 from softcath.hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
-from softcath.hardware.tipvision import Calibration, measure
+from softcath.hardware.vision import Calibration, measure
 from softcath.virtualbench.devices import VirtualClock, VirtualLineDevice, VirtualStage
 from softcath.virtualbench.render import Scene, render_frame
 
@@ -152,7 +152,8 @@ def make_plant(design, *, effects=(), load: str = "cap"):
     is returned, and asking for an effect is an error.
     """
     try:
-        from softcath.virtualbench.plant import Plant, make_effect
+        from softcath.virtualbench.plant import Plant
+        from softcath.virtualbench.truth_effects import make_effect
     except ImportError:
         if effects:
             raise DesignError(

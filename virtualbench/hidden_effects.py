@@ -35,7 +35,8 @@ from softcath.virtualbench.hidden_protocols import (
     quasi_static_protocol,
     step_protocol,
 )
-from softcath.virtualbench.plant import EFFECT_NAMES, Plant, make_effect
+from softcath.virtualbench.plant import Plant
+from softcath.virtualbench.truth_effects import EFFECT_NAMES, make_effect
 
 __all__ = [
     "Protocol",
@@ -176,7 +177,7 @@ def make_case(
     Parameters
     ----------
     effects
-        Truth effect names (``softcath.virtualbench.plant.EFFECT_NAMES``), each scaled to
+        Truth effect names (``softcath.virtualbench.truth_effects.EFFECT_NAMES``), each scaled to
         ``effect_to_noise`` on its own.
     seed
         Random seed: secondary effect parameters, calibration error, noise.

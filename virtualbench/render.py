@@ -7,7 +7,7 @@ with an illumination gradient, optical blur and sensor noise: fresh noise
 in a box around the tube every frame, a fixed noise pattern elsewhere
 (rendering only that box keeps the virtual camera fast).
 
-Conventions (shared by :mod:`softcath.hardware.tipvision`): image pixels ``(u, v)``
+Conventions (shared by :mod:`softcath.hardware.vision`): image pixels ``(u, v)``
 with the origin top-left and ``v`` down; world millimetres ``(x, y)`` with
 the origin at the base, ``x`` right, ``y`` up. The base direction is an
 angle counter-clockwise from the image's +x axis (90 degrees: pointing

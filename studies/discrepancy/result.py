@@ -1,4 +1,9 @@
-"""``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult."""
+"""``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult.
+
+The steps: check the decision rule, prepare the reference (measured data, or FEM
+points with the design's gain fixed), name effects (:func:`~softcath.studies.discrepancy.workflow.name_effects`),
+then the records (:mod:`softcath.studies.discrepancy.records`).
+"""
 
 from __future__ import annotations
 
@@ -18,7 +23,17 @@ from softcath.design.errors import DataError, DesignError
 from softcath.design.measurement import Measurement, read_measurement_csv
 from softcath.studies.discrepancy.prepare import Prepared, prepare, prepare_static
 from softcath.studies.discrepancy.quasi_static import candidates_for
-from softcath.studies.discrepancy.workflow import RATE_FAMILY, name_effects
+from softcath.studies.discrepancy.records import (
+    calibration_record,
+    candidate_table,
+    decision_notes,
+    excess,
+    filter_record,
+    run_records,
+    separability_notes,
+    step_records,
+)
+from softcath.studies.discrepancy.workflow import name_effects
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference", "DEFAULT_MARGIN", "QUASI_STATIC_MARGIN"]
 
@@ -197,13 +212,6 @@ def _run_gain_notes(prep: Prepared) -> list[str]:
     ]
 
 
-def _excess(before: float, after: float, floor: float) -> float:
-    den = before**2 - floor**2
-    if den <= 0:
-        return 0.0
-    return float(np.clip((before**2 - after**2) / den, -1.0, 1.0))
-
-
 def run_workflow(
     data: Measurement | pd.DataFrame | str | Path | None,
     design: Any = None,
@@ -250,66 +258,23 @@ def run_workflow(
         :func:`softcath.studies.discrepancy.prepare.prepare`). On quasi-static data the
         time-dependent candidates are left out, or refused when named.
     """
-    if reference not in ("measured", "fem"):
-        raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
-    if margin is not None and not 0 < margin < 1:
-        raise DesignError("margin", margin, "must be in (0, 1)")
-    if not 0 <= min_share < 1:
-        raise DesignError("min_share", min_share, "must be in [0, 1)")
-    if not 1 <= max_effects <= 6:
-        raise DesignError("max_effects", max_effects, "must be in [1, 6]")
+    _check_rule(reference, margin, min_share, max_effects)
     d = _resolve_design(design)
-    notes: list[str] = []
-    fixed_gain = None
-    context: dict[str, float] = {}
     nominal = None
     if d is not None:
         from softcath import analytic
 
         nominal = analytic.gains(d, "cap")[0]
+    fixed_gain = None
+    context: dict[str, float] = {}
+    shape_cal = None
     if reference == "measured":
-        if data is None:
-            raise DataError("reference 'measured' needs a measurement table or CSV")
-        if isinstance(data, Measurement):
-            meas = data
-        elif isinstance(data, pd.DataFrame):
-            meas = Measurement.from_table(data)
-        else:
-            meas = read_measurement_csv(data)
-        prep = prepare(meas, excitation=excitation)
-        cands, why = candidates_for(prep, candidates, MEASURED_CANDIDATES)
-        notes += why + _run_gain_notes(prep)
+        prep, cands, notes, shape_cal = _measured_reference(data, d, candidates, excitation)
         if margin is None and prep.static:
             margin = QUASI_STATIC_MARGIN
-        shape_cal = _shape_calibration(prep, d) if d is not None else None
     else:
-        if d is None:
-            raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
-        from softcath import analytic
-
-        g_cap = analytic.gains(d, "cap")[0]
-        g_lum, g_sec_cap = _lumen_wall_gains(d)
-        fixed_gain = g_cap
-        context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_sec_cap}
-        src = data if data is not None else fem
-        if src is None:
-            raise DataError("reference 'fem' needs a FEM table or a fem callable")
-        if callable(src) and not isinstance(src, pd.DataFrame):
-            p = np.linspace(0, 2.0, 12) if pressures_MPa is None else np.asarray(pressures_MPa)
-            k = np.asarray(src(d, p), dtype=float)
-        else:
-            tab = src if isinstance(src, pd.DataFrame) else pd.read_csv(src)
-            for c in ("pressure_MPa", "curvature_per_mm"):
-                if c not in tab.columns:
-                    raise DataError(f"FEM reference table: missing column {c!r}")
-            p = tab["pressure_MPa"].to_numpy(float)
-            k = tab["curvature_per_mm"].to_numpy(float)
-        prep = prepare_static(p, k)
-        shape_cal = None
-        cands = candidates or FEM_CANDIDATES
-        notes.append(
-            "reference = FEM: the model's gain is the design's (not calibrated), "
-            "so a lumen-wall term is distinguishable from a gain error"
+        prep, cands, notes, fixed_gain, context = _fem_reference_points(
+            data, d, fem, pressures_MPa, candidates
         )
     if margin is None:
         margin = DEFAULT_MARGIN
@@ -326,132 +291,95 @@ def run_workflow(
         progress=progress,
     )
     first = steps[0].baseline
-    baseline_fit = first.fit
     named = tuple(s.named for s in steps if s.named)
     after = steps[-1].baseline if steps[-1].named is None else steps[-1].candidates[steps[-1].named]
-    final_fit = after.fit
     floor = prep.noise_floor_per_mm
     fs = prep.full_scale_per_mm
-    step_records = []
-    for s in steps:
-        if s.named is None:
-            continue
-        sc = s.candidates[s.named]
-        step_records.append(
-            {
-                "effect": s.named,
-                "meaning": get(s.named).meaning,
-                "params": s.fit.params.get(s.named, {}),
-                "params_stderr": s.fit.stderr.get(s.named, {}),
-                "coefficient": s.fit.coefficients.get(s.named),
-                "coefficient_stderr": s.fit.coefficient_stderr.get(s.named),
-                "nrmse_before": s.baseline.nrmse,
-                "nrmse_after": sc.nrmse,
-                "excess_removed": _excess(s.baseline.rmse_per_mm, sc.rmse_per_mm, floor),
-                "ambiguous_with": list(s.ambiguous_with),
-                "separating_experiment": s.separating_experiment,
-            }
-        )
-        if s.extra.get("joint_with") and s.baseline is not s.candidates[s.named]:
-            notes.append(
-                f"step {len(step_records)}: {s.named} and {s.extra['joint_with']} were named together: "
-                "neither alone cleared the margin, both together do (their signatures partly cancel)"
-            )
-        for k, v in s.fit.params.get(s.named, {}).items():
-            se = s.fit.stderr.get(s.named, {}).get(k)
-            if se is not None and math.isfinite(se) and se >= abs(v):
-                notes.append(
-                    f"step {len(step_records)}: the data do not pin {s.named}'s {k} "
-                    f"({v:.3g} ± {se:.2g}): its size is uncertain, only its presence is supported"
-                )
-        if s.ambiguous_with:
-            notes.append(
-                f"step {len(step_records)}: the data cannot tell {s.named} from "
-                f"{', '.join(s.ambiguous_with)}"
-                + (f"; to separate them, {s.separating_experiment}" if s.separating_experiment else "")
-            )
-    for c, sh in steps[-1].extra.get("below_min_share", {}).items():
-        gain = 1 - steps[-1].candidates[c].rmse_per_mm / steps[-1].baseline.rmse_per_mm
-        notes.append(
-            f"{c} would lower the held-out RMSE by a further {gain:.0%} but removes only "
-            f"{sh:.2%} of the original excess error power (< {min_share:.0%}): read as the "
-            "named effects' form error, not as another missing effect"
-        )
-    if not named:
-        notes.append(
-            "no candidate beat the calibrated model by the margin on held-out data: "
-            + ("nothing is missing at this noise level" if floor > 0 else "none is supported by these points")
-        )
-    calib = {
-        "used": "explicit gain: least squares on the filtered series (refitted in every model)"
-        if fixed_gain is None
-        else "none: gain fixed to the design's analytic cap-load gain",
-        "gain_per_mm_MPa": baseline_fit.gain,
-        "gain_stderr": baseline_fit.gain_stderr,
-        "final_gain_per_mm_MPa": final_fit.gain,
-    }
-    if nominal is not None:
-        calib["nominal_gain_per_mm_MPa"] = nominal
-        calib["gain_over_nominal"] = baseline_fit.gain / nominal if nominal else None
-    if shape_cal is not None:
-        calib["shape_optimisation"] = shape_cal
-        g_shape = shape_cal.get("gains_model", {}).get("curvature_per_mm_per_MPa")
-        if g_shape:
-            # the explicit gain is what the workflow relies on; this says how far the
-            # shape family alone got
-            calib["explicit_gain_over_shape_gain"] = baseline_fit.gain / g_shape
-    elif fixed_gain is None:
-        calib["shape_optimisation"] = "not run (no design given)"
-    filt = (
-        {
-            "family": prep.data_filter.family,
-            "passband_hz": prep.data_filter.passband_hz,
-            "stopband_hz": prep.data_filter.stopband_hz,
-            "ripple_db": prep.data_filter.ripple_db,
-            "attenuation_db": prep.data_filter.attenuation_db,
-            "decimated_rate_hz": prep.fs_hz,
-            "applied_to": "data and model output alike (zero-phase)",
-        }
-        if not prep.static
-        else {"family": "none (quasi-static reference)"}
-    )
-    runs = tuple(
-        {
-            "run": r.label,
-            "kind": r.kind,
-            "frequency_hz": r.frequency_hz,
-            "duration_s": r.duration_s,
-            "noise_sd_per_mm": r.noise_sd_per_mm,
-        }
-        for r in prep.runs
-    )
-    cand_table = tuple(
-        {c: sc.nrmse for c, sc in s.candidates.items()} | {"(current)": s.baseline.nrmse} for s in steps
-    )
-    if prep.distinct_frequencies() < 2 and not prep.static and set(named) & set(RATE_FAMILY):
-        notes.append(
-            "one excitation only: rate-independent hysteresis, lag, delay and creep "
-            "are not separable from these data (see the separating experiment)"
-        )
+    records, step_notes = step_records(steps, floor)
+    notes += step_notes + decision_notes(steps, named, min_share, floor) + separability_notes(prep, named)
     return DiscrepancyResult(
         reference=reference,
         named=named,
-        steps=tuple(step_records),
+        steps=tuple(records),
         nrmse_before=first.nrmse,
         nrmse_after=after.nrmse,
         noise_floor_nrmse=floor / fs if fs > 0 else 0.0,
-        excess_removed=_excess(first.rmse_per_mm, after.rmse_per_mm, floor),
-        calibration=calib,
-        filter=filt,
-        runs=runs,
-        candidates=cand_table,
+        excess_removed=excess(first.rmse_per_mm, after.rmse_per_mm, floor),
+        calibration=calibration_record(
+            first.fit, after.fit, fixed_gain=fixed_gain, nominal=nominal, shape_cal=shape_cal
+        ),
+        filter=filter_record(prep),
+        runs=run_records(prep),
+        candidates=candidate_table(steps),
         notes=tuple(notes),
         margin=margin,
         min_share=min_share,
         prepared=prep,
-        baseline_fit=baseline_fit,
-        final_fit=final_fit,
+        baseline_fit=first.fit,
+        final_fit=after.fit,
     )
+
+
+def _check_rule(reference: str, margin: float | None, min_share: float, max_effects: int) -> None:
+    """Refuse an unknown reference or a decision rule out of range."""
+    if reference not in ("measured", "fem"):
+        raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
+    if margin is not None and not 0 < margin < 1:
+        raise DesignError("margin", margin, "must be in (0, 1)")
+    if not 0 <= min_share < 1:
+        raise DesignError("min_share", min_share, "must be in [0, 1)")
+    if not 1 <= max_effects <= 6:
+        raise DesignError("max_effects", max_effects, "must be in [1, 6]")
+
+
+def _measured_reference(data, d, candidates, excitation: str):
+    """``(prepared, candidates, notes, shape calibration)`` of a measurement table or CSV."""
+    if data is None:
+        raise DataError("reference 'measured' needs a measurement table or CSV")
+    if isinstance(data, Measurement):
+        meas = data
+    elif isinstance(data, pd.DataFrame):
+        meas = Measurement.from_table(data)
+    else:
+        meas = read_measurement_csv(data)
+    prep = prepare(meas, excitation=excitation)
+    cands, why = candidates_for(prep, candidates, MEASURED_CANDIDATES)
+    notes = why + _run_gain_notes(prep)
+    shape_cal = _shape_calibration(prep, d) if d is not None else None
+    return prep, cands, notes, shape_cal
+
+
+def _fem_reference_points(data, d, fem, pressures_MPa, candidates):
+    """``(prepared, candidates, notes, fixed gain, context)`` of FEM reference points.
+
+    The model's gain is the design's analytic cap-load gain (not calibrated), so a
+    lumen-wall term is distinguishable from a gain error.
+    """
+    if d is None:
+        raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
+    from softcath import analytic
+
+    g_cap = analytic.gains(d, "cap")[0]
+    g_lum, g_sec_cap = _lumen_wall_gains(d)
+    context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_sec_cap}
+    src = data if data is not None else fem
+    if src is None:
+        raise DataError("reference 'fem' needs a FEM table or a fem callable")
+    if callable(src) and not isinstance(src, pd.DataFrame):
+        p = np.linspace(0, 2.0, 12) if pressures_MPa is None else np.asarray(pressures_MPa)
+        k = np.asarray(src(d, p), dtype=float)
+    else:
+        tab = src if isinstance(src, pd.DataFrame) else pd.read_csv(src)
+        for c in ("pressure_MPa", "curvature_per_mm"):
+            if c not in tab.columns:
+                raise DataError(f"FEM reference table: missing column {c!r}")
+        p = tab["pressure_MPa"].to_numpy(float)
+        k = tab["curvature_per_mm"].to_numpy(float)
+    notes = [
+        "reference = FEM: the model's gain is the design's (not calibrated), "
+        "so a lumen-wall term is distinguishable from a gain error"
+    ]
+    return prepare_static(p, k), candidates or FEM_CANDIDATES, notes, g_cap, context
 
 
 def _lumen_wall_gains(d) -> tuple[float, float]:

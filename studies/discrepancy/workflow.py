@@ -290,39 +290,14 @@ def name_effects(
     kw = dict(fixed_gain=fixed_gain, context=context)
     base = first = cross_validate(prep, named, **kw)
     one_freq = not prep.static and prep.distinct_frequencies() < 2
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        # an upper bound: each round skips the effects already named, and the search stops
-        # early when nothing more clears the margin (the bar is completed then, below)
-        rounds = min(max_effects, len(candidates))
-        bar = tqdm(total=sum(len(candidates) - i for i in range(rounds)), desc="candidates", leave=False)
+    bar = _progress_bar(candidates, max_effects) if progress else None
     while len(named) < max_effects:
-        scores = {}
-        for c in candidates:
-            if c in named:
-                continue
-            # in-sample must already beat the current in-sample fit by half the margin
-            scores[c] = cross_validate(
-                prep, [*named, c], start=start, prune_above=(1 - margin / 2) * base.fit.rmse, **kw
-            )
-            if bar is not None:
-                bar.update(1)
+        scores = _score_round(prep, named, candidates, start, base, margin, kw, bar)
         if not scores:
             break
         live = {c: s for c, s in scores.items() if not s.pruned}
         best = min(live, key=lambda c: live[c].rmse_per_mm) if live else None
-        threshold = (1 - margin) * base.rmse_per_mm
-        excess0 = max(first.rmse_per_mm**2 - prep.noise_floor_per_mm**2, 1e-300)
-        share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in live.items()}
-        clears = [
-            c
-            for c, s in live.items()
-            if s.rmse_per_mm <= threshold
-            and s.rmse_per_mm < base.rmse_per_mm
-            and (not named or share[c] >= min_share)
-        ]
+        threshold, share, clears = _clearing(prep, live, base, first, named, margin, min_share)
         if best not in clears:
             joint = _joint_steps(
                 prep, named, base, first, start, candidates, margin, min_share, max_effects, kw
@@ -332,53 +307,11 @@ def name_effects(
                 named += [s.named for s in joint]
                 start, base = joint[-1].fit.params, joint[-1].baseline
                 continue
-        if not live:
-            steps.append(
-                Step(
-                    baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment=""
-                )
-            )
-            break
         # (clears: strictly below the current score too: exact reference data name nothing)
-        if best not in clears:
-            # candidates that beat the margin but explain too little of the original gap
-            small = {
-                c: share[c]
-                for c, s in live.items()
-                if named and s.rmse_per_mm <= threshold and share[c] < min_share
-            }
-            steps.append(
-                Step(
-                    baseline=base,
-                    candidates=scores,
-                    named=None,
-                    ambiguous_with=(),
-                    separating_experiment="",
-                    extra={"below_min_share": small},
-                )
-            )
+        if not live or best not in clears:
+            steps.append(_stop_step(base, scores, live, share, threshold, named, min_share))
             break
-        # within the margin of the best: the data do not prefer the best over these
-        amb = [
-            c
-            for c in clears
-            if c != best and scores[c].rmse_per_mm <= scores[best].rmse_per_mm / (1 - margin)
-        ]
-        if one_freq and best in RATE_FAMILY:
-            amb += [c for c in clears if c in RATE_FAMILY and c != best and c not in amb]
-        # a lag and a delay both shorter than the filter's time resolution differ only
-        # in second order (amplitude ~ (w tau)^2): when their scores are also close,
-        # the data cannot tell them apart
-        if best in ("lag", "delay") and not prep.static:
-            other = "delay" if best == "lag" else "lag"
-            t_best = next(iter(scores[best].fit.params.get(best, {}).values()), 0.0)
-            if (
-                other in clears
-                and other not in amb
-                and t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz)
-                and scores[other].rmse_per_mm <= LAG_DELAY_CLOSE * scores[best].rmse_per_mm
-            ):
-                amb.append(other)
+        amb = _ambiguous(prep, best, clears, scores, margin, one_freq)
         fit = scores[best].fit
         steps.append(
             Step(
@@ -399,3 +332,86 @@ def name_effects(
         bar.refresh()
         bar.close()
     return steps
+
+
+def _progress_bar(candidates: Sequence[str], max_effects: int):
+    """A tqdm bar over the candidate fits of the search."""
+    from tqdm import tqdm
+
+    # an upper bound: each round skips the effects already named, and the search stops
+    # early when nothing more clears the margin (the bar is completed then, in name_effects)
+    rounds = min(max_effects, len(candidates))
+    return tqdm(total=sum(len(candidates) - i for i in range(rounds)), desc="candidates", leave=False)
+
+
+def _score_round(prep, named, candidates, start, base, margin, kw, bar) -> dict[str, CVScore]:
+    """Held-out scores of the current model plus each candidate not named yet."""
+    scores = {}
+    for c in candidates:
+        if c in named:
+            continue
+        # in-sample must already beat the current in-sample fit by half the margin
+        scores[c] = cross_validate(
+            prep, [*named, c], start=start, prune_above=(1 - margin / 2) * base.fit.rmse, **kw
+        )
+        if bar is not None:
+            bar.update(1)
+    return scores
+
+
+def _ambiguous(prep: Prepared, best: str, clears, scores, margin: float, one_freq: bool) -> list[str]:
+    """The candidates the data do not tell from ``best``."""
+    # within the margin of the best: the data do not prefer the best over these
+    amb = [
+        c for c in clears if c != best and scores[c].rmse_per_mm <= scores[best].rmse_per_mm / (1 - margin)
+    ]
+    if one_freq and best in RATE_FAMILY:
+        amb += [c for c in clears if c in RATE_FAMILY and c != best and c not in amb]
+    # a lag and a delay both shorter than the filter's time resolution differ only
+    # in second order (amplitude ~ (w tau)^2): when their scores are also close,
+    # the data cannot tell them apart
+    if best in ("lag", "delay") and not prep.static:
+        other = "delay" if best == "lag" else "lag"
+        t_best = next(iter(scores[best].fit.params.get(best, {}).values()), 0.0)
+        if (
+            other in clears
+            and other not in amb
+            and t_best < 1 / (2 * np.pi * prep.data_filter.passband_hz)
+            and scores[other].rmse_per_mm <= LAG_DELAY_CLOSE * scores[best].rmse_per_mm
+        ):
+            amb.append(other)
+    return amb
+
+
+def _clearing(prep: Prepared, live, base, first, named, margin: float, min_share: float):
+    """``(threshold, share, clears)``: the score to beat, each candidate's share of the original
+    excess error power, and the candidates that clear the margin (and ``min_share`` after the first)."""
+    threshold = (1 - margin) * base.rmse_per_mm
+    excess0 = max(first.rmse_per_mm**2 - prep.noise_floor_per_mm**2, 1e-300)
+    share = {c: (base.rmse_per_mm**2 - s.rmse_per_mm**2) / excess0 for c, s in live.items()}
+    clears = [
+        c
+        for c, s in live.items()
+        if s.rmse_per_mm <= threshold
+        and s.rmse_per_mm < base.rmse_per_mm
+        and (not named or share[c] >= min_share)
+    ]
+    return threshold, share, clears
+
+
+def _stop_step(base, scores, live, share, threshold, named, min_share: float) -> Step:
+    """The last Step when nothing more is named (with the candidates held back by ``min_share``)."""
+    if not live:
+        return Step(baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment="")
+    # candidates that beat the margin but explain too little of the original gap
+    small = {
+        c: share[c] for c, s in live.items() if named and s.rmse_per_mm <= threshold and share[c] < min_share
+    }
+    return Step(
+        baseline=base,
+        candidates=scores,
+        named=None,
+        ambiguous_with=(),
+        separating_experiment="",
+        extra={"below_min_share": small},
+    )

@@ -140,7 +140,7 @@ def test_meshing_leaves_sigpipe_ignored():
     import subprocess
     import sys
 
-    root = Path(__file__).parents[2]
+    root = Path(__file__).parents[3]
 
     def probe(mode: str) -> str:
         r = subprocess.run([sys.executable, "-c", _SIGPIPE_PROBE, mode], capture_output=True, text=True,

@@ -10,7 +10,7 @@ from softcath.analytic.calibration import _inside, calibrate
 from softcath.design.errors import DesignError
 from softcath.design.measurement import Measurement
 
-DATA = Path(__file__).parents[2] / "studies" / "data" / "paper_sine.csv"
+DATA = Path(__file__).parents[3] / "studies" / "data" / "paper_sine.csv"
 
 
 def series(truth, *, noise=0.0, seed=0, duration=20.0, fs=200.0):
@@ -88,7 +88,7 @@ def test_bundled_example_is_reproducible_and_calibrates():
     import importlib.util
 
     spec = importlib.util.spec_from_file_location(
-        "mk", Path(__file__).parents[2] / "examples/make_example_data.py"
+        "mk", Path(__file__).parents[3] / "examples/make_example_data.py"
     )
     mk = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mk)

@@ -11,7 +11,7 @@ from softcath.design.errors import DesignError
 from softcath.hardware.calibration import scale_from_chessboard, scale_from_points
 from softcath.hardware.errors import FrameSourceError
 from softcath.hardware.frames import VideoWriter, open_source
-from softcath.hardware.tipvision import Calibration, draw_overlay, measure
+from softcath.hardware.vision import Calibration, draw_overlay, measure
 from softcath.virtualbench.render import Scene, render_chessboard, render_frame, tip_pose
 
 L_MM = 5.0

@@ -1,0 +1,60 @@
+"""Design selection before fabrication: readable constraints and objectives over result columns.
+
+Expressions
+-----------
+A constraint compares two arithmetic expressions over result columns::
+
+    bend_angle_deg >= 90 at p_max
+    max_strain <= 0.3
+    outer_diameter_mm <= 0.8
+    abs(rel_diff_curvature) < 0.2 at p=0.5
+
+An objective names a direction and an expression::
+
+    maximise bend_per_MPa_deg
+    minimise elongation at p_max
+    minimise abs_rel_diff_curvature
+
+Columns are those of ``results.csv`` (swept parameters by their dotted path,
+e.g. ``tube.h``). Allowed: numbers, ``+ - * /``, unary minus, ``abs()``, and
+the comparisons ``< <= > >= == !=``. ``at p_max``, ``at p_min`` or ``at p=NUM``
+picks the pressure row; without it a constraint must hold at every pressure
+and an objective is taken at p_max. Rows where an expression is undefined
+(NaN, e.g. a per-MPa value at 0 MPa, or FEM columns of an analytic-only
+sweep) are skipped; a design with no defined row fails the constraint.
+
+Model and load: the best-estimate columns ``curvature_per_mm``,
+``elongation``, ``bend_angle_deg``, ``max_strain`` and ``bend_per_MPa_deg``
+resolve to one model's columns (:func:`softcath.studies.results.model_columns`). By
+default that is the section model under the lumen load (the real load) when
+the sweep has section-model columns, else the paper's formula (analytic
+model) under the cap load, with a note saying so; ``model`` and ``load``
+choose explicitly (``paper``, ``section`` or ``fem``; ``cap`` or ``lumen``).
+
+Ranking: designs that fail (status) or break a constraint are dropped; the
+rest are ordered Pareto front first (no other design is at least as good in
+every objective and better in one), each group by the first objective.
+"""
+
+from __future__ import annotations
+
+from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
+from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.selection.models import MODEL_NAMES, resolve_model
+from softcath.studies.selection.output import write_selection
+from softcath.studies.selection.ranking import MAX_POINTS, Selection, pareto_front, select
+
+__all__ = [
+    "Constraint",
+    "Objective",
+    "Selection",
+    "SelectionError",
+    "MAX_POINTS",
+    "MODEL_NAMES",
+    "parse_constraint",
+    "parse_objective",
+    "pareto_front",
+    "resolve_model",
+    "select",
+    "write_selection",
+]

@@ -1,0 +1,42 @@
+"""Which model's columns the best-estimate columns mean, and under which load (see the package docstring)."""
+
+from __future__ import annotations
+
+from softcath.studies.selection.expressions import SelectionError
+
+__all__ = ["MODEL_NAMES", "resolve_model"]
+
+MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+
+
+def resolve_model(df, model: str | None = None, load: str | None = None):
+    """``(table, model, load, note)``: the results with their best-estimate columns from one model.
+
+    See the module docstring for the defaults; ``note`` says what was chosen
+    for the user when it was not asked for.
+    """
+    from softcath.studies.results import has_model, model_columns
+
+    loads = sorted(set(df["load"]))
+    notes = []
+    if model is None:
+        if has_model(df, "section"):
+            model = "section"
+        elif "curvature_analytic_per_mm" in df.columns:
+            model = "paper"
+            notes.append(
+                "this sweep has no section-model results: ranked on the paper's formula (analytic model); "
+                'add "section" to the sweep\'s evaluators for 3-D-FEM-grade curvature'
+            )
+    elif model not in MODEL_NAMES:
+        raise SelectionError(f"model '{model}' is unknown; choose from {', '.join(MODEL_NAMES)}")
+    elif not has_model(df, model):
+        raise SelectionError(f"model '{model}': this sweep has no results of {MODEL_NAMES[model]}")
+    if load is None:
+        load = "cap" if model in (None, "paper") else "lumen"
+        if load not in loads:
+            notes.append(f"the sweep has no {load} load: used {loads[0]}")
+            load = loads[0]
+    if model is not None:
+        df = model_columns(df, model)
+    return df, (model or "table"), load, "; ".join(notes)
