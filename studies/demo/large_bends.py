@@ -72,7 +72,11 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
             ],
             rows,
         )  # fmt: skip
-        + figure(f2.name, f"The tip at {fmt(c.pressure[-1])} MPa (side view) over its undeformed outline.")
+        + figure(
+            f2.name,
+            f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its undeformed "
+            "ghost, coloured by the largest principal stretch strain λ_max − 1.",
+        )
     )
     ctx.shared["large_bends"] = {
         "pressure": float(c.pressure[-1]), "angle_deg": float(np.degrees(c.bend_angle[-1])), "ratio": ratio,
