@@ -2,8 +2,9 @@
 
 Linear (default): writes DIR/fem.json (curvature, elongation, tip pose,
 strain, run facts and the analytic values for the same design, pressure and
-load model), DIR/tip.vtu (open in ParaView) and DIR/tip.png (deformed tip
-coloured by strain).
+load model), DIR/tip.vtu (open in ParaView), DIR/tip.png (deformed tip
+coloured by strain) and DIR/tip.html (the same, rotatable in a browser, offline;
+skipped with --no-png like tip.png).
 
 ``--nonlinear``: the finite-strain pressure sweep (docs/nonlinear.md), writing
 DIR/fem.json (the linear check's keys plus steps and Newton iterations),
@@ -183,6 +184,7 @@ def run(args: argparse.Namespace) -> int:
     check_fem_budget(d, mesh_size=s.mesh_size)  # before minutes of meshing, not after
     from softcath import fem
     from softcath.fem.export import render_png, write_vtu
+    from softcath.fem.html_view import write_tip_html
 
     stages = iter(range(1, 5))
 
@@ -206,6 +208,7 @@ def run(args: argparse.Namespace) -> int:
         write_vtu(result.solution, s.load, s.pressure, o.path("tip.vtu"))
         if not args.no_png:
             render_png(result.solution, s.load, s.pressure, o.path("tip.png"))
+            write_tip_html(result.solution, s.load, s.pressure, o.path("tip.html"))
     warn_linear_range(s.pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
     ratio = c.ratio_fem_over_analytic["curvature_per_mm"]
     print(

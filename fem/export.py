@@ -10,7 +10,7 @@ import numpy as np
 from softcath.fem.pipeline import TipSolution
 from softcath.fem.section import REGIONS
 
-__all__ = ["to_grid", "write_vtu", "render_png", "quiet_vtk"]
+__all__ = ["to_grid", "write_vtu", "render_png", "render_grid_png", "quiet_vtk"]
 
 log = logging.getLogger(__name__)
 
@@ -69,28 +69,52 @@ def render_png(
     The tip is cut along its bending plane (x = 0) and seen from +x (y up), so
     the tube, lumen, filler and channel show. Displacements are at true scale.
     """
+    return render_grid_png(
+        to_grid(solution, load, pressure_MPa),
+        path,
+        title=f"{load} load, p = {pressure_MPa:g} MPa (true scale)",
+        window_size=window_size,
+    )
+
+
+def render_grid_png(
+    grid,
+    path: str | Path,
+    *,
+    title: str,
+    scalars: str = "max_principal_strain",
+    displacement: str = "displacement",
+    scalar_title: str = "max principal strain",
+    window_size: tuple[int, int] = (1200, 700),
+) -> Path:
+    """Render a tet ``grid`` of the tip deformed by ``displacement`` and coloured by cell data ``scalars``.
+
+    The picture of :func:`render_png`, for any tip grid (the finite-strain one
+    too): the deformed half x >= 0 (cut along the bending plane) over the
+    undeformed ghost, seen from +x with y up; colour limits from min(0, min)
+    to the 99th percentile so a few clamp-corner elements do not wash it out.
+    """
     import pyvista as pv
 
     quiet_vtk()
     path = Path(path)
-    grid = to_grid(solution, load, pressure_MPa)
     # Cut along the bending plane (x = 0) so the silicone inside the coil shows.
     ghost = grid.extract_surface(algorithm="dataset_surface")
-    warped = grid.warp_by_vector("displacement", factor=1.0)
+    warped = grid.warp_by_vector(displacement, factor=1.0)
     half = warped.clip(normal=(1.0, 0.0, 0.0), origin=(0.0, 0.0, 0.0))
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
     plotter.add_mesh(ghost, color="lightgrey", opacity=0.2)
-    strain = np.asarray(half.cell_data["max_principal_strain"])
+    strain = np.asarray(half.cell_data[scalars])
     lim = float(np.percentile(strain, 99)) if strain.size else 1.0
     plotter.add_mesh(
         half,
-        scalars="max_principal_strain",
+        scalars=scalars,
         cmap="viridis",
         clim=(min(0.0, float(strain.min(initial=0.0))), lim if lim > 0 else 1.0),
-        scalar_bar_args={"title": "max principal strain", "color": "black"},
+        scalar_bar_args={"title": scalar_title, "color": "black"},
     )
-    plotter.add_text(f"{load} load, p = {pressure_MPa:g} MPa (true scale)", font_size=12, color="black")
+    plotter.add_text(title, font_size=12, color="black")
     plotter.view_vector((1.0, 0.0, 0.0), viewup=(0.0, 1.0, 0.0))
     plotter.camera.zoom(1.2)
     plotter.screenshot(str(path))

@@ -252,35 +252,49 @@ def write_vtu_series(curve, out: Path) -> None:
     )
 
 
-def plot_deformed(curve, path: Path) -> None:
-    """Side view (y–z plane) of the tip at full pressure over the undeformed outline."""
-    import matplotlib
+def deformed_grid(curve, step: int = -1):
+    """A pyvista tet grid of ``curve``'s tip at load step ``step``, for pictures.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Point data ``displacement`` [mm] (vertices); cell data ``region`` and
+    ``max_principal_strain``: the largest principal stretch (Biot) strain
+    λ_max − 1 of each element, the largest over its quadrature points (the
+    measure of ``curve.max_strain``; it equals the linear FEM's principal
+    strain to first order, so the two pictures compare).
+    """
+    import pyvista as pv
+
+    from softcath.fem.nonlinear.post import max_principal_strain
 
     model = curve.model
     mesh = model.cmesh.mesh
-    nv = mesh.p.shape[1]
-    u = curve.result.displacements[-1][:nv]
-    x0 = mesh.p.T
-    x1 = x0 + u
-    colours = {1: "tab:grey", 2: "tab:blue", 3: "tab:orange", 4: "tab:green"}
-    names = {1: "coil", 2: "tube", 3: "channel", 4: "filler"}
-    fig, ax = plt.subplots(figsize=(5, 6))
-    ax.scatter(x0[:, 1], x0[:, 2], s=1, c="lightgrey", label="undeformed")
-    for lab, col in colours.items():
-        verts = np.unique(mesh.t[:, model.cmesh.labels == lab])
-        if verts.size:
-            ax.scatter(x1[verts, 1], x1[verts, 2], s=2, c=col, label=names[lab])
-    ax.set_aspect("equal")
-    ax.set_xlabel("y [mm] (channel side negative)")
-    ax.set_ylabel("z [mm]")
-    ax.set_title(f"{curve.load} load {curve.pressure[-1]:g} MPa: {np.degrees(curve.bend_angle[-1]):.1f} deg")
-    ax.legend(loc="best", fontsize=7, markerscale=4)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    nv = mesh.p.shape[1]  # skfem numbers the P2 vertex DOFs first
+    u = np.asarray(curve.result.displacements[step])
+    cells = np.hstack([np.full((mesh.t.shape[1], 1), 4), mesh.t.T]).ravel()
+    grid = pv.UnstructuredGrid(
+        cells, np.full(mesh.t.shape[1], pv.CellType.TETRA, dtype=np.uint8), mesh.p.T.copy()
+    )
+    grid.point_data["displacement"] = u.reshape(-1, 3)[:nv]
+    grid.cell_data["region"] = model.cmesh.labels
+    f = model.body.deformation_gradient(u.ravel(), np.arange(mesh.t.shape[1]))
+    grid.cell_data["max_principal_strain"] = max_principal_strain(f).max(axis=1)
+    return grid
+
+
+def plot_deformed(curve, path: Path) -> None:
+    """The tip at full pressure coloured by the largest principal stretch strain, as the linear FEM's tip.png.
+
+    Rendered by :func:`softcath.fem.export.render_grid_png` (pyvista off-screen): the deformed half
+    x >= 0 over the undeformed ghost, seen from +x.
+    """
+    from softcath.fem.export import render_grid_png
+
+    render_grid_png(
+        deformed_grid(curve),
+        path,
+        title=f"finite strain, {curve.load} load, p = {curve.pressure[-1]:g} MPa: "
+        f"{np.degrees(curve.bend_angle[-1]):.1f} deg (true scale)",
+        scalar_title="max principal stretch strain",
+    )
 
 
 def plot_curve(curve, path: Path) -> None:

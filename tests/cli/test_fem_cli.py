@@ -36,6 +36,9 @@ def test_cli_writes_json_vtu_png(tmp_path, capsys):
     assert {"displacement"} <= set(grid.point_data) and "region" in grid.cell_data
     png = (out / "tip.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
+    # the rotatable view: self-contained and small (tests/browser opens it in Chromium)
+    page = (out / "tip.html").read_text()
+    assert "<canvas" in page and "http" not in page and len(page) < 600_000
     text = capsys.readouterr()
     assert "curvature" in text.out and "[1/4] meshing" in text.err
 

@@ -17,7 +17,7 @@ from softcath.cli.main import main
 from softcath.studies import demo
 from softcath.studies.sweep import fem_check_function
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_demo_model_sweep_verdict(tmp_path, capsys):
@@ -84,7 +84,7 @@ def test_tiers_section_shows_the_three_tiers_and_the_nu_plot(tmp_path, fem):
     within 1 % under both loads (0.3 % measured on the paper design; the FEM's default mesh adds < 0.5 %).
     """
     from softcath.fem.section_model import section_model
-    from softcath.studies.demo_tiers import NU_SWEEP
+    from softcath.studies.demo.tiers import NU_SWEEP
 
     if fem and fem_check_function() is None:
         pytest.skip("fem.check is not installed")

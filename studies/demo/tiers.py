@@ -3,7 +3,8 @@
 A table of the gains per MPa under both loads (the formula is the paper's
 eq. 7, cap force only: what the paper predicts for either load), and κ/p
 against the silicone's Poisson ratio from the section model (the 3-D FEM
-stops at ν = 0.49, where the answer is steepest).
+stops at ν = 0.49, where the answer is steepest). When the 3-D FEM runs, a
+rotatable view of its deformed tip (:mod:`softcath.fem.html_view`, inline WebGL).
 """
 
 from __future__ import annotations
@@ -15,11 +16,13 @@ import numpy as np
 
 from softcath.studies.report.html import figure, fmt, note, table
 
-__all__ = ["NU_SWEEP", "section_tiers", "nu_plot"]
+__all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
 #: Silicone Poisson ratios of the demo's nu plot (tube and filler together).
 NU_SWEEP = (0.45, 0.46, 0.47, 0.48, 0.49, 0.495, 0.498, 0.499, 0.4995, 0.4999)
 LOADS = ("cap", "lumen")
+#: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be trusted.
+VIEW_PRESSURE_MPA = 0.5
 
 
 def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, fem_nu: float) -> Path:
@@ -50,12 +53,28 @@ def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, f
     return _save(fig, path)
 
 
+def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE_MPA) -> str:
+    """The 3-D FEM's deformed tip as a rotatable inline view (empty if ``result`` carries no solution)."""
+    solution = getattr(result, "solution", None)
+    if solution is None or load not in getattr(solution, "unit", {}):
+        return ""
+    from softcath.fem.export import to_grid
+    from softcath.fem.html_view import surface_of_grid, tip_view_fragment
+
+    view = surface_of_grid(to_grid(solution, load, pressure_MPa))
+    return "<h3 id='fem-3d'>The deformed tip in 3-D</h3>" + tip_view_fragment(
+        view,
+        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure_MPa:g} MPa, "
+        "cut along the bending plane (the cut face towards you), coloured by the largest principal strain.",
+    )
+
+
 def section_tiers(ctx):
     """Demo section: the three tiers on ``ctx.design``, and κ/p against ν (see module docstring)."""
     from softcath import analytic
     from softcath.fem.section_model import section_model
-    from softcath.studies.demo import SectionOutput
-    from softcath.studies.sweep.evaluators import _fem_rows, fem_check_function
+    from softcath.studies.demo.context import SectionOutput
+    from softcath.studies.sweep.evaluators import fem_check_function, fem_records
 
     d = ctx.design
     k_f, e_f = analytic.gains(d, "cap")
@@ -67,8 +86,9 @@ def section_tiers(ctx):
         why = "Not available:</b> the 3-D FEM (fem.check is not importable)"
     else:
         t0 = time.perf_counter()
-        rows = _fem_rows(check, d, (1.0,), LOADS, None)  # at 1 MPa: the values are per MPa
+        result = check(d, pressures=[1.0], loads=LOADS)  # at 1 MPa: the values are per MPa
         fem_seconds = time.perf_counter() - t0
+        rows = fem_records(result)
         fem = {ld: rows[(ld, 1.0)] for ld in LOADS if (ld, 1.0) in rows}
 
     def per_load(values: dict) -> list:
@@ -121,6 +141,8 @@ def section_tiers(ctx):
             + f", in {sm.seconds:.2f} s against {fem_seconds:.0f} s."
         )
     html += "<p>" + " ".join(facts) + "</p>"
+    if fem:
+        html += tip_view(result)
     if why:
         html += note(f"<b>{why}; the section model stands in for it.")
 
