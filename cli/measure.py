@@ -99,11 +99,11 @@ def _scale_from_args(args: argparse.Namespace) -> float:
 
 
 def calibration_from_args(args: argparse.Namespace):
-    """A :class:`softcath.hardware.tipvision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
+    """A :class:`softcath.hardware.vision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
     import math
 
     from softcath.design.errors import DesignError
-    from softcath.hardware.tipvision import Calibration
+    from softcath.hardware.vision import Calibration
 
     scale = _scale_from_args(args)  # the scale, base angle and diameter are checked by Calibration
     diameter = getattr(args, "diameter", 0.8)

@@ -145,44 +145,16 @@ class BenchResult:
 
 
 def make_plant(design, *, effects=(), load: str = "cap"):
-    """The bench's plant: ``softcath.virtualbench.plant.Plant`` (analytic model + effects).
+    """The bench's plant: :class:`~softcath.virtualbench.plant.Plant` (analytic model + hidden effects).
 
-    ``effects`` is a sequence of ``(name, params_dict)``. If ``softcath.virtualbench.plant``
-    is not installed yet, a no-effect adapter over :func:`analytic.response`
-    is returned, and asking for an effect is an error.
+    ``effects`` is a sequence of ``(name, params_dict)`` for
+    :func:`~softcath.virtualbench.truth_effects.make_effect`.
     """
-    try:
-        from softcath.virtualbench.plant import Plant
-        from softcath.virtualbench.truth_effects import make_effect
-    except ImportError:
-        if effects:
-            raise DesignError(
-                "effect", [e[0] for e in effects], "needs hardware.plant, which is not installed"
-            ) from None
-        return _AnalyticPlant(design, load)
+    from softcath.virtualbench.plant import Plant
+    from softcath.virtualbench.truth_effects import make_effect
+
     built = tuple(make_effect(name, **params) for name, params in effects)
     return Plant.from_design(design, effects=built, load=load)
-
-
-class _AnalyticPlant:
-    """No-effect fallback plant: the analytic model, linear in pressure."""
-
-    def __init__(self, design, load: str) -> None:
-        from softcath import analytic
-
-        r = analytic.response(design, np.array([1.0]), load=load)
-        self.curvature_per_mpa = float(np.ravel(r.curvature)[0])
-        self.elongation_per_mpa = float(np.ravel(r.elongation)[0])
-        self.length_mm = float(design.tip.bending_length)
-        self.effects = ()
-
-    def simulate(self, t_s, pressure_MPa):
-        from types import SimpleNamespace
-
-        p = np.asarray(pressure_MPa, float)
-        k = self.curvature_per_mpa * p
-        arc = self.length_mm * (1 + self.elongation_per_mpa * p)
-        return SimpleNamespace(curvature_per_mm=k, arc_length_mm=arc, bend_angle_rad=k * arc)
 
 
 def _drive_stage(cfg: BenchConfig, stage: ZaberStage, clock: VirtualClock) -> None:

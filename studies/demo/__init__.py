@@ -55,24 +55,9 @@ SECTIONS: list[tuple[str, str, Callable[[DemoContext], SectionOutput]]] = [
 def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | Path | None = None,
              workers: int = 2, only: tuple[str, ...] | None = None, progress: bool = True,
              fem: bool = True) -> DemoResult:  # fmt: skip
-    """Run the demo sections (:data:`SECTIONS`, read at call time) into ``out_dir``; see :func:`.runner.run_sections`.
+    """Run the demo sections (:data:`SECTIONS`, read at call time) into ``out_dir``.
 
-    Parameters
-    ----------
-    out_dir
-        Output directory (created).
-    design_ref
-        Preset name or design TOML path (default: the paper's prototype).
-    data_csv
-        Measurement CSV (default: :func:`default_data`).
-    workers
-        Processes for the sweep.
-    only
-        Run only these section keys (default: all).
-    progress
-        Show a progress bar over the sections.
-    fem
-        Run the FEM (section 2 and the sweep's FEM evaluator) when ``fem.check`` is installed.
+    The parameters are those of :func:`.runner.run_sections`, which documents them.
     """
     return run_sections(SECTIONS, out_dir, design_ref=design_ref, data_csv=data_csv, workers=workers,
                         only=only, progress=progress, fem=fem)  # fmt: skip

@@ -84,7 +84,6 @@ def test_stage_waveforms_follow_their_closed_forms(tmp_path, waveform):
 
 
 def test_effects_reach_the_plant(tmp_path):
-    pytest.importorskip("softcath.virtualbench.plant")
     out = tmp_path / "e"
     assert main(["bench", "--out", str(out), *SHORT, "--effect", "offset:curvature_per_mm=0.02"]) == 0
     truth = json.loads((out / "truth.json").read_text())

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from softcath import design
-from softcath.design.measurement import Measurement
 from softcath.design.errors import DesignError
+from softcath.design.measurement import Measurement
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.calibration import calibrate_section
 
