@@ -83,8 +83,8 @@ def _scale_from_args(args: argparse.Namespace) -> float:
         return args.px_per_mm
     import cv2
 
-    from softcath.hardware.calibration import scale_from_chessboard
     from softcath.hardware.errors import FrameSourceError
+    from softcath.hardware.vision.scale import scale_from_chessboard
 
     if args.square_mm is None:
         raise DesignError("--square-mm", None, "is required with --chessboard")

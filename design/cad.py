@@ -18,7 +18,7 @@ the gap between two touching bodies is filled over ``|x| < x_land``, where
 ``land_gap`` (default 0.01 mm), so no zero-thickness wedge is left. The
 tube-coil and tube-channel lands are part of the tube (the squeezed silicone
 conforms); the channel-coil land is part of the coil (< 0.5 % of its area).
-The FEM (``softcath.fem.section``) meshes exactly these solids.
+The FEM (``softcath.fem.geometry``) meshes exactly these solids.
 
 CadQuery is imported inside the functions (it is slow to import).
 """

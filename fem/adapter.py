@@ -27,8 +27,8 @@ from __future__ import annotations
 
 from softcath.design import TipDesign, coil_stiffness
 from softcath.design.errors import DesignError
+from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 from softcath.fem.materials import Isotropic, TransverselyIsotropic
-from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 
 __all__ = ["geometry_from_design", "laws_from_design", "coil_law", "COIL_MODULI"]
 

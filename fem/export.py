@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.fem.geometry import REGIONS
 from softcath.fem.pipeline import TipSolution
-from softcath.fem.section import REGIONS
 
 __all__ = ["to_grid", "write_vtu", "render_png", "render_grid_png", "quiet_vtk"]
 

@@ -1,7 +1,7 @@
 """The FEM bending check: mesh (cached), assemble, factorise once, solve the
 load cases at unit pressure, scale to every pressure, post-process.
 
-``run_tip`` works on a :class:`softcath.fem.section.TipGeometry` and a map region ->
+``run_tip`` works on a :class:`softcath.fem.geometry.TipGeometry` and a map region ->
 elastic law; :func:`fem.check` (in ``softcath.fem.api``) adds the design adapter and
 the analytic comparison.
 """
@@ -17,9 +17,9 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.elasticity import ElasticProblem
+from softcath.fem.geometry import FILLER, REGIONS, TUBE, TipGeometry
 from softcath.fem.mesh import TipMesh, mesh_tip
 from softcath.fem.post import BendingFit, bending_fit, principal_strain_max
-from softcath.fem.section import FILLER, REGIONS, TUBE, TipGeometry
 from softcath.fem.tags import tag_facets
 
 __all__ = ["LOADS", "TipSolution", "run_tip", "axial_modulus"]
@@ -102,7 +102,7 @@ def run_tip(
     geometry
         The tip (mm).
     laws
-        Region label (``softcath.fem.section``) -> law (``softcath.fem.materials``).
+        Region label (``softcath.fem.geometry``) -> law (``softcath.fem.materials``).
     loads
         Subset of :data:`LOADS`.
     mesh_size, mesher, axial_ratio, use_cache

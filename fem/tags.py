@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.fem.section import TipGeometry
+from softcath.fem.geometry import TipGeometry
 
 __all__ = ["tag_facets", "TAGS"]
 

@@ -3,7 +3,7 @@
 Modules: ``protocol`` (sensor line framing), ``ports`` / ``sensors`` (pyserial
 readers), ``stage`` (Zaber-style ASCII driver, syringe model), ``recorder``
 with ``record_types`` and ``timebase`` (crash-safe 200 Hz CSV),
-``circlefit`` / ``vision`` / ``calibration`` / ``frames`` / ``measure_video``
+``circlefit`` / ``vision`` (with ``vision.scale``: px per mm) / ``frames`` / ``measure_video``
 (tip measurement from camera frames), ``filtering`` (the paper's IIR filter).
 Heavy imports (cv2, serial) happen inside functions.
 """

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -34,6 +35,17 @@ TOP = {
     "virtualbench": "softcath.virtualbench",
     "cli": "softcath.cli",
 }
+NOT_SOURCES = (
+    ".venv",
+    ".git",
+    "out",
+    "build",
+    "dist",
+    "*.egg-info",
+    "__pycache__",
+    ".pytest_cache",
+    ".hypothesis",
+)
 OLD_TOP_LEVEL = ("design", "analytic", "fem", "hardware", "studies", "virtualbench", "cli")
 
 
@@ -80,8 +92,11 @@ def test_gmsh_is_a_core_dependency():
 @pytest.fixture(scope="module")
 def wheel_venv(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wheel")
+    # Build from a copy: setuptools writes build/ beside the sources, and the checkout stays untouched.
+    src = tmp / "src"
+    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(*NOT_SOURCES))
     subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "-w", str(tmp / "dist"), str(ROOT)],
+        [sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "-w", str(tmp / "dist"), str(src)],
         check=True,
         capture_output=True,
         timeout=600,

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.fem.geometry import VOID, TipGeometry
 from softcath.fem.mesh.extrusion import extruded_gmsh
 from softcath.fem.mesh.model import TipMesh
 from softcath.fem.mesh.quality import _orient, checked_mesh, compact, label_by_centroid
 from softcath.fem.mesh.tetwild import tetwild_mesh
-from softcath.fem.section import VOID, TipGeometry
 
 log = logging.getLogger(__name__)
 

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
+from softcath.fem.geometry import VOID, TipGeometry
 from softcath.fem.mesh.gmsh_section import section_triangles
-from softcath.fem.section import VOID, TipGeometry
 
 
 def extruded_gmsh(g: TipGeometry, mesh_size: float, axial_ratio: float, segments_per_turn=0):

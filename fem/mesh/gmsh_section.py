@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from softcath.fem.errors import MeshError
-from softcath.fem.section import TipGeometry
+from softcath.fem.geometry import TipGeometry
 
 log = logging.getLogger(__name__)
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcath.fem.section import TipGeometry
+from softcath.fem.geometry import TipGeometry
 
 
 @dataclass(frozen=True)
@@ -31,7 +31,7 @@ class TipMesh:
     tets
         Positively oriented tetrahedra (m, 4).
     labels
-        Region label per tet (``softcath.fem.section`` constants).
+        Region label per tet (``softcath.fem.geometry`` constants).
     geometry
         The geometry meshed.
     mesher, mesh_size

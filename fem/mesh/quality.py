@@ -11,8 +11,8 @@ import math
 import numpy as np
 
 from softcath.fem.errors import MeshError
+from softcath.fem.geometry import REGIONS, TipGeometry
 from softcath.fem.mesh.model import MeshQuality, TipMesh, curved_volumes, skfem_mesh
-from softcath.fem.section import REGIONS, TipGeometry
 
 #: Region volumes must match the exact geometry within this (issue 3 §2).
 VOLUME_TOL = 0.01

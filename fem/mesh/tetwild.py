@@ -7,9 +7,9 @@ import tempfile
 
 import numpy as np
 
+from softcath.fem.geometry import VOID, TipGeometry
 from softcath.fem.mesh.extrusion import extruded_gmsh
 from softcath.fem.mesh.quality import compact
-from softcath.fem.section import VOID, TipGeometry
 
 
 def interface_surface(g: TipGeometry, mesh_size: float) -> tuple[np.ndarray, np.ndarray]:

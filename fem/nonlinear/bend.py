@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
 from softcath.fem.nonlinear.errors import NonlinearError
@@ -30,7 +31,6 @@ from softcath.fem.nonlinear.post import (
     max_principal_strain,
     tip_pose,
 )
-from softcath.fem.section import FILLER, TUBE
 
 __all__ = ["BendCurve", "bend_curve", "departure_angle", "LOADS"]
 

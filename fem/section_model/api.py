@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.section import TUBE
+from softcath.fem.geometry import TUBE
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.solve import LOADS
 

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.section import CHANNEL, COIL
+from softcath.fem.geometry import CHANNEL, COIL
 from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from softcath.design import coil_stiffness
 from softcath.design.errors import DesignError
-from softcath.fem.section import CHANNEL, COIL
+from softcath.fem.geometry import CHANNEL, COIL
 from softcath.fem.section_model.laws import SectionLaw
 
 __all__ = [

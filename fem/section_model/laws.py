@@ -20,8 +20,8 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import COIL_MODULI, coil_law
+from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
 from softcath.fem.materials import TransverselyIsotropic
-from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE
 
 __all__ = ["SectionLaw", "isotropic", "from_tensor", "laws_from_design", "NU_MAX"]
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.section import VOID, TipGeometry
+from softcath.fem.geometry import VOID, TipGeometry
 
 __all__ = ["SectionMesh", "catheter_section_mesh", "disk_section_mesh", "MESH_SIZE", "SEGMENTS"]
 
@@ -47,7 +47,7 @@ class SectionMesh:
     triangles
         Counter-clockwise triangles (m, 3).
     labels
-        Region label per triangle (``softcath.fem.section`` constants or caller's ints).
+        Region label per triangle (``softcath.fem.geometry`` constants or caller's ints).
     curved_edges, curved_midpoints
         Edges (k, 2) lying on curved boundaries and their exact midpoints (k, 2).
     lumen_edges
@@ -150,7 +150,7 @@ def _catheter_cached(geometry: TipGeometry, mesh_size: float, segments: int) -> 
 def catheter_section_mesh(
     geometry: TipGeometry, *, mesh_size: float = MESH_SIZE, segments: int = SEGMENTS
 ) -> SectionMesh:
-    """The as-assembled catheter section of ``geometry`` (regions of ``softcath.fem.section``).
+    """The as-assembled catheter section of ``geometry`` (regions of ``softcath.fem.geometry``).
 
     Parameters
     ----------
@@ -185,7 +185,7 @@ def disk_section_mesh(
         ``(xc, yc, rx, ry)`` of every disc or axis-aligned ellipse whose edge is a
         region boundary; the pieces are fragmented into a conforming partition.
     classify
-        Region label (``softcath.fem.section.VOID`` for holes) at points ``(x, y)``.
+        Region label (``softcath.fem.geometry.VOID`` for holes) at points ``(x, y)``.
     in_lumen
         True at points inside the pressurised lumen.
     mesh_size, segments

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.fem.section import FILLER, TUBE
+from softcath.fem.geometry import FILLER, TUBE
 
 __all__ = ["principal_strain_range", "silicone_strain_range"]
 

@@ -9,9 +9,9 @@ import pytest
 
 from softcath import analytic, design, fem
 from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.geometry import REGIONS
 from softcath.fem.materials import Isotropic
 from softcath.fem.pipeline import axial_modulus, run_tip
-from softcath.fem.section import REGIONS
 
 NU = 0.3
 

@@ -10,8 +10,8 @@ import pytest
 from softcath import design
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import geometry_from_design
+from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 from softcath.fem.mesh import mesh_tip, scaled_jacobian, tet_volumes
-from softcath.fem.section import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 
 
 @pytest.fixture(scope="module")

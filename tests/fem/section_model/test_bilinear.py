@@ -11,7 +11,7 @@ import pytest
 from softcath import design
 from softcath.fem.coil import bending_curve
 from softcath.fem.coil.homogenised import bimodular_annulus_bending
-from softcath.fem.section import COIL
+from softcath.fem.geometry import COIL
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.assembly import assemble
 from softcath.fem.section_model.bilinear import annulus_fibres, bend_curve

@@ -84,11 +84,11 @@ def test_finite_strain_mixed_fem_at_small_load(nu):
     from dataclasses import replace
 
     from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.geometry import CHANNEL, COIL
     from softcath.fem.materials import TransverselyIsotropic
     from softcath.fem.mesh import mesh_tip
     from softcath.fem.nonlinear import bend_curve
     from softcath.fem.nonlinear.catheter import from_tip_mesh
-    from softcath.fem.section import CHANNEL, COIL
     from softcath.fem.section_model.assembly import assemble
     from softcath.fem.section_model.laws import from_tensor, laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh

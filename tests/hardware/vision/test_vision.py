@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from softcath.design.errors import DesignError
-from softcath.hardware.calibration import scale_from_chessboard, scale_from_points
 from softcath.hardware.errors import FrameSourceError
 from softcath.hardware.frames import VideoWriter, open_source
 from softcath.hardware.vision import Calibration, draw_overlay, measure
+from softcath.hardware.vision.scale import scale_from_chessboard, scale_from_points
 from softcath.virtualbench.render import Scene, render_chessboard, render_frame, tip_pose
 
 L_MM = 5.0
@@ -147,7 +147,7 @@ def test_overlay_draws_the_fitted_arc_on_the_tube(method):
 def test_camera_intrinsics_recover_a_known_focal_length():
     import cv2
 
-    from softcath.hardware.calibration import camera_intrinsics
+    from softcath.hardware.vision.scale import camera_intrinsics
 
     # board: 10x7 squares of 30 px at origin (40, 40) -> 1 board px = 0.1 mm (3 mm squares)
     board = render_chessboard(squares=(10, 7), square_px=30.0, size=(400, 300), origin=(40.0, 40.0))
