@@ -53,16 +53,6 @@ __all__ = [
     "ExponentialGain",
 ]
 
-EFFECT_NAMES: tuple[str, ...] = (
-    "hysteresis",
-    "lag",
-    "delay",
-    "dead_zone",
-    "viscoelastic",
-    "offset",
-    "nonlinear_gain",
-)
-
 # Order in the signal chain (see the module docstring).
 _STAGE = {
     "lag": 0,
@@ -400,6 +390,8 @@ _CLASSES: dict[str, type[TruthEffect]] = {
     "offset": CurvatureOffset,
     "nonlinear_gain": ExponentialGain,
 }
+# The truth's own vocabulary, in its own order (the candidates in analytic.effects are named alike on purpose).
+EFFECT_NAMES: tuple[str, ...] = tuple(_CLASSES)
 
 
 def make_effect(name: str, **params: float) -> TruthEffect:
