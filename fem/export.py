@@ -77,6 +77,27 @@ def render_png(
     )
 
 
+def cut_deformed(grid, displacement: str = "displacement"):
+    """``grid`` deformed by ``displacement`` at true scale and cut along the bending plane, keeping x <= 0.
+
+    The cut face looks towards +x, so the silicone inside the coil (tube,
+    lumen, filler, channel) shows; ``tip.png`` and ``tip.html`` both show this half.
+    """
+    warped = grid.warp_by_vector(displacement, factor=1.0)
+    return warped.clip(normal=(1.0, 0.0, 0.0), origin=(0.0, 0.0, 0.0))
+
+
+def strain_clim(values) -> tuple[float, float]:
+    """Colour limits of a strain picture: min(0, min) to the 99th percentile.
+
+    The percentile keeps a few clamp-corner elements from washing the picture
+    out (they show at the clamp colour); an empty or non-positive set gets 1.
+    """
+    values = np.asarray(values, float)
+    hi = float(np.percentile(values, 99)) if values.size else 1.0
+    return min(0.0, float(values.min(initial=0.0))), (hi if hi > 0 else 1.0)
+
+
 def render_grid_png(
     grid,
     path: str | Path,
@@ -90,28 +111,23 @@ def render_grid_png(
     """Render a tet ``grid`` of the tip deformed by ``displacement`` and coloured by cell data ``scalars``.
 
     The picture of :func:`render_png`, for any tip grid (the finite-strain one
-    too): the deformed half x >= 0 (cut along the bending plane) over the
-    undeformed ghost, seen from +x with y up; colour limits from min(0, min)
-    to the 99th percentile so a few clamp-corner elements do not wash it out.
+    too): the deformed half :func:`cut_deformed` over the undeformed ghost,
+    seen from +x with y up, coloured within :func:`strain_clim`.
     """
     import pyvista as pv
 
     quiet_vtk()
     path = Path(path)
-    # Cut along the bending plane (x = 0) so the silicone inside the coil shows.
     ghost = grid.extract_surface(algorithm="dataset_surface")
-    warped = grid.warp_by_vector(displacement, factor=1.0)
-    half = warped.clip(normal=(1.0, 0.0, 0.0), origin=(0.0, 0.0, 0.0))
+    half = cut_deformed(grid, displacement)
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
     plotter.add_mesh(ghost, color="lightgrey", opacity=0.2)
-    strain = np.asarray(half.cell_data[scalars])
-    lim = float(np.percentile(strain, 99)) if strain.size else 1.0
     plotter.add_mesh(
         half,
         scalars=scalars,
         cmap="viridis",
-        clim=(min(0.0, float(strain.min(initial=0.0))), lim if lim > 0 else 1.0),
+        clim=strain_clim(half.cell_data[scalars]),
         scalar_bar_args={"title": scalar_title, "color": "black"},
     )
     plotter.add_text(title, font_size=12, color="black")

@@ -59,13 +59,6 @@ class SurfaceView:
     label: str
 
 
-def _clim(values: np.ndarray) -> tuple[float, float]:
-    """As :func:`softcath.fem.export.render_png`: from min(0, min) to the 99th percentile (outliers at the clamp)."""
-    lo = min(0.0, float(values.min(initial=0.0)))
-    hi = float(np.percentile(values, 99)) if values.size else 1.0
-    return lo, (hi if hi > lo else lo + 1.0)
-
-
 def surface_of_grid(
     grid,
     *,
@@ -90,10 +83,10 @@ def surface_of_grid(
     """
     from scipy.spatial import cKDTree
 
-    clim = _clim(np.asarray(grid.cell_data[scalars], float))
-    pts = grid.warp_by_vector(displacement, factor=1.0)
-    if cut:
-        pts = pts.clip(normal=(1.0, 0.0, 0.0), origin=(0.0, 0.0, 0.0))  # as render_png: keeps x <= 0
+    from softcath.fem.export import cut_deformed, strain_clim
+
+    clim = strain_clim(grid.cell_data[scalars])
+    pts = cut_deformed(grid, displacement) if cut else grid.warp_by_vector(displacement, factor=1.0)
     pts = pts.cell_data_to_point_data()
     full = pts.extract_surface(algorithm="dataset_surface").triangulate()
     surf = full

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import SettingError
 
 __all__ = ["NonlinearSettings", "run_check", "write_outputs"]
 
@@ -62,17 +62,17 @@ class NonlinearSettings:
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.pressure) and self.pressure > 0):
-            raise NonlinearError(f"pressure = {self.pressure!r}: must be a finite pressure > 0 MPa")
+            raise SettingError("pressure", self.pressure, "must be a finite pressure > 0 MPa")
         if not (isinstance(self.steps, int) and 1 <= self.steps <= 1000):
-            raise NonlinearError(f"steps = {self.steps!r}: must be an integer in [1, 1000]")
+            raise SettingError("steps", self.steps, "must be an integer in [1, 1000]")
         if self.load not in ("lumen", "cap"):
-            raise NonlinearError(f"load = {self.load!r}: must be 'lumen' or 'cap'")
+            raise SettingError("load", self.load, "must be 'lumen' or 'cap'")
         if not (math.isfinite(self.mesh_size) and self.mesh_size > 0):
-            raise NonlinearError(f"mesh_size = {self.mesh_size!r}: must be > 0 mm")
+            raise SettingError("mesh_size", self.mesh_size, "must be > 0 mm")
         if self.layers < 1:
-            raise NonlinearError(f"layers = {self.layers!r}: must be >= 1")
+            raise SettingError("layers", self.layers, "must be >= 1")
         if self.curvature_points < 6:
-            raise NonlinearError(f"curvature_points = {self.curvature_points!r}: must be >= 6")
+            raise SettingError("curvature_points", self.curvature_points, "must be >= 6")
 
     @property
     def pressures(self) -> np.ndarray:
