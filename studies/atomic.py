@@ -34,6 +34,7 @@ from softcath.design.errors import DataError, DesignError
 __all__ = [
     "prepare_out_dir",
     "check_parent",
+    "check_outputs",
     "atomic_path",
     "write_text",
     "write_json",
@@ -193,6 +194,54 @@ def remove_stale_temps(folder: Path) -> int:
             entry.unlink(missing_ok=True)
         removed += 1
     return removed
+
+
+def check_outputs(
+    paths: dict[str, str | Path | None], *, inside: str | Path | None = None, inputs=()
+) -> dict[str, Path]:
+    """Resolve a command's output files and refuse collisions, before anything is written.
+
+    Parameters
+    ----------
+    paths
+        ``{parameter: path}``; ``None`` entries are left out.
+    inside
+        The output folder: a relative path is taken inside it and must stay inside it
+        (``../x`` is refused); an absolute path is taken as given.
+    inputs
+        Files the command reads; an output naming one of them is refused (it would be
+        overwritten by the run that reads it).
+
+    Raises
+    ------
+    DesignError
+        Naming the parameter: a path leaving ``inside``, two outputs naming one file, or an
+        output naming an input.
+    """
+    base = None if inside is None else Path(inside).resolve()
+    done: dict[str, Path] = {}
+    seen: dict[Path, str] = {}
+    read = {Path(p).resolve(): str(p) for p in inputs if p is not None and Path(p).exists()}
+    for param, given in paths.items():
+        if given is None:
+            continue
+        p = Path(given)
+        if base is not None and not p.is_absolute():
+            full = (base / p).resolve()
+            if full != base and base not in full.parents:
+                raise DesignError(
+                    param, str(given), f"leaves the output folder {inside} (give a path inside it, or an "
+                    "absolute path)"
+                )  # fmt: skip
+        else:
+            full = p.resolve()
+        if full in seen:
+            raise DesignError(param, str(given), f"names the same file as {seen[full]}; give another path")
+        if full in read:
+            raise DesignError(param, str(given), f"is the input {read[full]}; it would be overwritten")
+        seen[full] = param
+        done[param] = p if base is None or p.is_absolute() else Path(inside) / p
+    return done
 
 
 def check_parent(path: str | Path, *, param: str) -> Path:
