@@ -74,6 +74,12 @@ class Coil:
                 f"{_checks.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)"
             )  # fmt: skip
         pitch = wire if self.pitch is None else _checks.positive("pitch", self.pitch)
+        mean_d = (od + idia) / 2
+        if pitch > math.pi * mean_d:  # helix angle > 45 deg: a twisted wire, not a coil
+            raise DesignError(
+                "pitch", pitch, f"must be <= pi x mean diameter = {math.pi * mean_d:.6g} mm (a helix angle "
+                "above 45 deg is no coil)"
+            )  # fmt: skip
         if pitch < wire * (1 - 1e-9):
             raise DesignError("pitch", pitch, f"must be >= wire_diameter = {wire:.6g} (turns cannot overlap)")
         object.__setattr__(self, "outer_diameter", od)
