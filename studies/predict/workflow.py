@@ -34,6 +34,8 @@ DEFAULT_SAMPLES = {"paper": 4096, "section": 512, "fem": 8}
 #: ~10 ms per variant is spent building and checking the design), and every variant is kept
 #: in memory; 10⁷ formula samples grew to gigabytes.
 MAX_SAMPLES = {"paper": 200_000, "section": 10_000, "fem": 256}
+#: Longest estimated work of a section tier, s (10⁴ paper-sized variants take ~45 min).
+MAX_WORK_SECONDS = 2 * 3600.0
 #: Largest seed numpy's generators take.
 MAX_SEED = 2**32 - 1
 #: Largest measured gain |κ/p| [1/(mm MPa)] accepted: 10³ bends a 0.1 mm radius tip a full turn
@@ -97,6 +99,23 @@ def resolve_ranges(
     return ranges
 
 
+def _check_section_work(table: dict, samples: int) -> None:
+    """Refuse a section tier whose estimated time (samples x one solve of the nominal section) is too long."""
+    from softcath import design
+    from softcath.fem.limits import check_section_budget, estimate_section_seconds
+    from softcath.fem.section_model.mesh import MESH_SIZE
+
+    d = design.from_dict(table)
+    dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=MESH_SIZE)
+    seconds = samples * estimate_section_seconds(dofs)
+    if seconds > MAX_WORK_SECONDS:
+        raise DesignError(
+            "samples", samples, f"would take about {seconds / 3600:.3g} h with the section model "
+            f"({dofs:.3g} DOFs per variant, ~{estimate_section_seconds(dofs):.2g} s each); at most "
+            f"{MAX_WORK_SECONDS / 3600:g} h: use fewer samples"
+        )  # fmt: skip
+
+
 def predict(
     design_ref,
     *,
@@ -127,6 +146,8 @@ def predict(
     table = base_table(design_ref)
     ranges = resolve_ranges(design_ref, vary, ranges_file)
     order = [model] + [t for t in TIERS if t in compare and t != model]
+    if "section" in order:
+        _check_section_work(table, samples or DEFAULT_SAMPLES["section"])
     tiers = []
     for tier in order:
         n = (fem_samples if tier == "fem" else samples) or DEFAULT_SAMPLES[tier]

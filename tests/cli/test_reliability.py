@@ -70,6 +70,17 @@ def test_costly_or_malformed_options_are_refused_before_any_work(tmp_path, cli, 
     assert not out.exists()  # a refused command leaves no empty --out
 
 
+def test_predict_refuses_a_section_tier_that_would_take_hours(tmp_path, cli):
+    d = design.resolve("paper")
+    big = replace(d, coil=replace(d.coil, outer_diameter=12.0, wire_diameter=5.7, pitch=5.7))
+    toml = tmp_path / "big.toml"
+    toml.write_text(design.dumps(big), encoding="utf-8")
+    t0 = time.monotonic()
+    line = cli("predict", toml, "--vary", "tube.h=-0.01:0.01", "--out", tmp_path / "p").error_line()
+    assert "--samples = 512: would take about" in line and "h with the section model" in line
+    assert time.monotonic() - t0 < 5 and not (tmp_path / "p").exists()
+
+
 @pytest.mark.parametrize(
     ("parameters", "reason"),
     [
