@@ -317,3 +317,18 @@ def test_messages_name_the_value_and_option_given(tmp_path, cli):
 def test_an_error_shows_the_value_exactly(value):
     text = str(DesignError("x", value, "bound"))
     assert float(text.split(" = ")[1].split(":")[0]) == value
+
+
+@pytest.mark.slow
+def test_fem_json_states_and_warns_the_capped_poisson_ratio(tmp_path, cli):
+    import json
+
+    d = design.resolve("paper")
+    soft = replace(d.tube.material, poisson_ratio=0.4999)
+    toml = tmp_path / "nu.toml"
+    toml.write_text(design.dumps(replace(d, tube=replace(d.tube, material=soft))), encoding="utf-8")
+    r = cli("fem", toml, "--pressure", "0.1", "--no-png", "--out", tmp_path / "f")
+    assert r.status == 0, r.err
+    assert "tube silicone Poisson ratio 0.4999 is solved as 0.49" in r.err
+    tube = json.loads((tmp_path / "f" / "fem.json").read_text())["silicones"]["tube"]
+    assert (tube["poisson_ratio_design"], tube["poisson_ratio_used"], tube["capped"]) == (0.4999, 0.49, True)
