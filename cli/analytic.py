@@ -11,31 +11,14 @@ from __future__ import annotations
 import argparse
 import csv
 
-from softcath.cli.options import add_design, add_out, add_pressure_range
+from softcath.cli.options import add_design, add_out, add_pressure_range, parse_pressure_range
 
 HELP = "curvature, elongation, tip pose over a pressure range"
 
 
 def parse_range(text: str):
-    """START:STOP:N → numpy array (N ≥ 2 points, inclusive)."""
-    import numpy as np
-
-    from softcath.design.errors import DataError
-
-    parts = text.split(":")
-    try:
-        if len(parts) == 1:
-            return np.array([float(parts[0])])
-        start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except (ValueError, IndexError):
-        raise DataError(
-            f"--pressure {text!r}: expected START:STOP:N (MPa, MPa, count) or one value"
-        ) from None
-    if n < 2 or n > 1_000_000:
-        raise DataError(f"--pressure count N = {n}: must be in [2, 1000000]")
-    if not (np.isfinite(start) and np.isfinite(stop)):
-        raise DataError(f"--pressure {text!r}: bounds must be finite")
-    return np.linspace(start, stop, n)
+    """START:STOP:N → numpy array (N ≥ 2 points, inclusive); see :func:`.options.parse_pressure_range`."""
+    return parse_pressure_range(text)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -59,11 +42,11 @@ def run(args: argparse.Namespace) -> int:
     from softcath import analytic, design
     from softcath.studies.atomic import Outputs, prepare_out_dir
     from softcath.studies.plots import analytic_plot
-    from softcath.studies.validity import check_finite_columns, check_pressure, warn_linear_range
+    from softcath.studies.validity import check_finite_columns, warn_linear_range
 
-    out = prepare_out_dir(args.out)
+    p = parse_pressure_range(args.pressure)  # checked before the output folder is made
     d = design.resolve(args.design)
-    p = check_pressure(parse_range(args.pressure))
+    out = prepare_out_dir(args.out)
     if args.model == "section":
         from softcath.fem.section_model import section_model
 
@@ -82,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         "tip_y_mm": r.tip_y,
     }
     check_finite_columns(columns, param="--pressure", value=args.pressure)
-    warn_linear_range(p, r.bend_angle, model=f"the {what.split(' (')[0]} (linear)")
+    warn_linear_range(p, r.bend_angle, elongation=r.elongation, model=f"the {what.split(' (')[0]} (linear)")
     path = out / "analytic.csv"
     with Outputs(out) as o:
         with o.path("analytic.csv").open("w", newline="") as fh:

@@ -45,6 +45,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--filter", action="store_true", help="apply the paper's IIR low-pass to all series first")
 
 
+#: Most multistart points (grid^free IPOPT starts) and grid points per parameter.
+MAX_STARTS = 10_000
+MAX_GRID = 20
+
+
+def _grid_max(n_free: int) -> int:
+    """Largest ``--grid`` with ``n_free`` free parameters: grid^n_free <= MAX_STARTS, grid <= MAX_GRID."""
+    g = MAX_GRID
+    while g > 1 and g ** max(n_free, 1) > MAX_STARTS:
+        g -= 1
+    return g
+
+
 def run(args: argparse.Namespace) -> int:
     from softcath import analytic, design
     from softcath.analytic.calibration import calibrate
@@ -53,9 +66,13 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.plots import calibration_plot
     from softcath.studies.validity import check_pressure
 
-    out = prepare_out_dir(args.out)
-    if not 1 <= args.grid <= 20:
-        raise design.DesignError("--grid", args.grid, "must be an integer in [1, 20]")
+    free = tuple(s.strip() for s in args.free.split(",") if s.strip())
+    grid_max = _grid_max(len(free))
+    if not 1 <= args.grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
+        raise design.DesignError(
+            "--grid", args.grid, f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
+            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)"
+        )  # fmt: skip
     d = design.resolve(args.design)
     m = read_measurement_csv(args.measured)
     check_pressure(m.pressure_MPa, param=f"{args.measured}: pressure_MPa")
@@ -71,11 +88,7 @@ def run(args: argparse.Namespace) -> int:
             source=m.source,
             **opt,
         )
-    free = tuple(s.strip() for s in args.free.split(",") if s.strip())
-    if args.grid ** max(len(free), 1) > 10_000:  # the multistart grid: grid^len(free) IPOPT starts
-        raise design.DesignError(
-            "--grid", args.grid, f"gives {args.grid}^{len(free)} starts; at most 10000 (use a smaller --grid)"
-        )
+    out = prepare_out_dir(args.out)  # after every input is read and checked
     load = args.load or ("lumen" if args.model == "section" else "cap")
     if args.model == "section":
         from softcath.fem.section_model import section_model
@@ -94,6 +107,13 @@ def run(args: argparse.Namespace) -> int:
             return analytic.response(dd, m.pressure_MPa, load)
 
         what = f"paper's formula, {load} load"
+    if getattr(res, "converged", True) is False:
+        # A calibration that did not converge is not a calibrated design: nothing is written
+        # (earlier outputs stay as they were) and the command fails with the reason.
+        raise design.DataError(
+            f"{res.message}; nothing written (no calibrated_design.toml): free fewer parameters "
+            "(--free) or check the measurement"
+        )
     doc = res.to_json()
     check_finite_json(doc)  # a failed fit is refused before any earlier good output is touched
     with Outputs(out) as o:

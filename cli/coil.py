@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_design, add_out
+from softcath.cli.options import add_design, add_out, as_options
 
 HELP = "resolved-wire coil stiffness (tension, compression, bending with contact) vs homogenised models"
 
@@ -85,10 +85,13 @@ def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     from softcath import design
+    from softcath.fem.coil.helix import helix_mesh
     from softcath.studies.atomic import Outputs, prepare_out_dir
 
-    out = prepare_out_dir(args.out)
+    with as_options({"elements_per_turn": "--elements-per-turn"}):  # checked before any work
+        helix_mesh(radius=1.0, pitch=1.0, turns=1, elements_per_turn=args.elements_per_turn)
     d = design.resolve(args.design)
+    out = prepare_out_dir(args.out)
     coils = {"coil": d.coil, "channel": d.channel}
     doc = {"design": d.name, "units": "N, mm; EA = F/strain [N], EI = M/curvature [N mm^2]"}
     for name, coil in coils.items():

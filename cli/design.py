@@ -38,14 +38,16 @@ def run(args: argparse.Namespace) -> int:
         if not (args.step or args.stl or args.out):
             raise design.DesignError("export", None, "give --out DIR, --step PATH and/or --stl PATH")
         from softcath.design import cad  # CadQuery: lazily, only for export
-        from softcath.studies.atomic import atomic_path, check_parent, prepare_out_dir
+        from softcath.studies.atomic import atomic_path, check_outputs, check_parent, prepare_out_dir
 
         step, stl = args.step, args.stl
+        if args.out and not (step or stl):
+            step, stl = Path(f"{d.name}.step"), Path(f"{d.name}.stl")
+        # Outputs never collide with each other or the input design, and stay inside --out.
+        paths = check_outputs({"--step": step, "--stl": stl}, inside=args.out, inputs=[Path(args.design)])
+        step, stl = paths.get("--step"), paths.get("--stl")
         if args.out:
-            out = prepare_out_dir(args.out)
-            if not (step or stl):
-                step, stl = Path(f"{d.name}.step"), Path(f"{d.name}.stl")
-            step, stl = (out / path if path and not path.is_absolute() else path for path in (step, stl))
+            prepare_out_dir(args.out)
         targets = [(step, "--step", cad.export_step), (stl, "--stl", cad.export_stl)]
         targets = [(check_parent(path, param=param), param, fn) for path, param, fn in targets if path]
         for path, _param, fn in targets:

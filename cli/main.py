@@ -185,12 +185,18 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError:  # not the main thread (an embedding program)
             old_term = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
+    _printable_streams()
+    from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
+
+    forget_created_dirs()
+    ok = False
     real_stdout, real_formatwarning = sys.stdout, warnings.formatwarning
     warnings.formatwarning = _one_line_warning
     sys.stdout = _GuardedStdout(real_stdout)
     try:
         status = int(args._run(args) or 0)
         sys.stdout.flush()
+        ok = status == 0
         return status
     except KeyboardInterrupt as exc:
         what = "terminated" if isinstance(exc, Terminated) else "interrupted"
@@ -209,10 +215,30 @@ def main(argv: list[str] | None = None) -> int:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR
     finally:
+        # A refused or failed command leaves no empty --out behind.
+        if ok:
+            forget_created_dirs()
+        else:
+            remove_created_dirs()
         sys.stdout, warnings.formatwarning = real_stdout, real_formatwarning
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
+
+
+def _printable_streams() -> None:
+    """Write characters the terminal's encoding lacks (a path's undecodable bytes) as escapes.
+
+    A path read from the command line may hold bytes the locale cannot encode (Python keeps
+    them as surrogates); printing it after the outputs were written must not fail the command.
+    """
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            try:
+                reconfigure(errors="backslashreplace")
+            except (ValueError, OSError):  # a stream that is already closed or detached
+                pass
 
 
 def _say(line: str) -> None:

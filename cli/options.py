@@ -9,6 +9,8 @@ folder of a command that writes files.
 from __future__ import annotations
 
 import argparse
+import contextlib
+from collections.abc import Iterator
 from pathlib import Path
 
 DEFAULT_DESIGN = "paper"
@@ -48,9 +50,84 @@ def add_pressure_list(parser: argparse.ArgumentParser, *, default: str) -> None:
     )
 
 
+def parse_pressure_range(text: str, *, param: str = "--pressure"):
+    """``START:STOP:N`` (N >= 2 points, inclusive) or one value -> checked numpy array, MPa.
+
+    Exactly one or three fields are accepted (``0:1:3:4`` is refused, not read as
+    ``0:1:3``), and every pressure is checked (finite, within ±100 MPa) before any work.
+    """
+    import numpy as np
+
+    from softcath.design.errors import DesignError
+    from softcath.studies.validity import check_pressure
+
+    parts = text.split(":")
+    try:
+        if len(parts) == 1:
+            return check_pressure(np.array([float(parts[0])]), param=param)
+        if len(parts) != 3:
+            raise ValueError
+        start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise DesignError(
+            param, text, "expected START:STOP:N (MPa, MPa, count) or one value in MPa"
+        ) from None
+    if n < 2 or n > 1_000_000:
+        raise DesignError(param, text, f"count N = {n} must be in [2, 1000000]")
+    check_pressure([start, stop], param=param)
+    return np.linspace(start, stop, n)
+
+
+def parse_pressure_list(text: str, *, param: str = "--pressures", increasing: bool = False):
+    """``P,P,...`` -> checked list of pressures in MPa (finite, within ±100 MPa; before any work)."""
+    from softcath.design.errors import DesignError
+    from softcath.studies.validity import check_pressure
+
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise DesignError(param, text, "must be comma-separated numbers in MPa") from None
+    if not values:
+        raise DesignError(param, text, "must hold at least one pressure in MPa")
+    check_pressure(values, param=param)
+    if increasing and any(b <= a for a, b in zip(values, values[1:], strict=False)):
+        raise DesignError(param, text, "must be strictly increasing")
+    return values
+
+
+@contextlib.contextmanager
+def as_options(names: dict[str, str]) -> Iterator[None]:
+    """Say a library's refusal in the command's terms: ``{library parameter: option}``.
+
+    The library names its own parameters (``samples``, ``seed``); a command renames the
+    ones it passes through from an option, keeping the value and the bound.
+    """
+    from softcath.design.errors import DesignError
+
+    try:
+        yield
+    except DesignError as exc:
+        if exc.parameter in names:
+            raise DesignError(names[exc.parameter], exc.value, exc.bound) from None
+        raise
+
+
 def add_seed(parser: argparse.ArgumentParser, *, what: str = "random seed") -> None:
     """``--seed N``: one integer makes every random draw of the command reproducible."""
-    parser.add_argument("--seed", type=int, default=0, metavar="N", help=f"{what} (default 0)")
+    parser.add_argument(
+        "--seed", type=_seed, default=0, metavar="N", help=f"{what} (default 0, at most 2**32 - 1)"
+    )
+
+
+def _seed(text: str) -> int:
+    """A seed numpy's generators take: an integer in [0, 2**32 - 1] (argparse refuses anything else)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid seed {text!r}: must be an integer") from None
+    if not 0 <= value <= 2**32 - 1:
+        raise argparse.ArgumentTypeError(f"invalid seed {value}: must be in [0, 4294967295]")
+    return value
 
 
 def add_progress(parser: argparse.ArgumentParser) -> None:

@@ -17,7 +17,11 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_progress, add_seed
+from softcath.cli.options import add_design, add_out, add_progress, add_seed, as_options, parse_pressure_list
+
+#: The library's parameter names as this command's options.
+_OPTIONS = {"samples": "--samples", "fem_samples": "--fem-samples", "seed": "--seed",
+            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model"}  # fmt: skip
 
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
 
@@ -51,22 +55,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.design.errors import DesignError
     from softcath.studies.atomic import Outputs, prepare_out_dir
     from softcath.studies.predict import predict
     from softcath.studies.predict.plot import band_picture
+    from softcath.studies.predict.workflow import check_predict_inputs
 
-    out = prepare_out_dir(args.out)
-    pressures = _pressures(args.pressures) if args.finite_strain else None  # refuse bad input before any run
     compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
-    for name, value in (("--samples", args.samples), ("--fem-samples", args.fem_samples)):
-        if value is not None and value < 1:
-            raise DesignError(name, value, "must be >= 1")
-    doc, tiers = predict(
-        args.design, model=args.model, compare=compare, load=args.load, vary=args.vary,
-        ranges_file=args.ranges, samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
-        measured_gain=args.measured_gain, progress=not args.no_progress,
-    )  # fmt: skip
+    # Everything that can be checked is checked before the output folder or any run.
+    pressures = _pressures(args.pressures) if args.finite_strain else None
+    with as_options(_OPTIONS):
+        check_predict_inputs(
+            samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
+            measured_gain=args.measured_gain, tiers=(args.model, *compare),
+        )  # fmt: skip
+    out = prepare_out_dir(args.out)
+    with as_options(_OPTIONS):
+        doc, tiers = predict(
+            args.design, model=args.model, compare=compare, load=args.load, vary=args.vary,
+            ranges_file=args.ranges, samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
+            measured_gain=args.measured_gain, progress=not args.no_progress,
+        )  # fmt: skip
     points = {}
     if args.finite_strain:
         from softcath.studies.predict.finite_strain import finite_strain_point
@@ -119,9 +127,12 @@ def _write_samples(path: Path, tiers) -> None:
 
 
 def _pressures(text: str) -> list[float]:
+    """The finite-strain FEM's pressures: checked (finite, ±100 MPa, > 0, increasing, two or more)."""
     from softcath.design.errors import DesignError
 
-    try:
-        return [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise DesignError("--pressures", text, "must be comma-separated numbers in MPa") from None
+    values = parse_pressure_list(text, param="--pressures", increasing=True)
+    if values[0] <= 0:
+        raise DesignError("--pressures", text, "must be > 0 MPa for the finite-strain FEM")
+    if len(values) < 2:
+        raise DesignError("--pressures", text, "needs two or more pressures for the line fit")
+    return values

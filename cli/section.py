@@ -21,7 +21,16 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_pressure_range
+from softcath.cli.options import add_design, add_out, add_pressure_range, as_options, parse_pressure_range
+
+#: The section model's parameter names as this command's options.
+_OPTIONS = {
+    "silicone_poisson": "--poisson",
+    "mesh_size": "--mesh-size",
+    "segments": "--segments",
+    "initial_tension (coil)": "--initial-tension (outer coil)",
+    "initial_tension (channel)": "--initial-tension (channel)",
+}
 
 HELP = "2-D section model: FEM-grade curvature per MPa in milliseconds"
 
@@ -113,25 +122,40 @@ def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[flo
         (opts["coil_modulus"], opts["coil_bending"])
     )
     if placement is None:
-        raise DesignError("--coil-bound", opts["coil_bending"], "needs --coil-model annulus or resolved")
+        if args.coil_model is not None:
+            given = ("--coil-model", args.coil_model)
+        elif opts["coil_modulus"] != "tension":
+            given = ("--coil-modulus", opts["coil_modulus"])
+        else:
+            given = ("--coil-bending", opts["coil_bending"])
+        what = "--coil-bound" if args.coil_bound else "--initial-tension"
+        raise DesignError(
+            given[0], given[1], f"cannot be used with {what}: give --coil-model annulus or resolved"
+        )
     return opts, placement, f0
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.cli.analytic import parse_range
-    from softcath.fem.section_model import section_model
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
-    from softcath.fem.section_model.picture import section_picture
-    from softcath.studies.atomic import Outputs, prepare_out_dir
-    from softcath.studies.validity import check_pressure
+    from softcath.studies.atomic import prepare_out_dir
 
-    out = prepare_out_dir(args.out)
-    pressures = check_pressure(parse_range(args.pressure))
+    pressures = parse_pressure_range(args.pressure)  # options first, then the folder, then the work
     coil_opts, placement, f0 = _coil_options(args)
+    out = prepare_out_dir(args.out)
     mesh = {
         "mesh_size": MESH_SIZE if args.mesh_size is None else args.mesh_size,
         "segments": SEGMENTS if args.segments is None else args.segments,
     }
+    with as_options(_OPTIONS):
+        return _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh)
+
+
+def _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh) -> int:
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.picture import section_picture
+    from softcath.studies.atomic import Outputs
+    from softcath.studies.validity import check_finite_columns, warn_linear_range
+
     r = section_model(
         args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts
     )
@@ -161,6 +185,14 @@ def run(args: argparse.Namespace) -> int:
         )  # fmt: skip
         doc["coil_bound"] = curve.to_json()
     resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
+    columns = {
+        "curvature_per_mm": resp.curvature,
+        "elongation": resp.elongation,
+        "bend_angle_rad": resp.bend_angle,
+    }
+    check_finite_columns(columns, param="--pressure", value=args.pressure)
+    model = "the section model (linear)" if curve is None else "the bilinear section model"
+    warn_linear_range(pressures, resp.bend_angle, elongation=resp.elongation, model=model)
     wrote = "section.json, section.csv"
     with Outputs(out) as o:  # all files or none, only on success
         o.json("section.json", doc)

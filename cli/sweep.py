@@ -29,15 +29,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import prepare_out_dir
+    from softcath.studies.atomic import folder_lock, prepare_out_dir
     from softcath.studies.sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)
     out = prepare_out_dir(args.out)
-    s = run_sweep(
-        spec, out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
-        progress=not args.no_progress,
-    )  # fmt: skip
+    with folder_lock(out, what="sweep"):  # a second sweep into the same folder is refused at once
+        s = run_sweep(
+            spec, out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
+            progress=not args.no_progress,
+        )  # fmt: skip
     print(
         f"sweep {spec.name}: {s.n_designs} designs ({s.ok_designs} ok, {s.failed_designs} failed) "
         f"x {len(spec.pressures_MPa)} pressures x {len(spec.loads)} loads on {s.backend}; "

@@ -6,6 +6,7 @@ All lengths in mm. Each class checks its own numbers; the assembled design
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from softcath.design import _checks
@@ -52,6 +53,9 @@ class Coil:
 
     def __post_init__(self) -> None:
         od = _checks.positive("outer_diameter", self.outer_diameter)
+        _checks.at_most(
+            "outer_diameter", od, _checks.MAX_COIL_DIAMETER_MM, "mm: 36 Fr, no catheter is larger"
+        )
         idia = _checks.positive("inner_diameter", self.inner_diameter)
         _checks.less_than("inner_diameter", idia, "outer_diameter", od)
         wire = (od - idia) / 2 if self.wire_diameter is None else self.wire_diameter
@@ -63,7 +67,19 @@ class Coil:
                 f"must equal (outer_diameter - inner_diameter)/2 = {(od - idia) / 2:.6g} "
                 "for a single-layer coil",
             )
+        index = (od + idia) / 2 / wire
+        if index > _checks.MAX_SPRING_INDEX:
+            raise DesignError(
+                "wire_diameter", wire, f"gives a spring index D/d = {index:.4g}, must be <= "
+                f"{_checks.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)"
+            )  # fmt: skip
         pitch = wire if self.pitch is None else _checks.positive("pitch", self.pitch)
+        mean_d = (od + idia) / 2
+        if pitch > math.pi * mean_d:  # helix angle > 45 deg: a twisted wire, not a coil
+            raise DesignError(
+                "pitch", pitch, f"must be <= pi x mean diameter = {math.pi * mean_d:.6g} mm (a helix angle "
+                "above 45 deg is no coil)"
+            )  # fmt: skip
         if pitch < wire * (1 - 1e-9):
             raise DesignError("pitch", pitch, f"must be >= wire_diameter = {wire:.6g} (turns cannot overlap)")
         object.__setattr__(self, "outer_diameter", od)
@@ -80,6 +96,17 @@ class Coil:
             )
         object.__setattr__(self, "initial_tension", tension)
         _material("material", self.material)
+        # The wound-in tension twists the wire: 8 F0 D / (pi d^3) beyond its shear strength is no coil.
+        f_max = (
+            _checks.MAX_INITIAL_STRESS_OVER_E * self.material.youngs_modulus * math.pi * wire**3
+            / (8 * (od + idia) / 2)
+        )  # fmt: skip
+        if tension > f_max:
+            raise DesignError(
+                "initial_tension", tension, f"must be <= {f_max:.4g} N: beyond it the wound-in torsional "
+                f"stress 8 F0 D/(pi d^3) exceeds {_checks.MAX_INITIAL_STRESS_OVER_E:g} E of the wire "
+                "(its shear strength)",
+            )  # fmt: skip
 
     @property
     def close_wound(self) -> bool:
@@ -164,6 +191,9 @@ class Tip:
 
     def __post_init__(self) -> None:
         length = _checks.positive("bending_length", self.bending_length)
+        _checks.at_most(
+            "bending_length", length, _checks.MAX_BENDING_LENGTH_MM, "mm: catheter tips bend over 5-100 mm"
+        )
         cap = _checks.positive("cap_thickness", self.cap_thickness)
         _checks.less_than("cap_thickness", cap, "bending_length / 2", length / 2)
         object.__setattr__(self, "bending_length", length)

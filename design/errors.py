@@ -42,5 +42,9 @@ class DataError(SoftcathError, ValueError):
 
 def _fmt(value: object) -> str:
     if isinstance(value, float):  # includes numpy float64
-        return f"{float(value):.6g}" if math.isfinite(value) else repr(float(value))
+        if not math.isfinite(value):
+            return repr(float(value))
+        short = f"{float(value):.6g}"
+        # Six digits unless they round to another number (0.49999999 must not read as 0.5).
+        return short if float(short) == float(value) else repr(float(value))
     return repr(value)

@@ -30,9 +30,18 @@ from softcath.design.errors import DesignError
 from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE, TipGeometry
 from softcath.fem.materials import Isotropic, TransverselyIsotropic
 
-__all__ = ["geometry_from_design", "laws_from_design", "coil_law", "COIL_MODULI"]
+__all__ = [
+    "geometry_from_design",
+    "laws_from_design",
+    "coil_law",
+    "silicone_parameters",
+    "COIL_MODULI",
+    "NU_CAP",
+]
 
 COIL_MODULI = ("tension", "bending")
+#: Largest Poisson ratio the displacement-only P2 elements take without locking (notes/fem.md).
+NU_CAP = 0.49
 
 
 def geometry_from_design(design: TipDesign, *, land_gap: float = 0.01) -> TipGeometry:
@@ -80,7 +89,7 @@ def laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dic
         raise DesignError("coil_modulus", coil_modulus, f"must be one of {COIL_MODULI}")
 
     def iso(m):
-        return Isotropic(m.youngs_modulus, min(m.poisson_ratio, 0.49))
+        return Isotropic(m.youngs_modulus, min(m.poisson_ratio, NU_CAP))
 
     laws = {
         COIL: coil_law(design.coil, coil_modulus),
@@ -90,3 +99,25 @@ def laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dic
     if design.filler is not None:
         laws[FILLER] = iso(design.filler)
     return laws
+
+
+def silicone_parameters(design: TipDesign) -> dict[str, dict]:
+    """The silicones' moduli and Poisson ratios the FEM uses, next to the design's (``capped``).
+
+    A silicone with nu above :data:`NU_CAP` is solved at the cap: a nearly incompressible
+    silicone (nu = 0.4999) gets the nu = 0.49 answer, which the section model, taking
+    nu up to 0.49999, shows is too compliant. The FEM states this instead of hiding it.
+    """
+    regions = {"tube": design.tube.material}
+    if design.filler is not None:
+        regions["filler"] = design.filler
+    return {
+        name: {
+            "material": m.name,
+            "youngs_modulus_MPa": float(m.youngs_modulus),
+            "poisson_ratio_design": float(m.poisson_ratio),
+            "poisson_ratio_used": float(min(m.poisson_ratio, NU_CAP)),
+            "capped": bool(m.poisson_ratio > NU_CAP),
+        }
+        for name, m in regions.items()
+    }

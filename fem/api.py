@@ -7,6 +7,7 @@ scaled to every pressure (linear elasticity).
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
@@ -14,7 +15,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.adapter import geometry_from_design, laws_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
 from softcath.fem.post import tip_pose
@@ -56,7 +57,8 @@ class FemResult:
     ``residual`` is the largest normwise backward error of the solves
     (``softcath.fem.solver``); ``mesh_seconds`` is 0 when the mesh came from the cache
     (``mesh_cached``). ``solution`` keeps the unit-pressure fields for export
-    (not compared, not printed).
+    (not compared, not printed). ``silicones`` states the moduli and Poisson ratios the
+    FEM used for the tube and filler next to the design's (``fem.adapter.silicone_parameters``).
     """
 
     cases: tuple[FemCase, ...]
@@ -76,6 +78,7 @@ class FemResult:
     land_half_widths_mm: dict[str, float]
     neutral_axis_y_mm: float
     coil_modulus: str
+    silicones: dict[str, dict] = field(default_factory=dict)
     solution: TipSolution | None = field(default=None, repr=False, compare=False)
 
     def case(self, load: str, pressure_MPa: float) -> FemCase:
@@ -154,6 +157,15 @@ def check(
     check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
     geometry = geometry_from_design(d)
     laws = laws_from_design(d, coil_modulus=coil_modulus)
+    silicones = silicone_parameters(d)
+    for name, used in silicones.items():
+        if used["capped"]:
+            logging.getLogger("softcath.validity").warning(
+                "%s silicone Poisson ratio %r is solved as %g (the linear FEM's cap; nearly "
+                "incompressible silicone comes out too compliant): fem.json states both; "
+                "`softcath section` takes nu up to 0.49999",
+                name, used["poisson_ratio_design"], used["poisson_ratio_used"],
+            )  # fmt: skip
     sol = run_tip(
         geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
         axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
@@ -206,6 +218,7 @@ def check(
         land_half_widths_mm=geometry.lands(),
         neutral_axis_y_mm=float(sol.fits[loads[0]].neutral_axis_y),
         coil_modulus=coil_modulus,
+        silicones=silicones,
         solution=sol,
     )
 

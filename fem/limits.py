@@ -22,7 +22,17 @@ import os
 
 from softcath.design.errors import DesignError
 
-__all__ = ["MIN_FEATURE_MM", "estimate_dofs", "estimate_memory_bytes", "check_fem_budget"]
+__all__ = [
+    "MIN_FEATURE_MM",
+    "MAX_SECTION_DOFS",
+    "estimate_dofs",
+    "estimate_memory_bytes",
+    "check_fem_budget",
+    "estimate_section_dofs",
+    "estimate_section_memory_bytes",
+    "check_section_budget",
+    "estimate_section_seconds",
+]
 
 #: Thinnest lumen semi-axis or wall the FEM geometry resolves, mm (its bonded-land gap).
 MIN_FEATURE_MM = 0.01
@@ -100,5 +110,63 @@ def check_fem_budget(
             mesh_size,
             f"needs about {dofs:.3g} DOFs and {need / 1e9:.3g} GB of memory, but only "
             f"{have / 1e9:.3g} GB are available; use a coarser mesh (default 0.16 mm)",
+        )
+    return dofs
+
+
+#: Section-model triangles the paper section's wires and lumen force at any mesh size.
+_SECTION_FEATURE_TRIANGLES = 675.0
+#: P2 triangles per mm² of section at unit mesh size (gmsh's Delaunay at the section's sizing).
+_SECTION_AREA_TRIANGLES = 2.5
+#: Section-model DOFs per triangle (P2, three displacement components, shared nodes).
+_SECTION_DOFS_PER_TRIANGLE = 4.2
+#: Most DOFs of one 2-D section solve: minutes of meshing and solving per design (the paper
+#: section takes 0.7 s at 2.9k DOFs and 1.3 s at 22k), so a sweep of such designs never ends.
+MAX_SECTION_DOFS = 1.0e6
+
+
+def estimate_section_dofs(*, section_area: float, mesh_size: float) -> float:
+    """Estimated DOFs of the 2-D section model's P2 mesh of a section of ``section_area`` mm².
+
+    ``4.2 × max(675 × area / paper area, 2.5 × area / h²)``: 2.8k, 5.9k and 23k DOFs for the
+    paper section at h = 0.08, 0.03 and 0.015 mm, where the mesher gives 2.9k, 6.4k and 22k.
+    """
+    feature = _SECTION_FEATURE_TRIANGLES * section_area / _PAPER_SECTION_AREA
+    area = _SECTION_AREA_TRIANGLES * section_area / mesh_size**2
+    return _SECTION_DOFS_PER_TRIANGLE * max(feature, area)
+
+
+def estimate_section_memory_bytes(dofs: float) -> float:
+    """Estimated peak memory of a 2-D section solve, bytes (0.18/0.30 GB measured at 2.9k/22k DOFs)."""
+    return 0.18e9 + 6e3 * dofs * max(1.0, math.log(max(dofs, 2.0)) / math.log(22e3))
+
+
+def estimate_section_seconds(dofs: float) -> float:
+    """Estimated wall time of one section-model solve with a fresh mesh, s.
+
+    ``0.2 s + 40 µs per estimated DOF`` (:func:`estimate_section_dofs`, conservative for large
+    sections): 0.31 s for the paper section (a ``predict`` variant takes about 0.25 s), 3.0 s
+    for a 4 mm coil (measured 2.95 s, 34k DOFs against 71k estimated), 26 s for a 12 mm one.
+    """
+    return 0.2 + 40e-6 * dofs
+
+
+def check_section_budget(*, coil_outer_radius: float, mesh_size: float, param: str = "mesh_size") -> float:
+    """Refuse a 2-D section model that cannot fit in memory or finish in minutes; return its DOFs.
+
+    Raises
+    ------
+    DesignError
+        Naming ``param`` (the mesh size) with the estimated DOFs and memory and the bound.
+    """
+    dofs = estimate_section_dofs(section_area=math.pi * coil_outer_radius**2, mesh_size=mesh_size)
+    need, have = estimate_section_memory_bytes(dofs), available_memory_bytes()
+    if dofs > MAX_SECTION_DOFS or need > 0.8 * have:
+        raise DesignError(
+            param,
+            mesh_size,
+            f"the {2 * coil_outer_radius:g} mm section needs about {dofs:.3g} DOFs and {need / 1e9:.3g} GB "
+            f"(at most {MAX_SECTION_DOFS:.3g} DOFs and 80 % of the {have / 1e9:.3g} GB available); "
+            "use a coarser mesh",
         )
     return dofs

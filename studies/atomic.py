@@ -34,6 +34,7 @@ from softcath.design.errors import DataError, DesignError
 __all__ = [
     "prepare_out_dir",
     "check_parent",
+    "check_outputs",
     "atomic_path",
     "write_text",
     "write_json",
@@ -43,16 +44,25 @@ __all__ = [
     "unstage",
     "remove_stale_temps",
     "pid_alive",
+    "remove_created_dirs",
+    "folder_lock",
+    "forget_created_dirs",
 ]
 
 
 def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
     """Create the output folder ``path`` (and its parents), or refuse in one line.
 
+    The folder is also checked to be writable (a file is created and removed), so a
+    command refuses an unwritable folder before its work, not when it writes results.
+    Folders created here are remembered: :func:`remove_created_dirs` takes them away
+    again, if still empty, when the command is refused or fails.
+
     Raises
     ------
     DesignError
-        ``path`` or one of its parents exists and is not a folder, or cannot be created.
+        ``path`` or one of its parents exists and is not a folder, cannot be created, or
+        is not writable.
     """
     out = Path(path)
     if out.exists() and not out.is_dir():
@@ -60,12 +70,82 @@ def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
     for parent in out.parents:
         if parent.exists() and not parent.is_dir():
             raise DesignError(param, str(out), f"{parent} is a file, not a folder")
+    missing = [p for p in (out, *out.parents) if not p.exists()]
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise DesignError(param, str(out), f"cannot be created ({exc.strerror or exc})") from None
+    _CREATED.extend(reversed(missing))  # parents first, so removal runs deepest first
+    probe = _temp_name(out / "write-check")
+    try:
+        probe.touch()
+    except OSError as exc:
+        raise DesignError(param, str(out), f"is not writable ({exc.strerror or exc})") from None
+    finally:
+        with contextlib.suppress(OSError):
+            probe.unlink()
     remove_stale_temps(out)
     return out
+
+
+@contextlib.contextmanager
+def folder_lock(folder: str | Path, *, param: str = "--out", what: str = "command") -> Iterator[Path]:
+    """Hold an exclusive lock on ``folder`` for the block, or refuse at once if another process holds it.
+
+    The lock is an ``flock`` on the hidden file ``.softcath.lock`` in the folder: the kernel
+    releases it when the holder exits, even on SIGKILL, so a stale lock cannot exist.
+
+    Raises
+    ------
+    DesignError
+        Another process holds the lock (names ``param``, the folder and that process).
+    """
+    lock = Path(folder) / ".softcath.lock"
+    fh = open(lock, "a+", encoding="ascii")  # noqa: SIM115 - closed in the finally below
+    try:
+        try:
+            import fcntl
+
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except ImportError:  # no flock on this platform: no protection, as before
+            pass
+        except OSError:
+            fh.seek(0)
+            holder = fh.read().strip() or "unknown"
+            raise DesignError(
+                param,
+                str(folder),
+                f"another {what} is writing into this folder (pid {holder}); "
+                "wait for it to finish or choose another folder",
+            ) from None
+        fh.seek(0)
+        fh.truncate()
+        fh.write(str(os.getpid()))
+        fh.flush()
+        yield Path(folder)
+    finally:
+        fh.close()
+
+
+#: Output folders this process created (see :func:`remove_created_dirs`).
+_CREATED: list[Path] = []
+
+
+def remove_created_dirs() -> None:
+    """Remove the folders :func:`prepare_out_dir` created in this process that are still empty.
+
+    Called when a command is refused or fails, so a refusal leaves no empty ``--out``
+    behind; a folder holding anything (another writer's file) is kept.
+    """
+    while _CREATED:
+        folder = _CREATED.pop()
+        with contextlib.suppress(OSError):
+            folder.rmdir()  # only succeeds if empty
+
+
+def forget_created_dirs() -> None:
+    """Keep the folders created so far (the command succeeded)."""
+    _CREATED.clear()
 
 
 _TEMP = re.compile(
@@ -114,6 +194,54 @@ def remove_stale_temps(folder: Path) -> int:
             entry.unlink(missing_ok=True)
         removed += 1
     return removed
+
+
+def check_outputs(
+    paths: dict[str, str | Path | None], *, inside: str | Path | None = None, inputs=()
+) -> dict[str, Path]:
+    """Resolve a command's output files and refuse collisions, before anything is written.
+
+    Parameters
+    ----------
+    paths
+        ``{parameter: path}``; ``None`` entries are left out.
+    inside
+        The output folder: a relative path is taken inside it and must stay inside it
+        (``../x`` is refused); an absolute path is taken as given.
+    inputs
+        Files the command reads; an output naming one of them is refused (it would be
+        overwritten by the run that reads it).
+
+    Raises
+    ------
+    DesignError
+        Naming the parameter: a path leaving ``inside``, two outputs naming one file, or an
+        output naming an input.
+    """
+    base = None if inside is None else Path(inside).resolve()
+    done: dict[str, Path] = {}
+    seen: dict[Path, str] = {}
+    read = {Path(p).resolve(): str(p) for p in inputs if p is not None and Path(p).exists()}
+    for param, given in paths.items():
+        if given is None:
+            continue
+        p = Path(given)
+        if base is not None and not p.is_absolute():
+            full = (base / p).resolve()
+            if full != base and base not in full.parents:
+                raise DesignError(
+                    param, str(given), f"leaves the output folder {inside} (give a path inside it, or an "
+                    "absolute path)"
+                )  # fmt: skip
+        else:
+            full = p.resolve()
+        if full in seen:
+            raise DesignError(param, str(given), f"names the same file as {seen[full]}; give another path")
+        if full in read:
+            raise DesignError(param, str(given), f"is the input {read[full]}; it would be overwritten")
+        seen[full] = param
+        done[param] = p if base is None or p.is_absolute() else Path(inside) / p
+    return done
 
 
 def check_parent(path: str | Path, *, param: str) -> Path:

@@ -61,7 +61,7 @@ def check_finite_columns(columns: Mapping[str, object], *, param: str, value: ob
 
 
 def linear_range_warnings(
-    pressures, bend_angle_rad, *, max_strain=None, model: str = "the linear model"
+    pressures, bend_angle_rad, *, max_strain=None, elongation=None, model: str = "the linear model"
 ) -> list[str]:
     """Messages for every way ``pressures`` and the linear results leave the linear model's validity."""
     p = np.atleast_1d(np.asarray(pressures, dtype=float))
@@ -86,10 +86,24 @@ def linear_range_warnings(
                 f"silicone strain {e.max():.3g} exceeds the small-strain limit {SILICONE_STRAIN_LIMIT:g} "
                 "of the linear model; use `softcath fem --nonlinear`"
             )
+    if elongation is not None:
+        e = np.atleast_1d(np.asarray(elongation, dtype=float))
+        e = e[np.isfinite(e)]
+        if e.size and np.abs(e).max() > SILICONE_STRAIN_LIMIT:
+            worst = float(e[np.argmax(np.abs(e))])
+            what = " (a length <= 0)" if worst <= -1 else ""
+            msgs.append(
+                f"elongation {worst:.3g}{what} is beyond the small-strain limit ±{SILICONE_STRAIN_LIMIT:g} "
+                f"of {model}; use `softcath fem --nonlinear`"
+            )
     return msgs
 
 
-def warn_linear_range(pressures, bend_angle_rad, *, max_strain=None, model: str = "the linear model") -> None:
+def warn_linear_range(
+    pressures, bend_angle_rad, *, max_strain=None, elongation=None, model: str = "the linear model"
+) -> None:
     """Log each :func:`linear_range_warnings` message as a warning (stderr, one line each)."""
-    for msg in linear_range_warnings(pressures, bend_angle_rad, max_strain=max_strain, model=model):
+    for msg in linear_range_warnings(
+        pressures, bend_angle_rad, max_strain=max_strain, elongation=elongation, model=model
+    ):
         log.warning(msg)

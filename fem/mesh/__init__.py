@@ -29,6 +29,7 @@ from softcath.fem.mesh.extrusion import extrude
 from softcath.fem.mesh.gmsh_section import (
     _ellipse,
     _gmsh_session,
+    initialize_gmsh,
     p2_triangles,
     restore_sigpipe_ignored,
     section_triangles,
@@ -53,6 +54,7 @@ __all__ = [
     "section_triangles",
     "p2_triangles",
     "restore_sigpipe_ignored",
+    "initialize_gmsh",
     "interface_surface",
     "_ellipse",
     "_gmsh_session",

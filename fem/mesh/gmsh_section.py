@@ -41,12 +41,64 @@ def restore_sigpipe_ignored() -> None:
     libc.signal(int(signal.SIGPIPE), ctypes.c_void_p(1))  # 1 = SIG_IGN
 
 
+def initialize_gmsh(gmsh) -> None:
+    """``gmsh.initialize()`` that leaves every signal's C-level disposition as it found it.
+
+    gmsh installs its own handlers (or the default, terminate) for SIGTERM, SIGINT, SIGPIPE
+    and others behind Python's back. A command that meshed would then die of SIGTERM at
+    once, exit status 143, without its clean-up (temporary files left behind), and of
+    SIGPIPE on a write to a dead worker's pipe. The dispositions are saved with
+    ``sigaction`` before and put back after, from any thread (``signal.signal`` works only
+    in the main thread and would not see the change anyway).
+    """
+    saved = _save_signal_actions()
+    gmsh.initialize(interruptible=False)
+    _restore_signal_actions(saved)
+    restore_sigpipe_ignored()
+
+
+# struct sigaction is 152 bytes on Linux x86-64 and smaller elsewhere; the buffer is opaque.
+_SIGACTION_BYTES = 512
+
+
+def _libc():
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    libc.sigaction.argtypes = (ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
+    libc.sigaction.restype = ctypes.c_int
+    return libc
+
+
+def _save_signal_actions() -> dict:
+    if os.name != "posix":
+        return {}
+    import ctypes
+    import signal
+
+    libc, saved = _libc(), {}
+    for sig in signal.valid_signals():
+        if sig in (signal.SIGKILL, signal.SIGSTOP) or not 0 < int(sig) < 32:
+            continue
+        buf = ctypes.create_string_buffer(_SIGACTION_BYTES)
+        if libc.sigaction(int(sig), None, buf) == 0:
+            saved[int(sig)] = buf
+    return saved
+
+
+def _restore_signal_actions(saved: dict) -> None:
+    if not saved:
+        return
+    libc = _libc()
+    for sig, buf in saved.items():
+        libc.sigaction(sig, buf, None)
+
+
 @contextlib.contextmanager
 def _gmsh_session():
     import gmsh
 
-    gmsh.initialize(interruptible=False)
-    restore_sigpipe_ignored()
+    initialize_gmsh(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)

@@ -84,10 +84,9 @@ def _section_triangles(section, *, size: float, contact: float, curvature_points
     s = section
     init_here = not gmsh.isInitialized()
     if init_here:
-        gmsh.initialize(interruptible=False)
-        from softcath.fem.mesh import restore_sigpipe_ignored
+        from softcath.fem.mesh import initialize_gmsh
 
-        restore_sigpipe_ignored()
+        initialize_gmsh(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("softcath_section")

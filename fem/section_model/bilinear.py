@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -131,8 +131,10 @@ def _coil_sources(d, initial_tension, compression_modulus):
     if len(f0) != 2 or any(not (np.isfinite(v) and v >= 0) for v in f0):
         raise DesignError("initial_tension", initial_tension, "must be two finite forces >= 0 N")
     for (c, _, name), v in zip(coils, f0, strict=True):
-        if v > 0 and not c.close_wound:
-            raise DesignError(f"initial_tension ({name})", v, "must be 0 for an open coil (pitch > wire)")
+        try:  # the coil's own checks bound an override as they bound the design's value
+            replace(c, initial_tension=float(v))
+        except DesignError as exc:
+            raise DesignError(f"initial_tension ({name})", v, exc.bound) from None
     if compression_modulus is None:
         ec = tuple(
             coil_stiffness(c).axial_modulus_compression if c.close_wound else None for c, _, _ in coils

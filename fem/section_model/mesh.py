@@ -162,6 +162,9 @@ def catheter_section_mesh(
         Boundary points per full turn of every circle and ellipse.
     """
     _check_size(mesh_size, segments)
+    from softcath.fem.limits import check_section_budget
+
+    check_section_budget(coil_outer_radius=geometry.coil_outer_radius, mesh_size=mesh_size)
     info = _catheter_cached.cache_info()
     mesh = _catheter_cached(geometry, float(mesh_size), int(segments))
     if _catheter_cached.cache_info().hits > info.hits:

@@ -61,6 +61,8 @@ TRIM_OVER_PASSBAND = 1.0
 MIN_RUN_SAMPLES = 50
 #: what ``prepare(..., excitation=)`` accepts; "auto" recognises it from the data
 EXCITATIONS = ("auto", "time-series", "quasi-static")
+#: Largest reference curvature, 1/mm (a bend radius of 1 µm, far beyond any catheter).
+MAX_REFERENCE_CURVATURE = 1e3
 
 
 @dataclass(frozen=True)
@@ -304,6 +306,19 @@ def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Pr
         )
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(k))):
         raise DataError("reference: pressures and curvatures must be finite")
+    # The fit scales by the pressure span and the curvature span: a curve without either
+    # has nothing to fit, and curvatures beyond a micrometre radius are a unit error.
+    if not np.ptp(p) > 0:
+        raise DataError(f"reference: all {p.size} pressures are {p[0]:g} MPa; need a pressure range")
+    if not np.ptp(k) > 0:
+        raise DataError(
+            f"reference: all {k.size} curvatures are {k[0]:g} 1/mm; the curve has no gain to model"
+        )
+    if np.abs(k).max() > MAX_REFERENCE_CURVATURE:
+        raise DataError(
+            f"reference: curvature {k[np.argmax(np.abs(k))]:.3g} 1/mm exceeds {MAX_REFERENCE_CURVATURE:g} 1/mm "
+            "(a bend radius below 1 µm); check the units (1/mm)"
+        )
     order = np.argsort(p)
     p, k = p[order], k[order]
     seg = Segment(dt_s=1.0, pressure_MPa=p, target=k, mask=np.ones(p.size, dtype=bool), label="reference")

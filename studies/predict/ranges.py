@@ -135,6 +135,12 @@ def load_ranges(path: str | Path) -> dict[str, tuple[Range, bool]]:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise DesignError("ranges", str(path), f"is not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise DesignError(
+            "ranges", str(path), f"is not UTF-8 text (byte {exc.start}); give a TOML file"
+        ) from None
+    except OSError as exc:
+        raise DesignError("ranges", str(path), f"cannot be read ({exc.strerror or exc})") from None
     table = data.get("ranges")
     if not isinstance(table, dict) or not table:
         raise DesignError("ranges", str(path), "needs a non-empty [ranges] table")
@@ -201,6 +207,8 @@ def base_table(design_ref: str | Path) -> dict:
             table = tomllib.loads(path.read_text(encoding="utf-8"))
         except tomllib.TOMLDecodeError as exc:
             raise DesignError("design", str(path), f"is not valid TOML: {exc}") from None
+        except UnicodeDecodeError as exc:
+            raise DesignError("design", str(path), f"is not UTF-8 text (byte {exc.start})") from None
     design.from_dict(table)  # the base itself must be valid
     return table
 

@@ -44,7 +44,7 @@ def pytest_approx(x):
 def test_bad_poisson_is_one_line(tmp_path, capsys):
     assert main(["section", "paper", "--poisson", "0.6", "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "silicone_poisson" in err[0]
+    assert len(err) == 1 and "--poisson = 0.6" in err[0]
 
 
 def test_coil_models_and_coil_bound(tmp_path, capsys):
