@@ -38,6 +38,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh-size", type=float, default=None, help="section element size [mm] (default 0.08)")
     p.add_argument("--segments", type=int, default=None, help="boundary points per full turn (default 20)")
     p.add_argument(
+        "--mesher",
+        choices=("template", "gmsh"),
+        default="template",
+        help="template: the section topology's mesh morphed to the design (default, within 0.2 %% of "
+        "gmsh); gmsh: a fresh mesh",
+    )
+    p.add_argument(
         "--poisson",
         type=float,
         default=None,
@@ -133,8 +140,9 @@ def run(args: argparse.Namespace) -> int:
         "segments": SEGMENTS if args.segments is None else args.segments,
     }
     r = section_model(
-        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts
-    )
+        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
+        **mesh, **coil_opts,
+    )  # fmt: skip
     ld = args.load
     full = r.to_json()
     doc = {

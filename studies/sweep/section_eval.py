@@ -30,7 +30,7 @@ SECTION_KEYS = (
     "section_seconds",
 )
 #: Options a spec may set under ``[sweep.section]`` (passed to ``softcath.fem.section_model.section_model``).
-SECTION_OPTIONS = ("mesh_size", "coil_bending")
+SECTION_OPTIONS = ("mesh_size", "coil_bending", "mesher")
 
 
 def section_columns(
