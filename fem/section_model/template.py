@@ -137,8 +137,8 @@ class SectionTemplate:
     ----------
     mesh
         The reference section's :class:`~softcath.fem.section_model.mesh.SectionMesh`.
-    geometry
-        The reference geometry.
+    geometry, curves
+        The reference geometry and its boundary curves (rows ``(kind, xc, yc, a, b)``).
     on_curve
         (n, ncurves) True where a node lies on a curve.
     params
@@ -154,6 +154,7 @@ class SectionTemplate:
 
     mesh: object
     geometry: TipGeometry
+    curves: np.ndarray
     on_curve: np.ndarray
     params: np.ndarray
     corners: np.ndarray
@@ -198,18 +199,21 @@ def reference_geometry(geometry: TipGeometry) -> TipGeometry:
     of this form is its own reference (its template is its gmsh mesh). Length and
     cap, which the section does not see, are normalised.
     """
-    g = dataclasses.replace(geometry, length=1.0, cap_thickness=0.1)  # the section alone
+    g = geometry
     ri, rco = g.coil_inner_radius, g.channel_outer_radius
     tied = max(abs(g.channel_y + ri - rco), abs(g.tube_b - (ri - rco)), abs(g.tube_y - rco),
                abs(g.lumen_y - g.tube_y))  # fmt: skip
+    section_only = {"length": 1.0, "cap_thickness": 0.1}  # the section alone
     if tied > 1e-9:
-        return g
+        return dataclasses.replace(g, **section_only)
     free = {name: _snap(name, getattr(g, name)) for name in _FREE}
     ri, rco = free["coil_inner_radius"], free["channel_outer_radius"]
     try:
-        return dataclasses.replace(g, **free, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco)
+        return dataclasses.replace(
+            g, **free, **section_only, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco
+        )
     except DesignError:
-        return g
+        return dataclasses.replace(g, **section_only)
 
 
 @functools.lru_cache(maxsize=256)
@@ -253,7 +257,7 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
     interior = np.flatnonzero(count == 0)
     lu = splu(lap[interior][:, interior].tocsc())
     return SectionTemplate(
-        mesh=m, geometry=reference, on_curve=on, params=params, corners=corners,
+        mesh=m, geometry=reference, curves=curves, on_curve=on, params=params, corners=corners,
         corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac, quality=_quality(m.points, m.triangles),
         interior=interior, boundary=boundary, laplace_ib=lap[interior][:, boundary], laplace_ii=lu,
     )  # fmt: skip
@@ -279,7 +283,7 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
 
     t0 = time.perf_counter()
     m, on, params = template.mesh, template.on_curve, template.params
-    old, new = _curves(template.geometry), _curves(geometry)
+    old, new = template.curves, _curves(geometry)
     n, nc = on.shape
     new_params = params.copy()
     # 1. corners: Newton on the first curve's parameter to meet the second curve.
