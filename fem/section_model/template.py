@@ -150,6 +150,9 @@ class SectionTemplate:
         (fraction of the curve parameter).
     quality
         Template shape quality per triangle.
+    triangle_curved_edge, bent_triangles
+        Per triangle and local edge (01, 12, 20) the curved edge's index or -1; the
+        triangles with a curved edge.
     """
 
     mesh: object
@@ -162,6 +165,8 @@ class SectionTemplate:
     edge_curve: np.ndarray
     edge_frac: np.ndarray
     quality: np.ndarray
+    triangle_curved_edge: np.ndarray
+    bent_triangles: np.ndarray
     interior: np.ndarray
     boundary: np.ndarray
     laplace_ib: sparse.csr_matrix
@@ -194,8 +199,9 @@ def reference_geometry(geometry: TipGeometry) -> TipGeometry:
     width, lumen semi-axes); the rest follows from the tangencies (channel on
     the coil ID, tube squeezed between them, lumen centred in the tube). Each
     free size is snapped to a geometric grid of ratio 1 + :data:`TEMPLATE_STEP`
-    through the ``paper`` section's (which is thus its own reference), so the morph changes no size by more than about half a step, and the
-    reference (hence the answer) depends on the geometry alone. A geometry not
+    through the ``paper`` section's (which is thus its own reference), so the
+    morph changes no size by more than about half a step, and the reference
+    (hence the answer) depends on the geometry alone. A geometry not
     of this form is its own reference (its template is its gmsh mesh). Length and
     cap, which the section does not see, are normalised.
     """
@@ -206,14 +212,22 @@ def reference_geometry(geometry: TipGeometry) -> TipGeometry:
     section_only = {"length": 1.0, "cap_thickness": 0.1}  # the section alone
     if tied > 1e-9:
         return dataclasses.replace(g, **section_only)
-    free = {name: _snap(name, getattr(g, name)) for name in _FREE}
-    ri, rco = free["coil_inner_radius"], free["channel_outer_radius"]
+    snapped = _snapped(tuple(_snap(name, getattr(g, name)) for name in _FREE), g.filled, g.land_gap)
+    return dataclasses.replace(g, **section_only) if snapped is None else snapped
+
+
+@functools.lru_cache(maxsize=1024)
+def _snapped(free: tuple[float, ...], filled: bool, land_gap: float) -> TipGeometry | None:
+    """The reference section of snapped free sizes (None if they make no valid section)."""
+    f = dict(zip(_FREE, free, strict=True))
+    ri, rco = f["coil_inner_radius"], f["channel_outer_radius"]
     try:
-        return dataclasses.replace(
-            g, **free, **section_only, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco
-        )
+        return TipGeometry(
+            **f, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco, length=1.0,
+            cap_thickness=0.1, filled=filled, land_gap=land_gap,
+        )  # fmt: skip
     except DesignError:
-        return dataclasses.replace(g, **section_only)
+        return None
 
 
 @functools.lru_cache(maxsize=256)
@@ -248,6 +262,15 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
     conic = cc[:, 0] == _CONIC
     span = np.where(conic, np.angle(np.exp(1j * (tb - ta))), tb - ta)
     edge_frac = np.where(conic, np.angle(np.exp(1j * (tm - ta))), tm - ta) / span
+    nv = np.int64(m.points.shape[0])
+    keys = np.sort(ce, axis=1) @ np.array([nv, 1])
+    order = np.argsort(keys)
+    tri_curved = np.full(m.triangles.shape, -1)
+    for j, (a, b) in enumerate(((0, 1), (1, 2), (2, 0))):
+        e = np.sort(m.triangles[:, [a, b]], axis=1) @ np.array([nv, 1])
+        pos = np.clip(np.searchsorted(keys, e, sorter=order), 0, max(keys.size - 1, 0))
+        hit = keys[order[pos]] == e if keys.size else np.zeros(len(e), bool)
+        tri_curved[hit, j] = order[pos[hit]]
     # P1 Laplacian (cotangent weights) of the template for the harmonic extension.
     from skfem import Basis, ElementTriP1, MeshTri
     from skfem.models.poisson import laplace
@@ -259,6 +282,7 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
     return SectionTemplate(
         mesh=m, geometry=reference, curves=curves, on_curve=on, params=params, corners=corners,
         corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac, quality=_quality(m.points, m.triangles),
+        triangle_curved_edge=tri_curved, bent_triangles=np.flatnonzero((tri_curved >= 0).any(axis=1)),
         interior=interior, boundary=boundary, laplace_ib=lap[interior][:, boundary], laplace_ii=lu,
     )  # fmt: skip
 
@@ -351,18 +375,16 @@ def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid)
     if not (np.isfinite(ratio).all() and ratio.min() >= QUALITY_RATIO):
         raise MorphError("morph.quality_ratio", float(np.nanmin(ratio)), f"must be >= {QUALITY_RATIO}")
     tri = m.triangles
-    x6 = np.concatenate([xy[tri], 0.5 * (xy[tri] + xy[tri[:, [1, 2, 0]]])], axis=1)
-    if len(m.curved_edges):
-        nv = np.int64(xy.shape[0])
-        keys = np.sort(m.curved_edges, axis=1) @ np.array([nv, 1])
-        for j, (a, bb) in enumerate(((0, 1), (1, 2), (2, 0))):
-            e = np.sort(tri[:, [a, bb]], axis=1) @ np.array([nv, 1])
-            pos = np.clip(np.searchsorted(keys, e, sorter=np.argsort(keys)), 0, keys.size - 1)
-            idx = np.argsort(keys)[pos]
-            hit = keys[idx] == e
-            x6[hit, 3 + j] = mids[idx[hit]]
-    if not p2_valid(x6).all():
-        raise MorphError("morph.p2_jacobian", int((~p2_valid(x6)).sum()), "curved triangles folded")
+    # Only triangles with a curved edge can fold by curvature (the others are checked by their area).
+    bent = template.bent_triangles
+    t3 = tri[bent]
+    x6 = np.concatenate([xy[t3], 0.5 * (xy[t3] + xy[t3[:, [1, 2, 0]]])], axis=1)
+    which = template.triangle_curved_edge[bent]
+    hit = which >= 0
+    x6[:, 3:][hit] = mids[which[hit]]
+    valid = p2_valid(x6)
+    if not valid.all():
+        raise MorphError("morph.p2_jacobian", int((~valid).sum()), "curved triangles folded")
     cen = xy[tri].mean(axis=1)
     labels = geometry.classify(cen[:, 0], cen[:, 1], np.zeros(len(cen)))
     bad = int((labels != m.labels).sum())
