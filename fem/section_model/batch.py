@@ -192,19 +192,19 @@ class _Kernel:
         w = np.abs(det) * self.W  # (M, nq)
         xq = np.einsum("mekI,kq->Imeq", x6, self.Ng).reshape(2, M, -1)
         nq = w.shape[1]
-        B = np.zeros((M, nq, 4, nb))
-        B[:, :, 0, 0::2] = g[..., 0]
-        B[:, :, 1, 1::2] = g[..., 1]
-        B[:, :, 3, 0::2] = g[..., 1]
-        B[:, :, 3, 1::2] = g[..., 0]
+        B = np.zeros((M, 4, nq, nb))  # strain (xx, yy, zz, xy) of each local DOF at each point
+        B[:, 0, :, 0::2] = g[..., 0]
+        B[:, 1, :, 1::2] = g[..., 1]
+        B[:, 3, :, 0::2] = g[..., 1]
+        B[:, 3, :, 1::2] = g[..., 0]
         D = D.reshape(M, 4, 4)
         lam = lam.reshape(M)
-        DB = D[:, None] @ B
-        Bw = B * w[:, :, None, None]
-        k_loc = Bw.reshape(M, nq * 4, nb).transpose(0, 2, 1) @ DB.reshape(M, nq * 4, nb)
+        DB = (D @ B.reshape(M, 4, nq * nb)).reshape(M, 4, nq, nb)
+        Bw = B * w[:, None, :, None]
+        k_loc = Bw.reshape(M, 4 * nq, nb).transpose(0, 2, 1) @ DB.reshape(M, 4 * nq, nb)
         phi = np.stack([np.ones_like(xq[0]), xq[0], xq[1]])  # (3, M, nq)
         phiw = (phi * w).transpose(1, 2, 0)
-        kug_loc = DB[:, :, 2, :].transpose(0, 2, 1) @ phiw
+        kug_loc = DB[:, 2].transpose(0, 2, 1) @ phiw
         phi_e = phi.transpose(1, 2, 0)  # (M, nq, 3)
         k_gg = D[:, 2, 2, None, None] * (phiw.transpose(0, 2, 1) @ phi_e)
         # Projected volumetric part, on every element (lambda = 0 where the law is anisotropic).
@@ -214,7 +214,7 @@ class _Kernel:
         q = np.stack([np.ones_like(xq[0]), xq[0] - xc[:, None], xq[1] - yc[:, None]], axis=-1)
         qwt = (q * w[:, :, None]).transpose(0, 2, 1)
         mm = qwt @ q
-        gu = qwt @ (B[:, :, 0] + B[:, :, 1])  # (M, 3, nb)
+        gu = qwt @ (B[:, 0] + B[:, 1])  # (M, 3, nb)
         gg = qwt @ phi_e
         minv = np.linalg.inv(mm) * lam[:, None, None]
         mgu = minv @ gu
@@ -239,7 +239,7 @@ class _Kernel:
         ybar = (wz * xq[1].reshape(m, -1)).sum(axis=1) / wz.sum(axis=1)
         return {
             "data": data, "K_ug": k_ug, "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1), "f": f,
-            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar, "B": B.reshape(m, nel, nq, 4, nb),
+            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar, "B": B.reshape(m, nel, 4, nq, nb),
             "xq": xq.reshape(2, m, nel, nq), "D": D.reshape(m, nel, 4, 4), "lam": lam.reshape(m, nel),
             "xr": xr.reshape(m, nel, 2, nr), "xg": xg.reshape(m, nel, 2, 3),
         }  # fmt: skip
@@ -328,7 +328,7 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
         u[free] -= x_g @ g
         ue_r = u[rdofs]
         ue = np.concatenate([ue_r, -(np.einsum("ebr,er->eb", xr, ue_r) + xg @ g)], axis=1)
-        strain = np.einsum("eqcb,eb->ceq", B[sil], ue[sil])
+        strain = (B[sil] @ ue[sil][:, None, :, None])[..., 0].transpose(1, 0, 2)  # (4, e, nq)
         exx, eyy, exy = strain[0], strain[1], 0.5 * strain[3]
         ezz = g[0] + g[1] * x[sil] + g[2] * y[sil]
         mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
