@@ -302,7 +302,8 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
     rhs = np.column_stack([k_ug[free], ops["f"][j][free]])
     sol = np.column_stack([factor.solve(rhs[:, c]) for c in range(rhs.shape[1])])
     resid = kff @ sol - rhs
-    scale = abs(kff).sum(axis=1).A.ravel().max() * np.abs(sol).max(axis=0) + np.abs(rhs).max(axis=0)
+    row_sum = np.add.reduceat(np.abs(kff.data), kff.indptr[:-1]).max()  # no empty rows (SPD)
+    scale = row_sum * np.abs(sol).max(axis=0) + np.abs(rhs).max(axis=0)
     backward = float((np.abs(resid).max(axis=0) / np.where(scale > 0, scale, 1.0)).max())
     x_g, x_p = sol[:, :3], sol[:, 3]
     k_sec = ops["K_gg"][j] - k_ug[free].T @ x_g
