@@ -98,7 +98,7 @@ def split(n: int) -> float:
     per, cpu = (time.perf_counter() - t) / n, (time.process_time() - c0) / n
     parts = "  ".join(f"{k} {v / n * 1e3:.2f}" for k, v in TIMERS.items())
     print(f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made "
-          f"[{_load()}]: {per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms CPU)")  # fmt: skip
+          f"[{_load()}]: {per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)")  # fmt: skip
     return cpu
 
 
