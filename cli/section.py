@@ -47,6 +47,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh-size", type=float, default=None, help="section element size [mm] (default 0.08)")
     p.add_argument("--segments", type=int, default=None, help="boundary points per full turn (default 20)")
     p.add_argument(
+        "--mesher",
+        choices=("template", "gmsh"),
+        default="template",
+        help="template: the section topology's mesh morphed to the design (default, within 0.2 %% of "
+        "gmsh); gmsh: a fresh mesh",
+    )
+    p.add_argument(
         "--poisson",
         type=float,
         default=None,
@@ -157,8 +164,9 @@ def _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh) -> in
     from softcath.studies.validity import check_finite_columns, warn_linear_range
 
     r = section_model(
-        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts
-    )
+        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
+        **mesh, **coil_opts,
+    )  # fmt: skip
     ld = args.load
     full = r.to_json()
     doc = {

@@ -10,7 +10,10 @@ nu = 0.49999.
 Modules: ``mesh`` (labelled section meshes), ``laws`` (region laws in
 generalised plane strain), ``assembly`` (the operator, element pair),
 ``solve`` (condensation and loads), ``api`` (:func:`section_model`),
-``picture`` (the deformed section coloured by axial stress), ``coil_models``
+``template`` (one gmsh mesh per section topology and size class, morphed to
+each design), ``batch`` (many designs per template: one vectorised kernel, the
+symbolic factorisation reused), ``picture`` (the deformed section coloured by
+axial stress), ``coil_models``
 (coil homogenisations against the resolved wire), ``fibres`` and
 ``bilinear`` (coil-bound compression and initial tension:
 :func:`bend_curve`).

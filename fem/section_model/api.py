@@ -118,6 +118,7 @@ def section_model(
     loads: Sequence[str] = LOADS,
     mesh_size: float = MESH_SIZE,
     segments: int = SEGMENTS,
+    mesher: str = "template",
     coil_modulus: str = "tension",
     coil_bending: str = "annulus",
     poisson_cap: float | None = None,
@@ -135,6 +136,9 @@ def section_model(
         Subset of ``("cap", "lumen")``.
     mesh_size, segments
         Element size (mm) and boundary points per full turn.
+    mesher
+        ``template`` (default: the section topology's gmsh mesh morphed to the design,
+        within 0.2 % of a fresh mesh) or ``gmsh`` (a fresh mesh per design).
     coil_modulus
         Coils' homogenised axial modulus, ``"tension"`` (default, as the 3-D FEM)
         or ``"bending"``.
@@ -167,7 +171,7 @@ def section_model(
         poisson=poisson,
     )  # fmt: skip
     laws, extra = coil_terms(d, coil_bending, laws)
-    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments)
+    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments, mesher=mesher)
     op = assemble(mesh, laws)
     sol = solve(op, loads, extra_bending=sum(extra.values()))
     K = sol.stiffness

@@ -25,7 +25,7 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import VOID, TipGeometry
 
-__all__ = ["SectionMesh", "catheter_section_mesh", "disk_section_mesh", "MESH_SIZE", "SEGMENTS"]
+__all__ = ["SectionMesh", "catheter_section_mesh", "disk_section_mesh", "MESH_SIZE", "MESHERS", "SEGMENTS"]
 
 log = logging.getLogger(__name__)
 
@@ -34,6 +34,10 @@ log = logging.getLogger(__name__)
 #: values at nu = 0.4999 (tests/fem/section_model/test_convergence.py).
 MESH_SIZE = 0.08
 SEGMENTS = 20
+#: ``template``: the gmsh mesh of the section's topology morphed to the geometry
+#: (``softcath.fem.section_model.template``; gmsh when the morph is refused);
+#: ``gmsh``: a fresh gmsh mesh of the geometry.
+MESHERS = ("template", "gmsh")
 
 
 @dataclass(frozen=True)
@@ -148,7 +152,11 @@ def _catheter_cached(geometry: TipGeometry, mesh_size: float, segments: int) -> 
 
 
 def catheter_section_mesh(
-    geometry: TipGeometry, *, mesh_size: float = MESH_SIZE, segments: int = SEGMENTS
+    geometry: TipGeometry,
+    *,
+    mesh_size: float = MESH_SIZE,
+    segments: int = SEGMENTS,
+    mesher: str = "template",
 ) -> SectionMesh:
     """The as-assembled catheter section of ``geometry`` (regions of ``softcath.fem.geometry``).
 
@@ -160,11 +168,23 @@ def catheter_section_mesh(
         Largest element size, mm.
     segments
         Boundary points per full turn of every circle and ellipse.
+    mesher
+        One of :data:`MESHERS`. The morphed template's section-model answers are
+        within 0.2 % of a fresh gmsh mesh's (tests/fem/section_model/test_template.py).
     """
+    if mesher not in MESHERS:
+        raise DesignError("mesher", mesher, f"must be one of {MESHERS}")
     _check_size(mesh_size, segments)
     from softcath.fem.limits import check_section_budget
 
     check_section_budget(coil_outer_radius=geometry.coil_outer_radius, mesh_size=mesh_size)
+    if mesher == "template":
+        from softcath.fem.section_model.template import MorphError, morph, section_template
+
+        try:
+            return morph(section_template(geometry, mesh_size=mesh_size, segments=segments), geometry)
+        except MorphError as exc:
+            log.info("template mesh refused for %s (%s); meshing with gmsh", geometry.digest(), exc)
     info = _catheter_cached.cache_info()
     mesh = _catheter_cached(geometry, float(mesh_size), int(segments))
     if _catheter_cached.cache_info().hits > info.hits:

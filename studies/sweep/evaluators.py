@@ -19,7 +19,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.studies.results import _FEM_RENAME
-from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
+from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns_many
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -309,10 +309,10 @@ def evaluate_task(task: dict) -> pd.DataFrame:
 
     sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}
     if "section" in task["evaluators"]:
-        for i in ok:
-            try:
-                values = section_columns(designs[i], pressures, loads, task.get("section"))
-            except Exception as exc:  # a section-model failure is reported per design, never ends the sweep
+        many = section_columns_many([designs[i] for i in ok], pressures, loads, task.get("section"))
+        for i, values in zip(ok, many, strict=True):
+            if isinstance(values, Exception):  # a section-model failure is reported per design
+                exc = values
                 log.warning("section model failed for design %s: %s", ids[i], exc)
                 why = f"section failed: {type(exc).__name__}: {exc}"
                 fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-__all__ = ["SECTION_KEYS", "SECTION_OPTIONS", "section_columns"]
+__all__ = ["SECTION_KEYS", "SECTION_OPTIONS", "section_columns", "section_columns_many"]
 
 log = logging.getLogger(__name__)
 
@@ -30,7 +30,7 @@ SECTION_KEYS = (
     "section_seconds",
 )
 #: Options a spec may set under ``[sweep.section]`` (passed to ``softcath.fem.section_model.section_model``).
-SECTION_OPTIONS = ("mesh_size", "coil_bending")
+SECTION_OPTIONS = ("mesh_size", "coil_bending", "mesher")
 
 
 def section_columns(
@@ -66,4 +66,49 @@ def section_columns(
     seconds = time.perf_counter() - t0
     for load in loads:
         out[load]["section_seconds"] = np.full(pressures.shape, seconds)
+    return out
+
+
+def section_columns_many(
+    designs: list, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
+) -> list:
+    """:func:`section_columns` of many designs: per design its columns or the exception it raised.
+
+    With the template mesher (the default) the designs go through the batched section
+    models (``softcath.fem.section_model.batch``: one kernel per template, factorisations
+    reused), whose answers are the section model's on the same meshes; with
+    ``mesher = "gmsh"`` each design is solved alone.
+    """
+    opts = {k: v for k, v in (options or {}).items() if v is not None}
+    if opts.pop("mesher", "template") == "gmsh":
+        out = []
+        for d in designs:
+            try:
+                out.append(section_columns(d, pressures, loads, {**opts, "mesher": "gmsh"}))
+            except Exception as exc:  # reported per design by the caller
+                out.append(exc)
+        return out
+    from softcath.fem.section_model.batch import section_models
+
+    out = []
+    for item in section_models(designs, loads=loads, **opts):
+        if isinstance(item, Exception):
+            out.append(item)
+            continue
+        r = item.result
+        cols = {}
+        for load in loads:
+            resp = r.response(pressures, load)
+            low, high = item.strain_range[load]
+            cols[load] = {
+                "curvature_section_per_mm": np.asarray(resp.curvature, float),
+                "elongation_section": np.asarray(resp.elongation, float),
+                "bend_angle_section_rad": np.asarray(resp.bend_angle, float),
+                "tip_x_section_mm": np.asarray(resp.tip_x, float),
+                "tip_y_section_mm": np.asarray(resp.tip_y, float),
+                "max_strain_section": np.where(pressures >= 0, pressures * high, pressures * low),
+                "section_formula_ratio": np.full(pressures.shape, r.fem_formula_ratio[load]),
+                "section_seconds": np.full(pressures.shape, r.seconds),
+            }
+        out.append(cols)
     return out

@@ -18,6 +18,7 @@ Layout::
     [sweep.section]                # options of the section model (all optional)
     mesh_size = 0.05               # mm, element size of the 2-D section mesh
     coil_bending = "annulus"       # or "wahl" (+ the coils' helical-spring bending stiffness)
+    mesher = "template"            # or "gmsh" (a fresh mesh per design; template is within 0.2 %)
 
     [sweep.feasibility]
     max_strain = 0.3               # silicone strain limit [-]
@@ -112,7 +113,7 @@ class SweepSpec:
         FEM mesh size [mm] or ``None`` for the FEM default.
     max_strain
         Silicone strain limit for the feasibility flag [-].
-    section_mesh_size, section_coil_bending
+    section_mesh_size, section_coil_bending, section_mesher
         Section-model options (``[sweep.section]``; ``None`` = the model's default).
     """
 
@@ -130,6 +131,7 @@ class SweepSpec:
     max_strain: float = 0.3
     section_mesh_size: float | None = None
     section_coil_bending: str | None = None
+    section_mesher: str | None = None
     source: str = field(default="<string>", compare=False)
 
     @property
@@ -143,7 +145,8 @@ class SweepSpec:
     @property
     def section_options(self) -> dict:
         """Keyword options for ``softcath.fem.section_model.section_model`` (only those set)."""
-        opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending}
+        opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending,
+                "mesher": self.section_mesher}  # fmt: skip
         return {k: v for k, v in opts.items() if v is not None}
 
     @property
@@ -319,7 +322,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
     if mesh_size is not None and _real("sweep.fem.mesh_size", mesh_size) <= 0:
         raise DesignError("sweep.fem.mesh_size", mesh_size, "must be > 0 mm")
 
-    section_mesh, coil_bending = _section_table(sweep.get("section", {}))
+    section_mesh, coil_bending, mesher = _section_table(sweep.get("section", {}))
 
     feas = sweep.get("feasibility", {})
     if not isinstance(feas, dict) or set(feas) - {"max_strain"}:
@@ -363,15 +366,17 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         max_strain=max_strain,
         section_mesh_size=section_mesh,
         section_coil_bending=coil_bending,
+        section_mesher=mesher,
         source=source,
     )
 
 
-def _section_table(table: Any) -> tuple[float | None, str | None]:
-    """``[sweep.section]``: mesh_size [mm] and coil_bending, both optional."""
+def _section_table(table: Any) -> tuple[float | None, str | None, str | None]:
+    """``[sweep.section]``: mesh_size [mm], coil_bending and mesher, all optional."""
     from softcath.fem.section_model.api import COIL_BENDING
+    from softcath.fem.section_model.mesh import MESHERS
 
-    allowed = {"mesh_size", "coil_bending"}
+    allowed = {"mesh_size", "coil_bending", "mesher"}
     if not isinstance(table, dict) or set(table) - allowed:
         raise DesignError("sweep.section", table, f"must be a table with only {', '.join(sorted(allowed))}")
     mesh = table.get("mesh_size")
@@ -380,7 +385,10 @@ def _section_table(table: Any) -> tuple[float | None, str | None]:
     bending = table.get("coil_bending")
     if bending is not None and bending not in COIL_BENDING:
         raise DesignError("sweep.section.coil_bending", bending, f"must be one of {list(COIL_BENDING)}")
-    return (None if mesh is None else float(mesh)), bending
+    mesher = table.get("mesher")
+    if mesher is not None and mesher not in MESHERS:
+        raise DesignError("sweep.section.mesher", mesher, f"must be one of {list(MESHERS)}")
+    return (None if mesh is None else float(mesh)), bending, mesher
 
 
 def _flatten(table: dict, prefix: str = ""):

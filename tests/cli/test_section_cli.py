@@ -93,3 +93,21 @@ def test_coil_options_conflict_is_one_line(tmp_path, capsys):
     assert "--coil-bound" in capsys.readouterr().err
     assert main(["section", "paper", "--initial-tension", "a,b,c", "--out", str(tmp_path / "z")]) == 2
     assert "--initial-tension" in capsys.readouterr().err
+
+
+def test_mesher_option_template_and_gmsh_agree_on_a_random_design(tmp_path, capsys):
+    """The template mesher (default) and a fresh gmsh mesh, within the template's 0.2 % bound."""
+    import pytest
+
+    from softcath.design.io import save
+    from softcath.studies.sweep.random_designs import random_designs
+
+    path = save(random_designs(1, seed=47)[0], tmp_path / "d.toml")
+    k = {}
+    for mesher in ("template", "gmsh"):
+        out = tmp_path / mesher
+        assert main(["section", str(path), "--mesher", mesher, "--no-png", "--out", str(out)]) == 0
+        k[mesher] = json.loads((out / "section.json").read_text())["curvature_per_mm_per_MPa"]
+    assert k["template"] == pytest.approx(k["gmsh"], rel=2e-3)
+    assert main(["section", "paper", "--mesher", "delaunay", "--out", str(tmp_path / "x")]) != 0
+    assert "invalid choice: 'delaunay'" in capsys.readouterr().err

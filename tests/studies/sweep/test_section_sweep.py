@@ -130,6 +130,9 @@ def test_spec_section_options_and_chunks():
         parse_spec(_spec("[sweep.section]\nmesh_size = 0.9"))
     with pytest.raises(DesignError, match="sweep.section.coil_bending = 'spring'"):
         parse_spec(_spec('[sweep.section]\ncoil_bending = "spring"'))
+    assert parse_spec(_spec('[sweep.section]\nmesher = "gmsh"')).section_options == {"mesher": "gmsh"}
+    with pytest.raises(DesignError, match="sweep.section.mesher = 'tetgen': must be one of"):
+        parse_spec(_spec('[sweep.section]\nmesher = "tetgen"'))
     with pytest.raises(
         DesignError, match="sweep.section = .*must be a table with only coil_bending, mesh_size"
     ):

@@ -1,0 +1,467 @@
+"""Section models of many designs at once: template meshes, one vectorised kernel, factorisations reused.
+
+Designs whose sections share a template mesh (``softcath.fem.section_model.template``)
+differ only in node positions and region moduli, so everything that depends on the
+connectivity is done once per template (a :class:`_Kernel`): the CCR DOF layout and
+reference shape functions, the sparse pattern of the condensed stiffness with the
+scatter from element matrices to it, the lumen edges' parent elements, the rigid-body
+pins and the symbolic factorisation (QDLDL with AMD ordering; each further design only
+refactorises numerically, :func:`qdldl.Solver.update`). The element kernel then runs on
+all designs of a template at once, and each design's four right-hand sides (three unit
+global strains, the unit lumen pressure) share one factorisation.
+
+The answers are :func:`~softcath.fem.section_model.section_model`'s on the same
+(template) mesh, to round-off (tests/fem/section_model/test_batch.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import sparse
+
+from softcath.fem.geometry import FILLER, TUBE
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from softcath.fem.section_model.solve import LOADS
+
+__all__ = ["BatchItem", "TIMERS", "section_models"]
+
+log = logging.getLogger(__name__)
+
+#: Wall seconds of this process per stage (a cheap clock: the CPU clock costs ~1 ms a call
+#: on a loaded machine): ``laws``, ``template``
+#: (reference section and, once per template, its gmsh mesh), ``morph``, ``assembly``,
+#: ``factorisation``, ``solve``, ``post``: the benchmark's time split.
+TIMERS: dict[str, float] = {}
+
+
+def _tick(name: str, t0: float) -> float:
+    t = time.perf_counter()
+    TIMERS[name] = TIMERS.get(name, 0.0) + t - t0
+    return t
+
+
+@dataclass(frozen=True)
+class BatchItem:
+    """One design's section model from :func:`section_models`.
+
+    Attributes
+    ----------
+    result
+        The :class:`~softcath.fem.section_model.SectionResult` (no fields).
+    strain_range
+        Load -> (smallest, largest) principal strain per MPa in the silicone.
+    """
+
+    result: object
+    strain_range: dict[str, tuple[float, float]] = field(default_factory=dict)
+
+
+class _Kernel:
+    """Everything of a template that does not depend on node positions or moduli."""
+
+    def __init__(self, template) -> None:
+        from skfem import CellBasis, ElementTriCCR, ElementVector
+
+        from softcath.fem.section_model.assembly import _rigid_pins
+
+        m = template.mesh
+        mesh = m.skfem_mesh()
+        basis = CellBasis(mesh, ElementVector(ElementTriCCR()), intorder=4)
+        self.template = template
+        dofs = basis.element_dofs  # (nb, nel)
+        nb, nel = dofs.shape
+        if not np.array_equal(dofs[nb - 2 :], basis.interior_dofs):
+            raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
+        self.nb, self.nel, self.N = nb, nel, basis.N
+        self.n = basis.N - basis.interior_dofs.size
+        self.dofs = dofs
+        X, W = basis.X, basis.W
+        self.W = W
+        scalar = ElementTriCCR()
+        self.dphi = np.stack([scalar.lbasis(X, s)[1] for s in range(nb // 2)])  # (ns, 2, nq)
+        r, s = X
+        lam0 = 1 - r - s
+        # P2 geometry: corners 0, 1, 2, midsides 01, 12, 20.
+        self.Ng = np.stack([lam0 * (2 * lam0 - 1), r * (2 * r - 1), s * (2 * s - 1),
+                            4 * lam0 * r, 4 * r * s, 4 * s * lam0])  # fmt: skip
+        dr = np.stack([1 - 4 * lam0, 4 * r - 1, 0 * r, 4 * (lam0 - r), 4 * s, -4 * s])
+        ds = np.stack([1 - 4 * lam0, 0 * r, 4 * s - 1, -4 * r, 4 * r, 4 * (lam0 - s)])
+        self.dNg = np.stack([dr, ds], axis=1)  # (6, 2, nq)
+        tri = self.tri = np.ascontiguousarray(mesh.t.T)  # scikit-fem's vertex order (sorted), not the mesh's
+        nv = np.int64(m.points.shape[0])
+        ce = np.sort(m.curved_edges, axis=1) @ np.array([nv, 1])
+        order = np.argsort(ce)
+        self.edge_curved = np.full((nel, 3), -1)
+        for j, (a, b) in enumerate(((0, 1), (1, 2), (2, 0))):
+            e = np.sort(tri[:, [a, b]], axis=1) @ np.array([nv, 1])
+            pos = np.clip(np.searchsorted(ce, e, sorter=order), 0, max(ce.size - 1, 0))
+            hit = ce[order[pos]] == e if ce.size else np.zeros(nel, bool)
+            self.edge_curved[hit, j] = order[pos[hit]]
+        self.silicone = np.isin(m.labels, (TUBE, FILLER))
+        # Sparse pattern of the free-free block and the scatter into it.
+        self.pinned = _rigid_pins(basis, mesh)
+        free = np.setdiff1d(np.arange(self.n), self.pinned)
+        self.free = free
+        where = np.full(self.n, -1)
+        where[free] = np.arange(free.size)
+        rd = where[dofs[: nb - 2].T]  # (nel, nr)
+        rows = np.broadcast_to(rd[:, :, None], (nel, nb - 2, nb - 2)).ravel()
+        cols = np.broadcast_to(rd[:, None, :], (nel, nb - 2, nb - 2)).ravel()
+        ok = (rows >= 0) & (cols >= 0)
+        key = rows.astype(np.int64) * free.size + cols
+        uniq, slot = np.unique(key[ok], return_inverse=True)
+        self.indices = (uniq % free.size).astype(np.int32)
+        self.indptr = np.searchsorted(uniq // free.size, np.arange(free.size + 1)).astype(np.int32)
+        self.entries, self.slot, self.nnz = np.flatnonzero(ok), slot, uniq.size
+        # The LDL factorisation reads the upper triangle in CSC: for a symmetric matrix, the
+        # CSR rows of its lower triangle (column <= row).
+        row_of = np.repeat(np.arange(free.size), np.diff(self.indptr))
+        self.lower = self.indices <= row_of
+        count = np.bincount(row_of[self.lower], minlength=free.size)
+        self.indptr_lower = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
+        rdofs = dofs[: nb - 2].T.ravel()
+        self.scatter_g = sparse.csr_matrix(
+            (np.ones(rdofs.size), (rdofs, np.arange(rdofs.size))), shape=(self.n, rdofs.size)
+        )
+        self._lumen(m, mesh)
+        self.factor = None
+
+    def _lumen(self, m, mesh) -> None:
+        t = mesh.t
+        nv = int(t.max()) + 1
+        le = np.sort(m.lumen_edges, axis=1)
+        all_edges = np.sort(np.concatenate([t[[i, j]].T for i, j in ((0, 1), (1, 2), (2, 0))]), axis=1)
+        keys = all_edges[:, 0].astype(np.int64) * nv + all_edges[:, 1]
+        order = np.argsort(keys)
+        want = le[:, 0].astype(np.int64) * nv + le[:, 1]
+        hit = order[np.searchsorted(keys[order], want)]
+        self.l_elems, self.l_which = hit % self.nel, hit // self.nel
+        s, ws = np.polynomial.legendre.leggauss(4)
+        self.l_s, self.l_ws = 0.5 * (s + 1), 0.5 * ws
+        start = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])[self.l_which]
+        stop = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])[self.l_which]
+        self.l_dir = (stop - start).T  # (2, nf)
+        X = start.T[:, :, None] + self.l_dir[:, :, None] * self.l_s[None, None, :]  # (2, nf, nq)
+        r, s_ = X
+        lam0 = 1 - r - s_
+        self.l_N = np.stack([lam0 * (2 * lam0 - 1), r * (2 * r - 1), s_ * (2 * s_ - 1),
+                             4 * lam0 * r, 4 * r * s_, 4 * s_ * lam0])  # fmt: skip
+        dr = np.stack([1 - 4 * lam0, 4 * r - 1, 0 * r, 4 * (lam0 - r), 4 * s_, -4 * s_])
+        ds = np.stack([1 - 4 * lam0, 0 * r, 4 * s_ - 1, -4 * r, 4 * r, 4 * (lam0 - s_)])
+        self.l_dN = np.stack([dr, ds], axis=1)  # (6, 2, nf, nq)
+        from skfem import ElementTriCCR
+
+        scalar = ElementTriCCR()
+        self.l_phi = np.stack([scalar.lbasis(X, k // 2)[0] for k in range(self.nb)])  # (nb, nf, nq)
+        ld = self.dofs[:, self.l_elems].T  # (nf, nb)
+        self.scatter_l = sparse.csr_matrix(
+            (np.ones(ld.size), (ld.ravel(), np.arange(ld.size))), shape=(self.N, ld.size)
+        )
+
+    def geometry(self, meshes: Sequence) -> np.ndarray:
+        """(m, nel, 6, 2) P2 node positions of each design's triangles."""
+        tri = self.tri
+        out = []
+        for sm in meshes:
+            p = sm.points[tri]  # (nel, 3, 2)
+            mids = 0.5 * (p + p[:, [1, 2, 0]])
+            curved = self.edge_curved >= 0
+            mids[curved] = sm.curved_midpoints[self.edge_curved[curved]]
+            out.append(np.concatenate([p, mids], axis=1))
+        return np.stack(out)
+
+    def assemble(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray, ez: np.ndarray) -> dict:
+        """The condensed operators of ``m`` designs (``assembly.assemble``'s algebra, batched).
+
+        ``x6`` (m, nel, 6, 2) node positions; ``D`` (m, nel, 4, 4), ``lam`` and ``ez`` (m, nel)
+        the region laws per triangle.
+        """
+        m, nel, nb = x6.shape[0], self.nel, self.nb
+        M = m * nel
+        J = np.einsum("mekI,kjq->meqIj", x6, self.dNg).reshape(M, -1, 2, 2)  # dx_I / dX_j
+        det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
+        inv = np.stack([np.stack([J[..., 1, 1], -J[..., 0, 1]], -1),
+                        np.stack([-J[..., 1, 0], J[..., 0, 0]], -1)], -2) / det[..., None, None]  # fmt: skip
+        g = self.dphi.transpose(2, 0, 1)[None] @ inv  # physical gradients (M, nq, ns, 2)
+        w = np.abs(det) * self.W  # (M, nq)
+        xq = np.einsum("mekI,kq->Imeq", x6, self.Ng).reshape(2, M, -1)
+        nq = w.shape[1]
+        B = np.zeros((M, 4, nq, nb))  # strain (xx, yy, zz, xy) of each local DOF at each point
+        B[:, 0, :, 0::2] = g[..., 0]
+        B[:, 1, :, 1::2] = g[..., 1]
+        B[:, 3, :, 0::2] = g[..., 1]
+        B[:, 3, :, 1::2] = g[..., 0]
+        D = D.reshape(M, 4, 4)
+        lam = lam.reshape(M)
+        DB = (D @ B.reshape(M, 4, nq * nb)).reshape(M, 4, nq, nb)
+        Bw = B * w[:, None, :, None]
+        k_loc = Bw.reshape(M, 4 * nq, nb).transpose(0, 2, 1) @ DB.reshape(M, 4 * nq, nb)
+        phi = np.stack([np.ones_like(xq[0]), xq[0], xq[1]])  # (3, M, nq)
+        phiw = (phi * w).transpose(1, 2, 0)
+        kug_loc = DB[:, 2].transpose(0, 2, 1) @ phiw
+        phi_e = phi.transpose(1, 2, 0)  # (M, nq, 3)
+        k_gg = D[:, 2, 2, None, None] * (phiw.transpose(0, 2, 1) @ phi_e)
+        # Projected volumetric part, on every element (lambda = 0 where the law is anisotropic).
+        area = w.sum(axis=1)
+        xc = (w * xq[0]).sum(axis=1) / area
+        yc = (w * xq[1]).sum(axis=1) / area
+        q = np.stack([np.ones_like(xq[0]), xq[0] - xc[:, None], xq[1] - yc[:, None]], axis=-1)
+        qwt = (q * w[:, :, None]).transpose(0, 2, 1)
+        mm = qwt @ q
+        gu = qwt @ (B[:, 0] + B[:, 1])  # (M, 3, nb)
+        gg = qwt @ phi_e
+        minv = np.linalg.inv(mm) * lam[:, None, None]
+        mgu = minv @ gu
+        k_loc += gu.transpose(0, 2, 1) @ mgu
+        kug_loc += mgu.transpose(0, 2, 1) @ gg
+        k_gg += gg.transpose(0, 2, 1) @ (minv @ gg)
+        ri, bi = slice(0, nb - 2), slice(nb - 2, nb)
+        kbb_inv = np.linalg.inv(k_loc[:, bi, bi])
+        kbr = k_loc[:, bi, ri]
+        kbg = kug_loc[:, bi, :]
+        xr, xg = kbb_inv @ kbr, kbb_inv @ kbg
+        k_rr = k_loc[:, ri, ri] - kbr.transpose(0, 2, 1) @ xr
+        k_rg = kug_loc[:, ri, :] - kbr.transpose(0, 2, 1) @ xg
+        k_gg = k_gg - kbg.transpose(0, 2, 1) @ xg
+        nr = nb - 2
+        flat = k_rr.reshape(m, -1)[:, self.entries]
+        data = np.stack([np.bincount(self.slot, weights=f, minlength=self.nnz) for f in flat])  # (m, nnz)
+        k_ug = self.scatter_g @ k_rg.reshape(m, nel * nr, 3).transpose(1, 0, 2).reshape(nel * nr, 3 * m)
+        k_ug = k_ug.reshape(self.n, m, 3).transpose(1, 0, 2)  # (m, n, 3)
+        f, area, xl, yl = self._lumen_load(x6)
+        wz = (ez.reshape(M, 1) * w).reshape(m, -1)
+        ybar = (wz * xq[1].reshape(m, -1)).sum(axis=1) / wz.sum(axis=1)
+        return {
+            "data": data, "K_ug": k_ug, "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1), "f": f,
+            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar, "B": B.reshape(m, nel, 4, nq, nb),
+            "xq": xq.reshape(2, m, nel, nq), "D": D.reshape(m, nel, 4, 4), "lam": lam.reshape(m, nel),
+            "xr": xr.reshape(m, nel, 2, nr), "xg": xg.reshape(m, nel, 2, 3),
+        }  # fmt: skip
+
+    def _lumen_load(self, x6: np.ndarray):
+        """Unit lumen-pressure loads (m, n) and the lumens' areas and centroids."""
+        xe = x6[:, self.l_elems]  # (m, nf, 6, 2)
+        xg = np.einsum("mfkI,kfq->Imfq", xe, self.l_N)
+        J = np.einsum("mfkI,kjfq->mfqIj", xe, self.l_dN)
+        tangent = np.einsum("mfqIj,jf->Imfq", J, self.l_dir)
+        length = np.hypot(tangent[0], tangent[1])
+        normal = np.stack([tangent[1], -tangent[0]]) / length
+        centre = xe[:, :, :3].mean(axis=2)  # (m, nf, 2)
+        flip = np.sign(np.einsum("imfq,imf->mf", normal, xg.mean(axis=3) - centre.transpose(2, 0, 1)))
+        normal = normal * flip[None, :, :, None]
+        wds = length * self.l_ws
+        f_loc = -np.einsum("kfq,kmfq,mfq->mfk", self.l_phi, normal[np.arange(self.nb) % 2], wds)
+        m = x6.shape[0]
+        f = (self.scatter_l @ f_loc.reshape(m, -1).T).T[:, : self.n]
+        a_l = -(xg[0] * normal[0] * wds).sum(axis=(1, 2))
+        xl = -(0.5 * xg[0] ** 2 * normal[0] * wds).sum(axis=(1, 2)) / a_l
+        yl = -(0.5 * xg[1] ** 2 * normal[1] * wds).sum(axis=(1, 2)) / a_l
+        return f, a_l, xl, yl
+
+    def factorise(self, data: np.ndarray):
+        """Numeric factorisation of one design's free-free block; the symbolic one is reused."""
+        import qdldl
+
+        n = self.free.size
+        kff = sparse.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
+        upper = sparse.csc_matrix(
+            (data[self.lower], self.indices[self.lower], self.indptr_lower), shape=(n, n)
+        )
+        if self.factor is None:
+            self.factor = qdldl.Solver(upper, upper=True)
+        else:
+            self.factor.update(upper, upper=True)
+        return kff, self.factor
+
+
+_KERNELS: dict[str, _Kernel] = {}
+
+
+def _kernel(template) -> _Kernel:
+    key = template.mesh.key
+    if key not in _KERNELS:
+        if len(_KERNELS) >= 256:
+            _KERNELS.pop(next(iter(_KERNELS)))
+        _KERNELS[key] = _Kernel(template)
+    return _KERNELS[key]
+
+
+def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
+    """Condensation, loads and silicone strains of design ``j`` of an assembled group."""
+    t0 = time.perf_counter()
+    kff, factor = kernel.factorise(ops["data"][j])
+    t0 = _tick("factorisation", t0)
+    free, n = kernel.free, kernel.n
+    k_ug = ops["K_ug"][j]
+    rhs = np.column_stack([k_ug[free], ops["f"][j][free]])
+    sol = np.column_stack([factor.solve(rhs[:, c]) for c in range(rhs.shape[1])])
+    resid = kff @ sol - rhs
+    row_sum = np.add.reduceat(np.abs(kff.data), kff.indptr[:-1]).max()  # no empty rows (SPD)
+    scale = row_sum * np.abs(sol).max(axis=0) + np.abs(rhs).max(axis=0)
+    backward = float((np.abs(resid).max(axis=0) / np.where(scale > 0, scale, 1.0)).max())
+    x_g, x_p = sol[:, :3], sol[:, 3]
+    k_sec = ops["K_gg"][j] - k_ug[free].T @ x_g
+    k_sec = 0.5 * (k_sec + k_sec.T)
+    k_sec[1, 1] += extra
+    k_sec[2, 2] += extra
+    xl, yl = ops["centroid"][j]
+    cap = ops["area"][j] * np.array([1.0, xl, yl])
+    t0 = _tick("solve", t0)
+    nr = kernel.nb - 2
+    rdofs = kernel.dofs[:nr].T
+    B, xr, xg = ops["B"][j], ops["xr"][j], ops["xg"][j]
+    x, y = ops["xq"][:, j]
+    sil = kernel.silicone
+    out = {}
+    for ld in loads:
+        f_g = cap.copy()
+        u = np.zeros(n)
+        if ld == "lumen":
+            f_g -= k_ug[free].T @ x_p
+            u[free] = x_p
+        g = np.linalg.solve(k_sec, f_g)
+        u[free] -= x_g @ g
+        ue_r = u[rdofs]
+        ue = np.concatenate([ue_r, -(np.einsum("ebr,er->eb", xr, ue_r) + xg @ g)], axis=1)
+        strain = (B[sil] @ ue[sil][:, None, :, None])[..., 0].transpose(1, 0, 2)  # (4, e, nq)
+        exx, eyy, exy = strain[0], strain[1], 0.5 * strain[3]
+        ezz = g[0] + g[1] * x[sil] + g[2] * y[sil]
+        mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
+        rng = (float(np.minimum(mean - radius, ezz).min()), float(np.maximum(mean + radius, ezz).max()))
+        out[ld] = (g, float(ops["f"][j] @ u), rng if exx.size else (0.0, 0.0))
+    _tick("post", t0)
+    return k_sec, out, backward
+
+
+def _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts, seconds):
+    from softcath.analytic import gains
+    from softcath.fem.section_model.api import SectionResult
+
+    formula_k, _ = gains(d, "cap")
+    ea = float(k_sec[0, 0])
+    ybar = float(ops["ybar"][j])
+    return SectionResult(
+        design_name=d.name,
+        loads=tuple(out),
+        curvature_per_mm_per_MPa={ld: float(v[0][2]) for ld, v in out.items()},
+        elongation_per_MPa={ld: float(v[0][0] + v[0][2] * ybar) for ld, v in out.items()},
+        lumen_area_change_mm2_per_MPa={ld: v[1] for ld, v in out.items()},
+        fem_formula_ratio={
+            ld: float(v[0][2] / formula_k) if formula_k else float("nan") for ld, v in out.items()
+        },
+        EA_N=ea,
+        EI_N_mm2=float(k_sec[2, 2] - k_sec[0, 2] ** 2 / ea),
+        EI_lateral_N_mm2=float(k_sec[1, 1] - k_sec[0, 1] ** 2 / ea),
+        coupling_N_mm=float(k_sec[0, 2]),
+        neutral_axis_mm=float(k_sec[0, 2] / ea),
+        axial_centroid_mm=ybar,
+        lumen_area_mm2=float(ops["area"][j]),
+        lumen_centroid_y_mm=float(ops["centroid"][j][1]),
+        stiffness=tuple(tuple(float(v) for v in row) for row in k_sec),
+        poisson_ratio_silicone=laws[TUBE].poisson_ratio,
+        coil_modulus=opts["coil_modulus"],
+        coil_bending=opts["coil_bending"],
+        length_mm=float(d.tip.bending_length),
+        mesh_size_mm=float(mesh_size),
+        segments=int(segments),
+        dofs=kernel.n + 3,
+        n_triangles=kernel.nel,
+        mesh_seconds=float(mesh.seconds),
+        seconds=float(seconds),
+        backward_error=backward,
+    )
+
+
+def section_models(
+    designs: Sequence,
+    *,
+    loads: Sequence[str] = LOADS,
+    mesh_size: float = MESH_SIZE,
+    segments: int = SEGMENTS,
+    coil_modulus: str = "tension",
+    coil_bending: str = "annulus",
+) -> list:
+    """The section model of every design (template meshes, batched per template).
+
+    Parameters
+    ----------
+    designs
+        :class:`design.TipDesign` objects.
+    loads, mesh_size, segments, coil_modulus, coil_bending
+        As in :func:`~softcath.fem.section_model.section_model`.
+
+    Returns
+    -------
+    list
+        Per design, a :class:`BatchItem` or the exception that design raised (a
+        design the template cannot morph to is solved on a fresh gmsh mesh).
+    """
+    from softcath.design.errors import DesignError
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.section_model.api import COIL_BENDING, section_model
+    from softcath.fem.section_model.coil_models import coil_terms
+    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.strain import silicone_strain_range
+    from softcath.fem.section_model.template import MorphError, morph, section_template
+
+    loads = tuple(ld for ld in LOADS if ld in tuple(loads))
+    if coil_bending not in COIL_BENDING:
+        raise DesignError("coil_bending", coil_bending, f"must be one of {COIL_BENDING}")
+    opts = {"coil_modulus": coil_modulus, "coil_bending": coil_bending}
+    results: list = [None] * len(designs)
+    groups: dict[str, list] = {}
+    for i, d in enumerate(designs):
+        t0 = time.perf_counter()
+        try:
+            g = geometry_from_design(d)
+            laws = laws_from_design(d, coil_modulus=coil_modulus)
+            laws, extra = coil_terms(d, coil_bending, laws)
+            t0 = _tick("laws", t0)
+            template = section_template(g, mesh_size=mesh_size, segments=segments)
+            t0 = _tick("template", t0)
+            mesh = morph(template, g)
+            _tick("morph", t0)
+        except MorphError:
+            _tick("morph", t0)
+            results[i] = None  # solved below on a fresh mesh
+            continue
+        except Exception as exc:  # reported per design by the caller
+            results[i] = exc
+            continue
+        groups.setdefault(template.mesh.key, []).append((i, d, laws, sum(extra.values()), mesh, template))
+    for members in groups.values():
+        t0 = time.perf_counter()
+        kernel = _kernel(members[0][5])
+        labels = kernel.template.mesh.labels
+        keys = sorted({int(k) for k in np.unique(labels)})
+        table = np.searchsorted(keys, labels)
+        D = np.stack([np.stack([m[2][k].D for k in keys])[table] for m in members])
+        lam = np.stack([np.array([m[2][k].lam for k in keys])[table] for m in members])
+        ez = np.stack([np.array([m[2][k].axial_modulus for k in keys])[table] for m in members])
+        ops = kernel.assemble(kernel.geometry([m[4] for m in members]), D, lam, ez)
+        share = (_tick("assembly", t0) - t0) / len(members)
+        for j, (i, d, laws, extra, mesh, _) in enumerate(members):
+            t1 = time.perf_counter()
+            try:
+                k_sec, out, backward = _solve_one(kernel, ops, j, loads, extra)
+                r = _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts,
+                            share + mesh.seconds + time.perf_counter() - t1)  # fmt: skip
+                results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
+            except Exception as exc:
+                results[i] = exc
+    for i, d in enumerate(designs):
+        if results[i] is None:
+            try:
+                r = section_model(d, loads=loads, mesh_size=mesh_size, segments=segments, mesher="gmsh",
+                                  keep_fields=True, **opts)  # fmt: skip
+                strains = {ld: silicone_strain_range(r, ld) for ld in loads}
+                results[i] = BatchItem(dataclasses.replace(r, fields=None), strains)
+            except Exception as exc:
+                results[i] = exc
+    return results

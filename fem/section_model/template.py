@@ -1,0 +1,392 @@
+"""Template section meshes: one gmsh mesh per section topology, morphed to each design.
+
+Meshing a new section with gmsh costs ~0.1 s (OCC booleans, then the mesh),
+most of a section-model design. Designs of one topology differ only in the
+sizes and positions of their circles, ellipses and land lines, so one gmsh
+mesh of a reference section (the design's, its sizes snapped to a 15 %
+grid: :func:`reference_geometry`) is made per topology and mesh size and morphed to each design:
+
+1. every template node lying on a boundary curve (circles and ellipses are
+   conics ``(xc + a cos t, yc + b sin t)``, lands are vertical lines) keeps
+   its curve; nodes on two curves (region corners, land corners) are solved
+   for afresh by Newton on the new curves;
+2. the other nodes of a curve keep their place between the curve's corners
+   (piecewise linear in the curve parameter);
+3. interior nodes follow by harmonic extension of the boundary displacement
+   (the P1 Laplacian of the template, factorised once per template);
+4. curved P2 edges get their midpoints on the new curve, at the template's
+   fraction of the curve parameter between the edge's ends.
+
+The morph is checked: every triangle's shape quality (4 sqrt(3) A / sum l^2)
+must stay above :data:`QUALITY_RATIO` of the template's, every curved P2
+triangle's Jacobian must keep its sign, and every triangle's region label at
+its centroid must be the template's; otherwise :class:`MorphError` is raised
+and :func:`~softcath.fem.section_model.mesh.catheter_section_mesh` falls back
+to gmsh. The reference section morphed onto itself is its gmsh mesh (to
+round-off).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.linalg import splu
+
+from softcath.design.errors import DesignError
+from softcath.fem.geometry import TipGeometry
+
+__all__ = [
+    "QUALITY_RATIO",
+    "TEMPLATE_STEP",
+    "MorphError",
+    "SectionTemplate",
+    "morph",
+    "reference_geometry",
+    "section_template",
+]
+
+log = logging.getLogger(__name__)
+
+#: Relative step of the reference sizes' grid (:func:`reference_geometry`).
+TEMPLATE_STEP = 0.15
+#: Smallest ratio of a morphed triangle's shape quality to its template's.
+QUALITY_RATIO = 0.5
+#: A node is on a curve when its implicit-function residual (scaled to mm) is below this.
+_ON_CURVE_MM = 1e-8
+_CONIC, _VLINE = 0, 1
+
+
+class MorphError(DesignError):
+    """The template cannot be morphed to a geometry within the quality bounds."""
+
+
+def _curves(g: TipGeometry) -> np.ndarray:
+    """Boundary curves of a section, rows ``(kind, xc, yc, a, b)`` in a fixed order."""
+    lands = g.lands()
+    rows = [
+        (_CONIC, 0.0, 0.0, g.coil_outer_radius, g.coil_outer_radius),
+        (_CONIC, 0.0, 0.0, g.coil_inner_radius, g.coil_inner_radius),
+        (_CONIC, 0.0, g.channel_y, g.channel_outer_radius, g.channel_outer_radius),
+        (_CONIC, 0.0, g.channel_y, g.channel_inner_radius, g.channel_inner_radius),
+        (_CONIC, 0.0, g.tube_y, g.tube_a, g.tube_b),
+        (_CONIC, 0.0, g.lumen_y, g.lumen_a, g.lumen_b),
+    ]
+    for name in ("tube_coil", "tube_channel", "channel_coil"):
+        rows += [(_VLINE, lands[name], 0.0, 1.0, 1.0), (_VLINE, -lands[name], 0.0, 1.0, 1.0)]
+    return np.array(rows, dtype=float)
+
+
+def _residual(c: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Implicit-function residual of points on curves ``c`` (rows broadcast), in mm."""
+    kind, xc, yc, a, b = c.T
+    conic = np.sqrt(((x - xc) / a) ** 2 + ((y - yc) / b) ** 2) - 1.0
+    return np.where(kind == _CONIC, conic * np.minimum(a, b), x - xc)
+
+
+def _param(c: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    kind, xc, yc, a, b = c.T
+    return np.where(kind == _CONIC, np.arctan2((y - yc) / b, (x - xc) / a), y)
+
+
+def _point(c: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    kind, xc, yc, a, b = c.T
+    conic = kind == _CONIC
+    return np.where(conic, xc + a * np.cos(t), xc), np.where(conic, yc + b * np.sin(t), t)
+
+
+def _intersect(c1: np.ndarray, c2: np.ndarray, t0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Points of curves ``c1`` (parameter from ``t0``) on curves ``c2``, by Newton on ``c1``'s parameter."""
+    t = t0.copy()
+    for _ in range(30):
+        x, y = _point(c1, t)
+        kind1, _, _, a1, b1 = c1.T
+        dx = np.where(kind1 == _CONIC, -a1 * np.sin(t), 0.0)
+        dy = np.where(kind1 == _CONIC, b1 * np.cos(t), 1.0)
+        kind2, xc2, yc2, a2, b2 = c2.T
+        f = np.where(kind2 == _CONIC, ((x - xc2) / a2) ** 2 + ((y - yc2) / b2) ** 2 - 1.0, x - xc2)
+        fx = np.where(kind2 == _CONIC, 2 * (x - xc2) / a2**2, 1.0)
+        fy = np.where(kind2 == _CONIC, 2 * (y - yc2) / b2**2, 0.0)
+        df = fx * dx + fy * dy
+        step = f / np.where(np.abs(df) > 1e-300, df, 1e-300)
+        t = t - step
+        if np.abs(step).max() < 1e-15:
+            break
+    return _point(c1, t)
+
+
+def _quality(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Shape quality 4 sqrt(3) A / sum of squared edge lengths (1 for equilateral), signed."""
+    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    e1, e2, e3 = b - a, c - b, a - c
+    area = 0.5 * (e1[:, 0] * (-e3[:, 1]) - e1[:, 1] * (-e3[:, 0]))
+    return 4 * np.sqrt(3) * area / ((e1**2).sum(1) + (e2**2).sum(1) + (e3**2).sum(1))
+
+
+@dataclass(frozen=True)
+class SectionTemplate:
+    """A gmsh section mesh with every node's curve membership, ready to morph.
+
+    Attributes
+    ----------
+    mesh
+        The reference section's :class:`~softcath.fem.section_model.mesh.SectionMesh`.
+    geometry, curves
+        The reference geometry and its boundary curves (rows ``(kind, xc, yc, a, b)``).
+    on_curve
+        (n, ncurves) True where a node lies on a curve.
+    params
+        (n, ncurves) the node's parameter on each curve it lies on (NaN elsewhere).
+    corners
+        (k,) nodes on two curves and (k, 2) their curves.
+    edge_curve, edge_frac
+        Curve of every curved edge, and where gmsh put its midpoint between its ends
+        (fraction of the curve parameter).
+    quality
+        Template shape quality per triangle.
+    triangle_curved_edge, bent_triangles
+        Per triangle and local edge (01, 12, 20) the curved edge's index or -1; the
+        triangles with a curved edge.
+    """
+
+    mesh: object
+    geometry: TipGeometry
+    curves: np.ndarray
+    on_curve: np.ndarray
+    params: np.ndarray
+    corners: np.ndarray
+    corner_curves: np.ndarray
+    edge_curve: np.ndarray
+    edge_frac: np.ndarray
+    quality: np.ndarray
+    triangle_curved_edge: np.ndarray
+    bent_triangles: np.ndarray
+    interior: np.ndarray
+    boundary: np.ndarray
+    laplace_ib: sparse.csr_matrix
+    laplace_ii: object = dataclasses.field(repr=False)
+
+
+_FREE = ("coil_outer_radius", "coil_inner_radius", "channel_outer_radius", "channel_inner_radius",
+         "tube_a", "lumen_a", "lumen_b")  # fmt: skip
+
+
+@functools.lru_cache(maxsize=1)
+def _grid_origin() -> dict[str, float]:
+    """The ``paper`` section's free sizes: grid points, so its reference is itself."""
+    from softcath import design
+    from softcath.fem.adapter import geometry_from_design
+
+    g = geometry_from_design(design.resolve("paper"))
+    return {name: getattr(g, name) for name in _FREE}
+
+
+def _snap(name: str, value: float) -> float:
+    origin, step = _grid_origin()[name], math.log1p(TEMPLATE_STEP)
+    return origin * math.exp(round(math.log(value / origin) / step) * step)
+
+
+def reference_geometry(geometry: TipGeometry) -> TipGeometry:
+    """The reference section whose gmsh mesh is morphed to ``geometry``.
+
+    The as-assembled section has seven free sizes (coil and channel radii, tube
+    width, lumen semi-axes); the rest follows from the tangencies (channel on
+    the coil ID, tube squeezed between them, lumen centred in the tube). Each
+    free size is snapped to a geometric grid of ratio 1 + :data:`TEMPLATE_STEP`
+    through the ``paper`` section's (which is thus its own reference), so the
+    morph changes no size by more than about half a step, and the reference
+    (hence the answer) depends on the geometry alone. A geometry not
+    of this form is its own reference (its template is its gmsh mesh). Length and
+    cap, which the section does not see, are normalised.
+    """
+    g = geometry
+    ri, rco = g.coil_inner_radius, g.channel_outer_radius
+    tied = max(abs(g.channel_y + ri - rco), abs(g.tube_b - (ri - rco)), abs(g.tube_y - rco),
+               abs(g.lumen_y - g.tube_y))  # fmt: skip
+    section_only = {"length": 1.0, "cap_thickness": 0.1}  # the section alone
+    if tied > 1e-9:
+        return dataclasses.replace(g, **section_only)
+    snapped = _snapped(tuple(_snap(name, getattr(g, name)) for name in _FREE), g.filled, g.land_gap)
+    return dataclasses.replace(g, **section_only) if snapped is None else snapped
+
+
+@functools.lru_cache(maxsize=1024)
+def _snapped(free: tuple[float, ...], filled: bool, land_gap: float) -> TipGeometry | None:
+    """The reference section of snapped free sizes (None if they make no valid section)."""
+    f = dict(zip(_FREE, free, strict=True))
+    ri, rco = f["coil_inner_radius"], f["channel_outer_radius"]
+    try:
+        return TipGeometry(
+            **f, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco, length=1.0,
+            cap_thickness=0.1, filled=filled, land_gap=land_gap,
+        )  # fmt: skip
+    except DesignError:
+        return None
+
+
+@functools.lru_cache(maxsize=256)
+def _template(reference: TipGeometry, mesh_size: float, segments: int) -> SectionTemplate:
+    from softcath.fem.section_model.mesh import _catheter_cached
+
+    m = _catheter_cached(reference, mesh_size, segments)
+    curves = _curves(reference)
+    x, y = m.points[:, 0, None], m.points[:, 1, None]
+    on = np.abs(_residual(curves, x, y)) < _ON_CURVE_MM
+    # Vertical land lines are segments: a node is on one only between its end corners
+    # (the segments are short, so a loose y window suffices).
+    params = np.where(on, _param(curves, x, y), np.nan)
+    count = on.sum(axis=1)
+    if count.max() > 2:
+        raise MorphError("template", int(count.max()), "a node lies on more than two curves")
+    corners = np.flatnonzero(count == 2)
+    corner_curves = np.array([np.flatnonzero(on[i]) for i in corners]).reshape(-1, 2)
+    # Newton along the line when one curve is a land line (the line's parameter is y).
+    line_first = curves[corner_curves[:, 1], 0] == _VLINE
+    corner_curves[line_first] = corner_curves[line_first][:, ::-1]
+    ce = m.curved_edges
+    both = on[ce[:, 0]] & on[ce[:, 1]]
+    mid_res = np.abs(_residual(curves, m.curved_midpoints[:, 0, None], m.curved_midpoints[:, 1, None]))
+    edge_curve = np.argmin(np.where(both, mid_res, np.inf), axis=1)
+    if not both[np.arange(len(ce)), edge_curve].all():
+        raise MorphError("template", len(ce), "a curved edge has no curve through both its ends")
+    # Where gmsh put each midpoint between its ends, as a fraction of the curve parameter.
+    cc = curves[edge_curve]
+    ta, tb = params[ce[:, 0], edge_curve], params[ce[:, 1], edge_curve]
+    tm = _param(cc, m.curved_midpoints[:, 0], m.curved_midpoints[:, 1])
+    conic = cc[:, 0] == _CONIC
+    span = np.where(conic, np.angle(np.exp(1j * (tb - ta))), tb - ta)
+    edge_frac = np.where(conic, np.angle(np.exp(1j * (tm - ta))), tm - ta) / span
+    nv = np.int64(m.points.shape[0])
+    keys = np.sort(ce, axis=1) @ np.array([nv, 1])
+    order = np.argsort(keys)
+    tri_curved = np.full(m.triangles.shape, -1)
+    for j, (a, b) in enumerate(((0, 1), (1, 2), (2, 0))):
+        e = np.sort(m.triangles[:, [a, b]], axis=1) @ np.array([nv, 1])
+        pos = np.clip(np.searchsorted(keys, e, sorter=order), 0, max(keys.size - 1, 0))
+        hit = keys[order[pos]] == e if keys.size else np.zeros(len(e), bool)
+        tri_curved[hit, j] = order[pos[hit]]
+    # P1 Laplacian (cotangent weights) of the template for the harmonic extension.
+    from skfem import Basis, ElementTriP1, MeshTri
+    from skfem.models.poisson import laplace
+
+    lap = laplace.assemble(Basis(MeshTri(m.points.T.copy(), m.triangles.T.copy()), ElementTriP1())).tocsr()
+    boundary = np.flatnonzero(count > 0)
+    interior = np.flatnonzero(count == 0)
+    lu = splu(lap[interior][:, interior].tocsc())
+    return SectionTemplate(
+        mesh=m, geometry=reference, curves=curves, on_curve=on, params=params, corners=corners,
+        corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac, quality=_quality(m.points, m.triangles),
+        triangle_curved_edge=tri_curved, bent_triangles=np.flatnonzero((tri_curved >= 0).any(axis=1)),
+        interior=interior, boundary=boundary, laplace_ib=lap[interior][:, boundary], laplace_ii=lu,
+    )  # fmt: skip
+
+
+def section_template(geometry: TipGeometry, *, mesh_size: float, segments: int) -> SectionTemplate:
+    """The template for ``geometry``'s topology at this mesh size (made once per process)."""
+    return _template(reference_geometry(geometry), float(mesh_size), int(segments))
+
+
+def morph(template: SectionTemplate, geometry: TipGeometry):
+    """The template's mesh morphed to ``geometry`` (a ``SectionMesh``), or :class:`MorphError`.
+
+    Parameters
+    ----------
+    template
+        From :func:`section_template`.
+    geometry
+        The design's section geometry.
+    """
+    from softcath.fem.mesh.gmsh_section import _p2_triangles_valid
+    from softcath.fem.section_model.mesh import SectionMesh
+
+    t0 = time.perf_counter()
+    m, on, params = template.mesh, template.on_curve, template.params
+    old, new = template.curves, _curves(geometry)
+    n, nc = on.shape
+    new_params = params.copy()
+    # 1. corners: Newton on the first curve's parameter to meet the second curve.
+    c1, c2 = template.corner_curves[:, 0], template.corner_curves[:, 1]
+    k = template.corners
+    cx, cy = _intersect(new[c1], new[c2], params[k, c1])
+    miss = np.maximum(np.abs(_residual(new[c1], cx, cy)), np.abs(_residual(new[c2], cx, cy)))
+    if not (np.isfinite(miss).all() and miss.max() < _ON_CURVE_MM):
+        raise MorphError("geometry", geometry.digest(), "a region corner of the template has no counterpart")
+    new_params[k, c1] = _param(new[c1], cx, cy)
+    new_params[k, c2] = _param(new[c2], cx, cy)
+    # 2. other curve nodes: parameter shift interpolated between the curve's corners.
+    for c in range(nc):
+        nodes = np.flatnonzero(on[:, c])
+        if nodes.size == 0:
+            continue
+        kc = np.flatnonzero(on[k, c])
+        t_old = params[nodes, c]
+        if old[c, 0] == _CONIC:
+            ta = params[k[kc], c]
+            shift = np.angle(np.exp(1j * (new_params[k[kc], c] - ta)))
+            if kc.size == 0:
+                new_params[nodes, c] = t_old
+                continue
+            order = np.argsort(ta)
+            delta = np.interp(t_old, ta[order], shift[order], period=2 * np.pi)
+            free = ~np.isin(nodes, k)
+            new_params[nodes[free], c] = t_old[free] + delta[free]
+        else:
+            if kc.size < 2:
+                raise MorphError("template", c, "a land line needs two corners")
+            ta = params[k[kc], c]
+            order = np.argsort(ta)
+            free = ~np.isin(nodes, k)
+            new_params[nodes[free], c] = np.interp(t_old[free], ta[order], new_params[k[kc], c][order])
+    xy = m.points.copy()
+    first = np.argmax(on, axis=1)
+    b = template.boundary
+    bx, by = _point(new[first[b]], new_params[b, first[b]])
+    xy[b, 0], xy[b, 1] = bx, by
+    xy[k, 0], xy[k, 1] = cx, cy
+    # 3. interior: harmonic extension of the boundary displacement.
+    d_b = xy[b] - m.points[b]
+    xy[template.interior] = m.points[template.interior] - template.laplace_ii.solve(template.laplace_ib @ d_b)
+    # 4. curved midpoints on the new curve, at the template's parameter fraction.
+    ce, ec = m.curved_edges, template.edge_curve
+    ta, tb = new_params[ce[:, 0], ec], new_params[ce[:, 1], ec]
+    conic = new[ec, 0] == _CONIC
+    span = np.where(conic, np.angle(np.exp(1j * (tb - ta))), tb - ta)
+    tm = ta + template.edge_frac * span
+    mx, my = _point(new[ec], tm)
+    mids = np.column_stack([mx, my])
+    _check(template, geometry, xy, mids, _p2_triangles_valid)
+    return SectionMesh(
+        xy, m.triangles, m.labels, ce, mids, m.lumen_edges, time.perf_counter() - t0,
+        f"{geometry.digest()}|{m.key.split('|', 1)[1]}|template",
+    )  # fmt: skip
+
+
+def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid) -> None:
+    """Raise :class:`MorphError` if the morph degraded a triangle beyond the bounds."""
+    m = template.mesh
+    q = _quality(xy, m.triangles)
+    ratio = q / template.quality
+    if not (np.isfinite(ratio).all() and ratio.min() >= QUALITY_RATIO):
+        raise MorphError("morph.quality_ratio", float(np.nanmin(ratio)), f"must be >= {QUALITY_RATIO}")
+    tri = m.triangles
+    # Only triangles with a curved edge can fold by curvature (the others are checked by their area).
+    bent = template.bent_triangles
+    t3 = tri[bent]
+    x6 = np.concatenate([xy[t3], 0.5 * (xy[t3] + xy[t3[:, [1, 2, 0]]])], axis=1)
+    which = template.triangle_curved_edge[bent]
+    hit = which >= 0
+    x6[:, 3:][hit] = mids[which[hit]]
+    valid = p2_valid(x6)
+    if not valid.all():
+        raise MorphError("morph.p2_jacobian", int((~valid).sum()), "curved triangles folded")
+    cen = xy[tri].mean(axis=1)
+    labels = geometry.classify(cen[:, 0], cen[:, 1], np.zeros(len(cen)))
+    bad = int((labels != m.labels).sum())
+    if bad:
+        raise MorphError("morph.labels", bad, "triangles changed region; must be 0")

@@ -1,0 +1,50 @@
+"""Batched section models: the same answers as the section model on the same (template) meshes."""
+
+from __future__ import annotations
+
+import pytest
+
+from softcath import design
+from softcath.design.errors import DesignError
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.batch import BatchItem, section_models
+from softcath.fem.section_model.strain import silicone_strain_range
+from softcath.studies.sweep.random_designs import random_designs
+
+PER_LOAD = (
+    "curvature_per_mm_per_MPa",
+    "elongation_per_MPa",
+    "lumen_area_change_mm2_per_MPa",
+    "fem_formula_ratio",
+)
+SCALARS = ("EA_N", "EI_N_mm2", "EI_lateral_N_mm2", "coupling_N_mm", "axial_centroid_mm", "lumen_area_mm2")
+
+
+@pytest.mark.parametrize("coil_bending", ["annulus", "wahl"])
+def test_batched_equals_one_by_one_on_the_template_mesh(coil_bending):
+    designs = random_designs(5, seed=41) + [design.resolve("paper")]
+    items = section_models(designs, coil_bending=coil_bending)
+    for d, item in zip(designs, items, strict=True):
+        assert isinstance(item, BatchItem)
+        ref = section_model(d, coil_bending=coil_bending, keep_fields=True)
+        got = item.result
+        for name in PER_LOAD:
+            for load in ("cap", "lumen"):
+                assert getattr(got, name)[load] == pytest.approx(
+                    getattr(ref, name)[load], rel=1e-9, abs=1e-14
+                )
+        for name in SCALARS:
+            assert getattr(got, name) == pytest.approx(getattr(ref, name), rel=1e-9)
+        assert got.dofs == ref.dofs and got.n_triangles == ref.n_triangles
+        assert got.backward_error < 1e-12
+        for load in ("cap", "lumen"):
+            assert item.strain_range[load] == pytest.approx(silicone_strain_range(ref, load), rel=1e-9)
+
+
+def test_a_bad_design_is_returned_as_its_error_and_the_others_are_solved():
+    good = random_designs(1, seed=43)[0]
+    items = section_models([None, good], loads=("lumen",))
+    assert isinstance(items[0], Exception)
+    assert items[1].result.loads == ("lumen",)
+    with pytest.raises(DesignError, match="coil_bending"):
+        section_models([good], coil_bending="spring")
