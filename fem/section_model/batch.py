@@ -404,11 +404,12 @@ def section_models(
     """
     from softcath.design.errors import DesignError
     from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.limits import check_section_budget
     from softcath.fem.section_model.api import COIL_BENDING, section_model
     from softcath.fem.section_model.coil_models import coil_terms
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.strain import silicone_strain_range
-    from softcath.fem.section_model.template import MorphError, morph, section_template
+    from softcath.fem.section_model.template import log_fallback, morph, section_template
 
     loads = tuple(ld for ld in LOADS if ld in tuple(loads))
     if coil_bending not in COIL_BENDING:
@@ -420,19 +421,22 @@ def section_models(
         t0 = time.perf_counter()
         try:
             g = geometry_from_design(d)
+            check_section_budget(coil_outer_radius=g.coil_outer_radius, mesh_size=mesh_size)
             laws = laws_from_design(d, coil_modulus=coil_modulus)
             laws, extra = coil_terms(d, coil_bending, laws)
-            t0 = _tick("laws", t0)
+        except Exception as exc:  # reported per design by the caller
+            results[i] = exc
+            continue
+        t0 = _tick("laws", t0)
+        try:
             template = section_template(g, mesh_size=mesh_size, segments=segments)
             t0 = _tick("template", t0)
             mesh = morph(template, g)
             _tick("morph", t0)
-        except MorphError:
+        except Exception as exc:  # refused or failed: solved below on a fresh gmsh mesh
             _tick("morph", t0)
-            results[i] = None  # solved below on a fresh mesh
-            continue
-        except Exception as exc:  # reported per design by the caller
-            results[i] = exc
+            log_fallback(g, exc)
+            results[i] = None
             continue
         groups.setdefault(template.mesh.key, []).append((i, d, laws, sum(extra.values()), mesh, template))
     for members in groups.values():

@@ -35,7 +35,7 @@ log = logging.getLogger(__name__)
 MESH_SIZE = 0.08
 SEGMENTS = 20
 #: ``template``: the gmsh mesh of the section's topology morphed to the geometry
-#: (``softcath.fem.section_model.template``; gmsh when the morph is refused);
+#: (``softcath.fem.section_model.template``; gmsh when the morph is refused or fails);
 #: ``gmsh``: a fresh gmsh mesh of the geometry.
 MESHERS = ("template", "gmsh")
 
@@ -179,12 +179,11 @@ def catheter_section_mesh(
 
     check_section_budget(coil_outer_radius=geometry.coil_outer_radius, mesh_size=mesh_size)
     if mesher == "template":
-        from softcath.fem.section_model.template import MorphError, morph, section_template
+        from softcath.fem.section_model.template import template_mesh
 
-        try:
-            return morph(section_template(geometry, mesh_size=mesh_size, segments=segments), geometry)
-        except MorphError as exc:
-            log.info("template mesh refused for %s (%s); meshing with gmsh", geometry.digest(), exc)
+        mesh = template_mesh(geometry, mesh_size=mesh_size, segments=segments)
+        if mesh is not None:
+            return mesh
     info = _catheter_cached.cache_info()
     mesh = _catheter_cached(geometry, float(mesh_size), int(segments))
     if _catheter_cached.cache_info().hits > info.hits:

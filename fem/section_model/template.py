@@ -20,10 +20,14 @@ grid: :func:`reference_geometry`) is made per topology and mesh size and morphed
 The morph is checked: every triangle's shape quality (4 sqrt(3) A / sum l^2)
 must stay above :data:`QUALITY_RATIO` of the template's, every curved P2
 triangle's Jacobian must keep its sign, and every triangle's region label at
-its centroid must be the template's; otherwise :class:`MorphError` is raised
-and :func:`~softcath.fem.section_model.mesh.catheter_section_mesh` falls back
-to gmsh. The reference section morphed onto itself is its gmsh mesh (to
-round-off).
+its centroid must be the template's; otherwise :class:`MorphError` is raised.
+:func:`templated` (used by
+:func:`~softcath.fem.section_model.mesh.catheter_section_mesh` and the batched
+models) logs a refused morph, or a template that could not be built, and the
+caller meshes the design with gmsh instead: the template is a speed-up, never a
+new way to fail. The reference section morphed onto itself is its gmsh mesh (to
+round-off). The template's gmsh meshes are made in the section mesher's gmsh
+session (``softcath.fem.mesh.initialize_gmsh``: signal dispositions kept).
 """
 
 from __future__ import annotations
@@ -50,6 +54,9 @@ __all__ = [
     "morph",
     "reference_geometry",
     "section_template",
+    "log_fallback",
+    "template_mesh",
+    "templated",
 ]
 
 log = logging.getLogger(__name__)
@@ -290,6 +297,39 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
 def section_template(geometry: TipGeometry, *, mesh_size: float, segments: int) -> SectionTemplate:
     """The template for ``geometry``'s topology at this mesh size (made once per process)."""
     return _template(reference_geometry(geometry), float(mesh_size), int(segments))
+
+
+def templated(geometry: TipGeometry, *, mesh_size: float, segments: int):
+    """``(template, morphed mesh)`` for ``geometry``, or ``None`` when the caller should mesh with gmsh.
+
+    A morph beyond the quality bounds (:class:`MorphError`) is logged at INFO; a template
+    that could not be built or morphed for any other reason (gmsh failing on the reference
+    section, a numerical failure) is logged at WARNING. Neither is an error: the design
+    is meshed afresh by gmsh, whose answer the template's approximates.
+    """
+    try:
+        template = section_template(geometry, mesh_size=mesh_size, segments=segments)
+        return template, morph(template, geometry)
+    except Exception as exc:  # the caller's fallback is the template-free path: nothing is lost
+        log_fallback(geometry, exc)
+    return None
+
+
+def log_fallback(geometry: TipGeometry, exc: Exception) -> None:
+    """Log why ``geometry`` is meshed with gmsh instead of its template (see :func:`templated`)."""
+    if isinstance(exc, MorphError):
+        log.info("template mesh refused for %s (%s); meshing with gmsh", geometry.digest(), exc)
+    else:
+        log.warning(
+            "template mesh failed for %s (%s: %s); meshing with gmsh",
+            geometry.digest(), type(exc).__name__, exc,
+        )  # fmt: skip
+
+
+def template_mesh(geometry: TipGeometry, *, mesh_size: float, segments: int):
+    """The morphed template mesh of ``geometry`` (a ``SectionMesh``), or ``None`` (see :func:`templated`)."""
+    got = templated(geometry, mesh_size=mesh_size, segments=segments)
+    return None if got is None else got[1]
 
 
 def morph(template: SectionTemplate, geometry: TipGeometry):

@@ -81,3 +81,37 @@ def test_unknown_mesher_is_refused():
     g = geometry_from_design(design.resolve("paper"))
     with pytest.raises(DesignError, match="mesher"):
         catheter_section_mesh(g, mesher="delaunay")
+
+
+@pytest.mark.parametrize(
+    "fault, level",
+    [
+        (MorphError("morph.quality_ratio", 0.1, "must be >= 0.5"), "INFO"),
+        (RuntimeError("gmsh: no mesh"), "WARNING"),
+    ],
+)
+def test_a_refused_or_failed_template_falls_back_to_gmsh_and_says_so(monkeypatch, caplog, fault, level):
+    """The template is a speed-up, never a new way to fail: the per-design mesh and the batched
+    models both mesh such a design afresh with gmsh, and the log says why."""
+    import logging
+
+    from softcath.fem.section_model import template
+    from softcath.fem.section_model.batch import section_models
+
+    def broken(*args, **kwargs):
+        raise fault
+
+    d = random_designs(1, seed=31)[0]
+    g = geometry_from_design(d)
+    monkeypatch.setattr(template, "section_template", broken)
+    with caplog.at_level(logging.INFO, logger=template.__name__):
+        m = catheter_section_mesh(g, mesher="template")
+        (item,) = section_models([d], loads=("lumen",))
+    assert not m.key.endswith("|template")
+    np.testing.assert_array_equal(m.points, catheter_section_mesh(g, mesher="gmsh").points)
+    fresh = section_model(d, loads=("lumen",), mesher="gmsh")
+    assert item.result.curvature_per_mm_per_MPa["lumen"] == pytest.approx(
+        fresh.curvature_per_mm_per_MPa["lumen"], rel=1e-12
+    )
+    refusals = [r for r in caplog.records if "meshing with gmsh" in r.getMessage()]
+    assert len(refusals) == 2 and {r.levelname for r in refusals} == {level}
