@@ -21,7 +21,7 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_pressure_range
+from softcath.cli.options import add_assembly, add_design, add_out, add_pressure_range, resolve_design
 
 HELP = "2-D section model: FEM-grade curvature per MPa in milliseconds"
 
@@ -75,6 +75,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="annulus: coils bend as their annuli (3-D FEM, default); wahl: + helical-spring EI; "
         "resolved: the resolved wire's EA and EI",
     )
+    add_assembly(p)
     p.add_argument("--no-png", action="store_true", help="skip the PNG")
     add_out(p)
 
@@ -132,9 +133,8 @@ def run(args: argparse.Namespace) -> int:
         "mesh_size": MESH_SIZE if args.mesh_size is None else args.mesh_size,
         "segments": SEGMENTS if args.segments is None else args.segments,
     }
-    r = section_model(
-        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts
-    )
+    d = resolve_design(args)
+    r = section_model(d, silicone_poisson=args.poisson, keep_fields=not args.no_png, **mesh, **coil_opts)
     ld = args.load
     full = r.to_json()
     doc = {
@@ -148,6 +148,8 @@ def run(args: argparse.Namespace) -> int:
                                 "axial_centroid_mm", "lumen_area_mm2", "poisson_ratio_silicone",
                                 "coil_modulus", "coil_bending", "mesh_size_mm", "segments", "dofs",
                                 "n_triangles", "seconds", "mesh_seconds", "backward_error", "stiffness")},
+        "assembly": full["assembly"],
+        "axial_groups": full["axial_groups"],
         "loads": {k: full[k] for k in ("curvature_per_mm_per_MPa", "elongation_per_MPa",
                                        "lumen_area_change_mm2_per_MPa", "fem_formula_ratio")},
     }  # fmt: skip
@@ -156,7 +158,7 @@ def run(args: argparse.Namespace) -> int:
         from softcath.fem.section_model.bilinear import bend_curve
 
         curve = bend_curve(
-            args.design, pressures, load=ld, coil_model=placement, initial_tension=f0,
+            d, pressures, load=ld, coil_model=placement, initial_tension=f0,
             silicone_poisson=args.poisson, **mesh,
         )  # fmt: skip
         doc["coil_bound"] = curve.to_json()

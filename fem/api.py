@@ -19,7 +19,7 @@ from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
 from softcath.fem.post import tip_pose
 
-__all__ = ["FemCase", "FemResult", "check"]
+__all__ = ["FemCase", "FemResult", "check", "check_assembly"]
 
 
 @dataclass(frozen=True)
@@ -148,6 +148,7 @@ def check(
     from softcath import design as design_pkg
 
     d = design_pkg.resolve(design)
+    check_assembly(d.assembly)
     p = np.asarray(list(pressures), dtype=float).ravel()
     if p.size == 0 or not np.all(np.isfinite(p)):
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
@@ -208,6 +209,20 @@ def check(
         coil_modulus=coil_modulus,
         solution=sol,
     )
+
+
+def check_assembly(assembly) -> None:
+    """The 3-D FEM meshes the filler as built (full, coat, none) but fuses every interface."""
+    from softcath.design.assembly import INTERFACES
+
+    for key, _, _ in INTERFACES:
+        if getattr(assembly, key) != "bonded":
+            raise DesignError(
+                f"assembly.{key}", getattr(assembly, key), "the 3-D FEM models bonded interfaces only; "
+                "sliding interfaces are in the section model (softcath.fem.section_model)",
+            )  # fmt: skip
+    if assembly.proximal != "clamped":
+        raise DesignError("assembly.proximal", assembly.proximal, "the 3-D FEM models a clamped base only")
 
 
 def _ratio(a: float, b: float) -> float:

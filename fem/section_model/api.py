@@ -180,7 +180,7 @@ def section_model(
     else:  # the tip as built (softcath.fem.section_model.assembly_options)
         from softcath.fem.section_model.assembly_options import as_built_operator, summary
 
-        op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=sum(extra.values()))
+        mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=sum(extra.values()))
         sm = summary(op, sol)
         K, ei, ei_lat, kappa, eps = (
             sm["stiffness"],

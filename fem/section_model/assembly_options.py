@@ -239,7 +239,7 @@ COIL_LABEL = COIL  # the outer coil: its group's stretch is the tip's elongation
 
 def as_built_operator(section, laws, assembly: Assembly, loads=LOADS, *, extra_bending: float = 0.0,
                       slip_modulus: float | None = None):  # fmt: skip
-    """Split, assemble and solve ``section`` as built: ``(op, solution)``.
+    """Split, assemble and solve ``section`` as built: ``(split mesh, op, solution)``.
 
     ``slip_modulus`` None takes 1e-9 of the softest region's axial modulus per mm
     (only to remove free spins; see the module docstring).
@@ -254,7 +254,8 @@ def as_built_operator(section, laws, assembly: Assembly, loads=LOADS, *, extra_b
     ties = tie_projection(split, op.basis, tie=tie)
     if slip_modulus is None:
         slip_modulus = 1e-9 * min(laws[int(k)].axial_modulus for k in np.unique(section.labels))
-    return op, solve_as_built(op, ties, plan, loads, extra_bending=extra_bending, slip_modulus=slip_modulus)
+    sol = solve_as_built(op, ties, plan, loads, extra_bending=extra_bending, slip_modulus=slip_modulus)
+    return split.mesh, op, sol
 
 
 def summary(op, sol: AsBuiltSolution) -> dict:
