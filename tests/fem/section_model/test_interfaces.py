@@ -37,7 +37,12 @@ def layers(heights, *, width=1.0, nx=8, ny=4):
     tri, lab = [], []
     for j in range(len(ys) - 1):
         for i in range(nx):
-            a, b, c, d = j * (nx + 1) + i, j * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i
+            a, b, c, d = (
+                j * (nx + 1) + i,
+                j * (nx + 1) + i + 1,
+                (j + 1) * (nx + 1) + i + 1,
+                (j + 1) * (nx + 1) + i,
+            )
             tri += [(a, b, c), (a, c, d)]
             lab += [1 + j // ny] * 2
     lumen = np.array([[0, nx + 1]])
@@ -129,3 +134,36 @@ def test_sliding_tube_in_a_rigid_ring_under_internal_pressure():
     # Bonded to the ring instead, the tube cannot stretch: eps_z ~ 0 (the ring is 1e6 x stiffer).
     _, _, bonded = as_built_operator(mesh, laws, Assembly(proximal="tube-free"), ("lumen",))
     assert abs(bonded.loads["lumen"].strains[0]) < 1e-4 * ez
+
+
+@pytest.mark.parametrize("alpha_l", [0.0, 2.0, 1e4])
+def test_partial_interaction_is_newmarks_composite_beam(alpha_l):
+    """Two layers with an interface spring layer, end moment M on a cantilever of length L.
+
+    Newmark: EA* = 1/(1/EA_1 + 1/EA_2), EI_0 = EI_1 + EI_2, EI_inf = EI_0 + EA* d^2,
+    alpha^2 = k EI_inf / (EA* EI_0), N_inf = M d EA* / EI_inf and the mean curvature
+    (M - d N_inf (1 - tanh(alpha L)/(alpha L))) / EI_0. The section model's groups are exact
+    for nu = 0 (round-off); the 1-D solution is closed form: 1e-9.
+    """
+    from softcath.fem.section_model.partial_interaction import tip_strains
+
+    h1, h2, E1, E2, w, L, M = 0.3, 0.5, 2.0, 7.0, 1.0, 5.0, 0.01
+    laws = {1: isotropic(E1, 0.0), 2: isotropic(E2, 0.0)}
+    op, sol = solve_split(layers([h1, h2], width=w), laws, groups={1: 0, 2: 1})
+    ea1, ea2, ei0 = E1 * w * h1, E2 * w * h2, w * (E1 * h1**3 + E2 * h2**3) / 12
+    d = (h1 + h2) / 2
+    ea_star = 1 / (1 / ea1 + 1 / ea2)
+    ei_inf = ei0 + ea_star * d**2
+    k = (alpha_l / L) ** 2 * ea_star * ei0 / ei_inf
+    n_inf = M * d * ea_star / ei_inf
+    shape = 0.0 if alpha_l == 0 else 1 - math.tanh(alpha_l) / alpha_l
+    exact = (M - d * n_inf * shape) / ei0
+    g = tip_strains(sol.stiffness, np.array([0.0, 0.0, 0.0, M]), slip_modulus=k, length=L)
+    assert g[3] == pytest.approx(exact, rel=1e-9)
+    # The limits are the sliding and the bonded sections of the section model.
+    if alpha_l == 0.0:
+        assert g[3] == pytest.approx(M / summary(op, sol)["EI"], rel=1e-12)
+    if alpha_l == 1e4:
+        bonded = solve(assemble(layers([h1, h2], width=w), laws), ("cap",)).stiffness
+        ei_bonded = bonded[2, 2] - bonded[0, 2] ** 2 / bonded[0, 0]
+        assert g[3] == pytest.approx(M / ei_bonded, rel=2e-4)  # 1/(alpha L) = 1e-4 of slip left
