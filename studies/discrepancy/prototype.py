@@ -26,7 +26,8 @@ law, assembly, vision). Its band at pressure p is
 (tube and filler moduli at their range ends, as ``softcath predict`` ranges
 them). Scoring: the profile log-likelihood of the measured points under the
 best gain inside the band with Gaussian noise :math:`\sigma` (the scatter of
-the points about their own best line through the origin),
+the points about their own best line through the origin; a measured elongation
+column adds its own term alike, against the elongation band),
 
 .. math::
 
@@ -213,6 +214,18 @@ def explain_prototype(
         return float(-0.5 * (r @ r) / sigma**2 - n * math.log(sigma * math.sqrt(2 * math.pi)))
 
     best = loglik(g_free)
+    e = measured.get("elongation")
+    if e is not None:  # the elongation scored alike (its own line and scatter), added to the log-likelihood
+        e = np.asarray(e, float)
+        ge_free = float(p @ e / (p @ p))
+        re = e - ge_free * p
+        sigma_e = max(float(np.sqrt(re @ re / max(n - 1, 1))), 1e-3 * float(np.abs(e).max() or 1.0))
+
+        def loglik_e(g: float) -> float:
+            r = e - g * p
+            return float(-0.5 * (r @ r) / sigma_e**2 - n * math.log(sigma_e * math.sqrt(2 * math.pi)))
+
+        best += loglik_e(ge_free)
     cache: dict = {}
     hyps = []
     for combo in _hypotheses(max_size, cands):
@@ -222,6 +235,8 @@ def explain_prototype(
             lo, hi = lo * VISION[0], hi * VISION[1]
         g_star = min(max(g_free, lo), hi)
         ll = loglik(g_star)
+        if e is not None:
+            ll += loglik_e(min(max(ge_free, float(elong.min())), float(elong.max())))
         band = [[float(lo * pi), float(hi * pi)] for pi in p]
         covers = bool(np.all((k >= p * lo - 2 * sigma) & (k <= p * hi + 2 * sigma)))
         hyps.append(

@@ -75,3 +75,21 @@ def test_csv_errors_name_file_and_column(tmp_path):
     f.write_text("pressure_MPa,kappa\n0.1,0.02\n0.2,0.05\n")
     with pytest.raises(DataError, match=r"m\.csv: column curvature_per_mm is required"):
         load_prototype_csv(f)
+
+
+def test_measured_elongation_separates_what_curvature_cannot():
+    from dataclasses import replace
+
+    from softcath.fem.section_model import section_model
+    from softcath.studies.discrepancy.prototype import _variant
+
+    hidden = ("coil_resolved", "filler_none")
+    d, m = _synthetic(hidden)
+    v = _variant(d, hidden, d.tube.material.youngs_modulus, d.filler.youngs_modulus)
+    from softcath.fem.section_model.coil_models import model_options
+
+    e = section_model(replace(v), loads=("lumen",), **model_options("resolved")).elongation_per_MPa["lumen"]
+    rng = np.random.default_rng(1)
+    m["elongation"] = e * P * (1 + 0.02 * rng.standard_normal(P.size))
+    r = explain_prototype(d, m, candidates=CANDS)
+    assert r["equally_good"] == [list(hidden)] and r["named"] == list(hidden)
