@@ -51,7 +51,11 @@ class SectionResult:
     axial_centroid_mm
         E_z-weighted centroid y (paper eq. 5 on the mesh).
     stiffness
-        The 3x3 matrix (N, M_x, M_y) per (eps_0, k_1, k_2) about the origin.
+        The 3x3 matrix (N, M_x, M_y) per (eps_0, k_1, k_2) about the origin (as built:
+        every axial group stretching alike; ``EI_N_mm2`` then lets each group stretch
+        freely, the bending stiffness of the tip under a pure moment).
+    assembly, axial_groups
+        The as-built options used and the number of axial groups (1 when bonded).
     """
 
     design_name: str
@@ -132,7 +136,10 @@ def section_model(
     Parameters
     ----------
     design
-        A :class:`design.TipDesign`, a preset name or a TOML path.
+        A :class:`design.TipDesign`, a preset name or a TOML path. Its ``assembly``
+        (sliding interfaces, the filler as built, the base) is honoured
+        (``softcath.fem.section_model.assembly_options``); the default bonded tip takes
+        the original path unchanged.
     loads
         Subset of ``("cap", "lumen")``.
     mesh_size, segments
