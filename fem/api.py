@@ -148,7 +148,6 @@ def check(
     from softcath import design as design_pkg
 
     d = design_pkg.resolve(design)
-    check_assembly(d.assembly)
     p = np.asarray(list(pressures), dtype=float).ravel()
     if p.size == 0 or not np.all(np.isfinite(p)):
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
@@ -158,6 +157,7 @@ def check(
     sol = run_tip(
         geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
         axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
+        assembly=d.assembly,
     )  # fmt: skip
     cases = []
     length = geometry.length
@@ -212,17 +212,21 @@ def check(
 
 
 def check_assembly(assembly) -> None:
-    """The 3-D FEM meshes the filler as built (full, coat, none) but fuses every interface."""
+    """Refuse what the finite-strain 3-D FEM does not model: it meshes the filler as built
+    (full, coat, none) but fuses every interface and clamps the whole base (the linear
+    check honours them all, ``softcath.fem.interfaces3d``)."""
     from softcath.design.assembly import INTERFACES
 
     for key, _, _ in INTERFACES:
         if getattr(assembly, key) != "bonded":
             raise DesignError(
-                f"assembly.{key}", getattr(assembly, key), "the 3-D FEM models bonded interfaces only; "
-                "sliding interfaces are in the section model (softcath.fem.section_model)",
+                f"assembly.{key}", getattr(assembly, key), "the finite-strain FEM models bonded interfaces only; "
+                "the linear FEM and the section model take sliding ones",
             )  # fmt: skip
     if assembly.proximal != "clamped":
-        raise DesignError("assembly.proximal", assembly.proximal, "the 3-D FEM models a clamped base only")
+        raise DesignError(
+            "assembly.proximal", assembly.proximal, "the finite-strain FEM models a clamped base only"
+        )
 
 
 def _ratio(a: float, b: float) -> float:

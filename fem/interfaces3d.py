@@ -201,3 +201,50 @@ def run_tip_as_built(
         )
         out[ld] = (fit.curvature_per_mm, fit.elongation, fit.curvature_variation)
     return out
+
+
+def split_mesh(mesh):
+    """The tip mesh with every region's vertices its own (interfaces duplicated)."""
+    return _split(mesh)
+
+
+def tied_problem(sk, labels, laws, tags, assembly, geometry, *, method=None):
+    """An :class:`~softcath.fem.elasticity.ElasticProblem` on a split mesh, solved under the ties.
+
+    Same interface as the plain problem (``nodes``, ``pressure_load``, ``solve``,
+    ``basis``), so the linear check's post-processing runs unchanged.
+    """
+    from softcath.fem.elasticity import ElasticProblem, Solution
+    from softcath.fem.geometry import TUBE
+    from softcath.fem.solver import Factorized
+
+    labels = np.asarray(labels).astype(np.int64)
+    base = tags["base"]
+    tube_base = labels[sk.f2t[0, base]] == TUBE
+    comps = (0, 1) if assembly.proximal == "tube-free" else (0, 1, 2)
+    fixed = [(base[~tube_base], (0, 1, 2)), (base[tube_base], comps)]
+
+    class _Tied(ElasticProblem):
+        def factorize(self):
+            if self._factor is None:
+                self.T, col = _projection(
+                    sk, self.basis, labels, assembly, geometry.length, geometry.cap_thickness
+                )
+                self.K_hat = (self.T.T @ self.stiffness @ self.T).tocsr()
+                clamped = col[np.flatnonzero(self.fixed_mask)]
+                self.free_hat = np.setdiff1d(np.arange(self.K_hat.shape[0]), clamped)
+                kff = self.K_hat[self.free_hat][:, self.free_hat].tocsc()
+                self._factor = Factorized(kff, method=self._method, tol=self._tol)
+            return self._factor
+
+        def solve(self, load, prescribed=None):
+            if prescribed is not None:
+                raise DesignError("prescribed", "given", "is not supported with as-built interfaces")
+            fac = self.factorize()
+            f = self.T.T @ load
+            u_hat = np.zeros(self.K_hat.shape[0])
+            u_hat[self.free_hat], res = fac.solve(f[self.free_hat])
+            return Solution(u=(self.T @ u_hat).reshape(-1, 3), residual=res)
+
+    present = {k: v for k, v in laws.items() if (labels == k).any()}
+    return _Tied(sk, labels, present, [fx for fx in fixed if fx[0].size], method=method)

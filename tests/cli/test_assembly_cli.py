@@ -36,12 +36,11 @@ def test_analytic_paper_formula_refuses_an_as_built_tip(tmp_path, capsys):
     assert main([*argv, "--assembly", "tube_coil=sliding", "--out", str(tmp_path / "b")]) == 0
 
 
-def test_fem_refuses_sliding_interfaces_before_meshing(tmp_path, capsys):
+def test_fem_nonlinear_refuses_sliding_interfaces_before_meshing(tmp_path, capsys):
     argv = [
         "fem",
         "paper",
-        "--pressure",
-        "0.1",
+        "--nonlinear",
         "--assembly",
         "channel_coil=tied-at-tip",
         "--out",
