@@ -57,3 +57,32 @@ def test_help_lists_the_option(cmd, capsys):
     except SystemExit:
         pass
     assert "--assembly KEY=VALUE" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_fem_linear_takes_sliding_interfaces_and_records_them(tmp_path):
+    out = tmp_path / "f"
+    argv = [
+        "fem",
+        "paper",
+        "--pressure",
+        "0.1",
+        "--load",
+        "lumen",
+        "--no-png",
+        "--assembly",
+        "tube_coil=sliding",
+    ]
+    assert main([*argv, "--out", str(out)]) == 0
+    doc = json.loads((out / "fem.json").read_text())
+    assert doc["assembly"]["tube_coil"] == "sliding"
+    # the section model as built, within the 3 % of the as-built cross-check
+    from dataclasses import replace
+
+    from softcath import design
+    from softcath.design.assembly import Assembly
+    from softcath.fem.section_model import section_model
+
+    d = replace(design.preset("paper"), assembly=Assembly(tube_coil="sliding"))
+    gain = section_model(d).curvature_per_mm_per_MPa["lumen"]
+    assert doc["curvature_per_mm"] / 0.1 == pytest.approx(gain, rel=0.03)
