@@ -255,8 +255,7 @@ def tie_projection(split: InterfaceSplit, basis, *, tie: np.ndarray | None = Non
         slaves.update(entry[4])
     kept = np.array([d for d in range(n) if d not in slaves], dtype=np.int64)
     col = {int(d): i for i, d in enumerate(kept)}
-    rows, cols, vals = list(range(len(kept))), list(range(len(kept))), [1.0] * len(kept)
-    rows = [int(d) for d in kept]
+    rows, cols, vals = [int(d) for d in kept], list(range(len(kept))), [1.0] * len(kept)
     srow, scol, sval, weights, extra = [], [], [], [], []
     ncol = len(kept)
     for mdofs, nsum, full, weight, sdofs in nodes.values():
