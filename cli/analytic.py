@@ -11,7 +11,14 @@ from __future__ import annotations
 import argparse
 import csv
 
-from softcath.cli.options import add_design, add_out, add_pressure_range, parse_pressure_range
+from softcath.cli.options import (
+    add_assembly,
+    add_design,
+    add_out,
+    add_pressure_range,
+    parse_pressure_range,
+    resolve_design,
+)
 
 HELP = "curvature, elongation, tip pose over a pressure range"
 
@@ -33,6 +40,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default="paper",
         help="paper: the paper's formula (default, the reference); section: the 2-D section model",
     )
+    add_assembly(p)
     add_out(p)
 
 
@@ -45,7 +53,13 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.validity import check_finite_columns, warn_linear_range
 
     p = parse_pressure_range(args.pressure)  # checked before the output folder is made
-    d = design.resolve(args.design)
+    d = resolve_design(args)
+    if args.model != "section" and not d.assembly.is_default:
+        raise design.DesignError(
+            "assembly",
+            d.assembly.to_dict(),
+            "is modelled by the section model only (the paper's formula is one bonded body)",
+        )
     out = prepare_out_dir(args.out)
     if args.model == "section":
         from softcath.fem.section_model import section_model

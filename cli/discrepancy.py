@@ -26,14 +26,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="measurement CSV (time_s, pressure_MPa, curvature_per_mm[, run]); "
         "with --reference fem: a CSV of pressure_MPa, curvature_per_mm "
         "from the FEM, or a sweep directory with analytic and 3-D FEM results "
-        "(names which section-model ingredients the paper's formula lacks)",
+        "(names which section-model ingredients the paper's formula lacks); with --reference prototype: "
+        "a CSV of pressure_MPa, curvature_per_mm[, elongation] measured on the built DESIGN",
     )
     add_out(parser)
     parser.add_argument(
         "--reference",
-        choices=("measured", "fem"),
+        choices=("measured", "fem", "prototype"),
         default="measured",
-        help="what the model is compared with (default: measured)",
+        help="what the model is compared with (default: measured); prototype: which model ingredients "
+        "(as-built options, nu, coil law, vision bias) explain a measured curve of a built design",
+    )
+    parser.add_argument(
+        "--tip-factor",
+        type=float,
+        default=None,
+        help="with --reference prototype: tip-level over mid-span curvature (default: from the 3-D FEM)",
     )
     parser.add_argument(
         "--margin",
@@ -74,6 +82,8 @@ def run(args: argparse.Namespace) -> int:
 
     args.design, args.measured = design_or_data(args.design, args.measured)
     data = args.measured
+    if args.reference == "prototype":
+        return _run_prototype(args, out)
     if data is not None and data.is_dir():
         return _run_designs(args)
     fem_fn = None
@@ -126,6 +136,45 @@ def run(args: argparse.Namespace) -> int:
     for note in result.notes:
         print(f"note: {note}")
     print(f"wrote {out / 'discrepancy.json'} and {html}")
+    return 0
+
+
+def _run_prototype(args: argparse.Namespace, out: Path) -> int:
+    import math
+
+    from softcath import design
+    from softcath.design.errors import DataError, DesignError
+    from softcath.studies.atomic import Outputs
+    from softcath.studies.discrepancy.prototype import (
+        explain_prototype,
+        hypotheses_table,
+        load_prototype_csv,
+        tip_level_factor,
+    )
+
+    if args.measured is None:
+        raise DataError("--reference prototype: a CSV of pressure_MPa, curvature_per_mm is required")
+    measured = load_prototype_csv(args.measured)
+    d = design.resolve(args.design)
+    factor = args.tip_factor
+    if factor is None:
+        factor = tip_level_factor(d)
+    elif not (math.isfinite(factor) and 0.2 <= factor <= 5):
+        raise DesignError("--tip-factor", factor, "must be in [0.2, 5]")
+    cands = None
+    if args.candidates:
+        cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
+    record = explain_prototype(d, measured, tip_factor=factor, candidates=cands)
+    with Outputs(out) as o:
+        o.json("discrepancy.json", record)
+    for line in hypotheses_table(record):
+        print(line)
+    print(f"named: {' + '.join(record['named']) if record['named'] else 'nothing'}")
+    if len(record["equally_good"]) > 1:
+        print(f"equally good: {record['equally_good']}; to separate them: {record['separating_measurement']}")
+    for note in record["notes"]:
+        print(f"note: {note}")
+    print(f"wrote {out / 'discrepancy.json'}")
     return 0
 
 

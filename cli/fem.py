@@ -27,7 +27,7 @@ import argparse
 import sys
 from dataclasses import dataclass
 
-from softcath.cli.options import add_design, add_out
+from softcath.cli.options import add_assembly, add_design, add_out, resolve_design
 from softcath.design.errors import DesignError
 
 HELP = "one FEM bending check (mesh, solve, compare with the analytic model); --nonlinear for finite strain"
@@ -57,6 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="cap: end-cap force only (the paper's model); lumen: wall + cap (the real load). "
         "Default: cap (linear), lumen (--nonlinear)",
     )
+    add_assembly(parser)
     add_out(parser)
     parser.add_argument(
         "--mesh-size",
@@ -167,7 +168,6 @@ def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath import design
     from softcath.fem.limits import check_fem_budget
     from softcath.studies.atomic import Outputs, prepare_out_dir
     from softcath.studies.validity import check_pressure, warn_linear_range
@@ -175,8 +175,11 @@ def run(args: argparse.Namespace) -> int:
     out = prepare_out_dir(args.out)
     if args.pressure is not None:
         check_pressure(args.pressure)
-    d = design.resolve(args.design)
+    d = resolve_design(args)
     if args.nonlinear:
+        from softcath.fem.api import check_assembly
+
+        check_assembly(d.assembly)  # the finite-strain FEM fuses every interface
         return _run_nonlinear(d, args, out)
     s = linear_settings(args)
     check_fem_budget(d, mesh_size=s.mesh_size)  # before minutes of meshing, not after
@@ -201,6 +204,7 @@ def run(args: argparse.Namespace) -> int:
     )
     c = result.case(s.load, s.pressure)
     doc = result.to_json(s.load, s.pressure)
+    doc["assembly"] = d.assembly.to_dict()
     with Outputs(out) as o:
         o.json("fem.json", doc)
         write_vtu(result.solution, s.load, s.pressure, o.path("tip.vtu"))

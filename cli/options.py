@@ -145,3 +145,27 @@ def design_or_data(design: str, data: Path | None) -> tuple[str, Path | None]:
         if candidate.suffix.lower() == ".csv" or candidate.is_dir():
             return DEFAULT_DESIGN, candidate
     return design, data
+
+
+def add_assembly(parser: argparse.ArgumentParser) -> None:
+    """``--assembly KEY=VALUE`` (repeatable): override one key of the design's ``[assembly]``."""
+    parser.add_argument(
+        "--assembly",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="as-built option overriding the design's [assembly] table, repeatable: tube_coil, tube_channel, "
+        "channel_coil, filler_coil = bonded|sliding|tied-at-tip; filler = full|coat|none; "
+        "filler_coat_thickness = mm; proximal = clamped|tube-free",
+    )
+
+
+def resolve_design(args: argparse.Namespace):
+    """The design of ``args.design`` with ``--assembly`` overrides applied."""
+    from dataclasses import replace
+
+    from softcath import design
+
+    d = design.resolve(args.design)
+    overrides = getattr(args, "assembly", None) or []
+    return replace(d, assembly=d.assembly.with_overrides(overrides)) if overrides else d

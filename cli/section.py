@@ -21,7 +21,15 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_pressure_range, as_options, parse_pressure_range
+from softcath.cli.options import (
+    add_assembly,
+    add_design,
+    add_out,
+    add_pressure_range,
+    as_options,
+    parse_pressure_range,
+    resolve_design,
+)
 
 #: The section model's parameter names as this command's options.
 _OPTIONS = {
@@ -91,6 +99,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="annulus: coils bend as their annuli (3-D FEM, default); wahl: + helical-spring EI; "
         "resolved: the resolved wire's EA and EI",
     )
+    add_assembly(p)
     p.add_argument("--no-png", action="store_true", help="skip the PNG")
     add_out(p)
 
@@ -148,23 +157,24 @@ def run(args: argparse.Namespace) -> int:
 
     pressures = parse_pressure_range(args.pressure)  # options first, then the folder, then the work
     coil_opts, placement, f0 = _coil_options(args)
+    d = resolve_design(args)
     out = prepare_out_dir(args.out)
     mesh = {
         "mesh_size": MESH_SIZE if args.mesh_size is None else args.mesh_size,
         "segments": SEGMENTS if args.segments is None else args.segments,
     }
     with as_options(_OPTIONS):
-        return _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh)
+        return _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh)
 
 
-def _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh) -> int:
+def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) -> int:
     from softcath.fem.section_model import section_model
     from softcath.fem.section_model.picture import section_picture
     from softcath.studies.atomic import Outputs
     from softcath.studies.validity import check_finite_columns, warn_linear_range
 
     r = section_model(
-        args.design, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
+        d, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
         **mesh, **coil_opts,
     )  # fmt: skip
     ld = args.load
@@ -180,6 +190,8 @@ def _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh) -> in
                                 "axial_centroid_mm", "lumen_area_mm2", "poisson_ratio_silicone",
                                 "coil_modulus", "coil_bending", "mesh_size_mm", "segments", "dofs",
                                 "n_triangles", "seconds", "mesh_seconds", "backward_error", "stiffness")},
+        "assembly": full["assembly"],
+        "axial_groups": full["axial_groups"],
         "loads": {k: full[k] for k in ("curvature_per_mm_per_MPa", "elongation_per_MPa",
                                        "lumen_area_change_mm2_per_MPa", "fem_formula_ratio")},
     }  # fmt: skip
@@ -188,7 +200,7 @@ def _solve_and_write(args, out, pressures, coil_opts, placement, f0, mesh) -> in
         from softcath.fem.section_model.bilinear import bend_curve
 
         curve = bend_curve(
-            args.design, pressures, load=ld, coil_model=placement, initial_tension=f0,
+            d, pressures, load=ld, coil_model=placement, initial_tension=f0,
             silicone_poisson=args.poisson, **mesh,
         )  # fmt: skip
         doc["coil_bound"] = curve.to_json()

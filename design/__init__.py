@@ -11,6 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcath.design import presets as _presets
+from softcath.design.assembly import Assembly
 from softcath.design.coil_mechanics import CoilStiffness, coil_stiffness
 from softcath.design.components import Coil, Tip, Tube
 from softcath.design.errors import DataError, DesignError, SoftcathError
@@ -21,6 +22,7 @@ from softcath.design.tip import TipDesign
 
 __all__ = [
     "AssembledSection",
+    "Assembly",
     "Coil",
     "CoilStiffness",
     "DataError",

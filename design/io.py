@@ -3,6 +3,9 @@
 File layout: one table per component (``[coil]``, ``[tube]``, ``[channel]``,
 ``[tip]``, ``[filler]``) whose ``material`` names a table under
 ``[materials.*]``. ``[filler] material = "none"`` leaves the coil interior void.
+An optional ``[assembly]`` table holds the as-built options
+(:class:`softcath.design.assembly.Assembly`); it is written only when it
+differs from the default.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
+from softcath.design.assembly import Assembly
 from softcath.design.components import Coil, Tip, Tube
 from softcath.design.errors import DesignError
 from softcath.design.materials import Material
@@ -24,7 +28,7 @@ from softcath.design.tip import TipDesign
 __all__ = ["from_dict", "to_dict", "load", "save", "dumps", "loads"]
 
 _COMPONENTS = {"coil": Coil, "tube": Tube, "channel": Coil, "tip": Tip}
-_TOP_KEYS = {"name", "coil", "tube", "channel", "tip", "filler", "materials"}
+_TOP_KEYS = {"name", "coil", "tube", "channel", "tip", "filler", "materials", "assembly"}
 
 
 def _table(path: str, value: Any) -> Mapping[str, Any]:
@@ -107,7 +111,8 @@ def from_dict(data: Mapping[str, Any]) -> TipDesign:
     name = data.get("name", "design")
     if not isinstance(name, str):
         raise DesignError("name", name, "must be a string")
-    return TipDesign(name=name, filler=filler, **parts)
+    assembly = Assembly.from_dict(data["assembly"]) if "assembly" in data else Assembly()
+    return TipDesign(name=name, filler=filler, assembly=assembly, **parts)
 
 
 def _material_key(m: Material) -> str:
@@ -141,6 +146,8 @@ def to_dict(design: TipDesign) -> dict[str, Any]:
         k: {f.name: getattr(m, f.name) for f in fields(m) if getattr(m, f.name) not in (None, "")}
         for k, m in materials.items()
     }
+    if not design.assembly.is_default:
+        out["assembly"] = design.assembly.to_dict()
     return out
 
 
@@ -169,6 +176,8 @@ def dumps(design: TipDesign, *, header: str = "") -> str:
         lines += ["", f"[{key}]"] + [f"{k} = {_toml_value(v)}" for k, v in data[key].items()]
     for mkey, table in data["materials"].items():
         lines += ["", f"[materials.{mkey}]"] + [f"{k} = {_toml_value(v)}" for k, v in table.items()]
+    if "assembly" in data:
+        lines += ["", "[assembly]"] + [f"{k} = {_toml_value(v)}" for k, v in data["assembly"].items()]
     return "\n".join(lines) + "\n"
 
 

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, replace
+from dataclasses import field as _field
 
 from softcath.design import section as _section
+from softcath.design.assembly import Assembly
 from softcath.design.components import Coil, Tip, Tube
 from softcath.design.errors import DesignError
 from softcath.design.materials import Material
@@ -33,6 +35,9 @@ class TipDesign:
         dip-coating of the tip in Ecoflex 00-30) suggests filled.
     name
         A label for reports.
+    assembly
+        How the parts are put together (:class:`softcath.design.assembly.Assembly`);
+        the default is one bonded, fully filled body clamped at the base.
     """
 
     coil: Coil
@@ -41,8 +46,13 @@ class TipDesign:
     tip: Tip
     filler: Material | None = None
     name: str = "design"
+    assembly: Assembly = _field(default_factory=Assembly)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.assembly, Assembly):
+            raise DesignError("assembly", self.assembly, "must be a design.Assembly")
+        if self.assembly.filler == "coat" and self.filler is None:
+            raise DesignError("assembly.filler", "coat", "needs a filler material ([filler] material)")
         for field, cls in (("coil", Coil), ("tube", Tube), ("channel", Coil), ("tip", Tip)):
             if not isinstance(getattr(self, field), cls):
                 raise DesignError(field, getattr(self, field), f"must be a design.{cls.__name__}")

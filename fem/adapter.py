@@ -61,7 +61,8 @@ def geometry_from_design(design: TipDesign, *, land_gap: float = 0.01) -> TipGeo
         lumen_y=s.lumen_center_y,
         length=design.tip.bending_length,
         cap_thickness=design.tip.cap_thickness,
-        filled=design.filler is not None,
+        filled=design.filler is not None and design.assembly.filler != "none",
+        filler_coat=design.assembly.filler_coat_thickness if design.assembly.filler == "coat" else 0.0,
         land_gap=land_gap,
     )
 

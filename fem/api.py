@@ -20,7 +20,7 @@ from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
 from softcath.fem.post import tip_pose
 
-__all__ = ["FemCase", "FemResult", "check"]
+__all__ = ["FemCase", "FemResult", "check", "check_assembly"]
 
 
 @dataclass(frozen=True)
@@ -169,6 +169,7 @@ def check(
     sol = run_tip(
         geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
         axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
+        assembly=d.assembly,
     )  # fmt: skip
     cases = []
     length = geometry.length
@@ -221,6 +222,24 @@ def check(
         silicones=silicones,
         solution=sol,
     )
+
+
+def check_assembly(assembly) -> None:
+    """Refuse what the finite-strain 3-D FEM does not model: it meshes the filler as built
+    (full, coat, none) but fuses every interface and clamps the whole base (the linear
+    check honours them all, ``softcath.fem.interfaces3d``)."""
+    from softcath.design.assembly import INTERFACES
+
+    for key, _, _ in INTERFACES:
+        if getattr(assembly, key) != "bonded":
+            raise DesignError(
+                f"assembly.{key}", getattr(assembly, key), "the finite-strain FEM models bonded interfaces only; "
+                "the linear FEM and the section model take sliding ones",
+            )  # fmt: skip
+    if assembly.proximal != "clamped":
+        raise DesignError(
+            "assembly.proximal", assembly.proximal, "the finite-strain FEM models a clamped base only"
+        )
 
 
 def _ratio(a: float, b: float) -> float:

@@ -69,6 +69,10 @@ class TipGeometry:
         True if the coil interior around tube and channel is filled with silicone.
     land_gap
         Bonded-land threshold (mm): contact gaps thinner than this are filled.
+    filler_coat
+        With ``filled``: 0 fills every void inside the coil; > 0 keeps only a coat of
+        this thickness (mm) around the channel (the as-built ``coat`` filler), the
+        rest of the coil interior void.
     """
 
     coil_outer_radius: float
@@ -86,10 +90,11 @@ class TipGeometry:
     cap_thickness: float
     filled: bool = True
     land_gap: float = 0.01
+    filler_coat: float = 0.0
 
     def __post_init__(self) -> None:
         for name, value in asdict(self).items():
-            if name == "filled":
+            if name == "filled" or (name == "filler_coat" and value == 0.0):
                 continue
             if not (math.isfinite(value) and (value > 0 or name in ("channel_y", "tube_y", "lumen_y"))):
                 raise DesignError(f"geometry.{name}", value, "must be finite and > 0")
@@ -122,7 +127,10 @@ class TipGeometry:
     # -- identity -----------------------------------------------------------
     def digest(self) -> str:
         """Content hash of the geometry (used to key the mesh cache)."""
-        blob = json.dumps(asdict(self), sort_keys=True, separators=(",", ":"))
+        d = asdict(self)
+        if d["filler_coat"] == 0.0:  # the fully filled tip keeps its historical digest
+            del d["filler_coat"]
+        blob = json.dumps(d, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
     # -- shape queries --------------------------------------------------------
@@ -201,7 +209,9 @@ class TipGeometry:
             lumen = lumen & (np.asarray(z) < self.length - self.cap_thickness)
         cc_land = (np.abs(x) < lands["channel_coil"]) & (y < self.channel_y)
         rest = inner & ~tube
-        if self.filled:
+        if self.filled and self.filler_coat > 0:
+            lab[rest & (rc2 < (self.channel_outer_radius + self.filler_coat) ** 2)] = FILLER
+        elif self.filled:
             lab[rest] = FILLER
         lab[tube & ~lumen] = TUBE
         lab[(r2 >= self.coil_inner_radius**2) & (r2 < self.coil_outer_radius**2)] = COIL

@@ -94,6 +94,7 @@ def run_tip(
     use_cache: bool = True,
     method: str | None = None,
     progress=None,
+    assembly=None,
 ) -> TipSolution:
     """Mesh, assemble, factorise once and solve every load case at 1 MPa.
 
@@ -114,6 +115,10 @@ def run_tip(
         Linear solver back-end (``softcath.fem.solver``).
     progress
         Optional callable ``progress(stage: str)`` for a status line.
+    assembly
+        As-built options (``softcath.design.assembly.Assembly``); a non-default one
+        splits the regions at their interfaces and ties them
+        (``softcath.fem.interfaces3d``).
     """
     loads = tuple(loads)
     bad = [ld for ld in loads if ld not in LOADS]
@@ -126,6 +131,11 @@ def run_tip(
         geometry, mesh_size=mesh_size, mesher=mesher, axial_ratio=axial_ratio, use_cache=use_cache
     )
     mesh_seconds = 0.0 if mesh.cached else time.perf_counter() - t0
+    as_built = assembly is not None and not assembly.is_default
+    if as_built:
+        from softcath.fem.interfaces3d import split_mesh
+
+        mesh = split_mesh(mesh)
     say("assembling")
     t1 = time.perf_counter()
     sk = mesh.skfem_mesh()
@@ -133,7 +143,12 @@ def run_tip(
     if tags["cap"].size == 0 or tags["base"].size == 0:
         raise DesignError("mesh", mesh.key, "no cap or base facets found; the geometry is broken")
     present = {k: v for k, v in laws.items() if (mesh.labels == k).any()}
-    problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
+    if as_built:
+        from softcath.fem.interfaces3d import tied_problem
+
+        problem = tied_problem(sk, mesh.labels, laws, tags, assembly, geometry, method=method)
+    else:
+        problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
     rhs = {}
     for ld in loads:
         facets = tags["cap"] if ld == "cap" else np.concatenate([tags["cap"], tags["lumen"]])

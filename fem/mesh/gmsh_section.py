@@ -159,6 +159,10 @@ def section_triangles(
         lumen = [(2, _ellipse(occ, 0.0, g.lumen_y, g.lumen_a, g.lumen_b))]
         rest, _ = occ.cut(disk(0, 0, ro), occ.copy(coil) + disk(0, yc, rco) + occ.copy(tube))
         tube, _ = occ.cut(tube, occ.copy(lumen))
+        if g.filled and g.filler_coat > 0:  # the as-built coat: its outer circle is a region edge
+            coat, _ = occ.intersect(occ.copy(rest), disk(0, yc, rco + g.filler_coat))
+            rest, _ = occ.cut(rest, occ.copy(coat))
+            rest = rest + coat
         pieces = coil + channel + channel_lumen + tube + lumen + rest
         occ.fragment(pieces[:1], pieces[1:])
         occ.synchronize()

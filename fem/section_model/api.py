@@ -51,7 +51,11 @@ class SectionResult:
     axial_centroid_mm
         E_z-weighted centroid y (paper eq. 5 on the mesh).
     stiffness
-        The 3x3 matrix (N, M_x, M_y) per (eps_0, k_1, k_2) about the origin.
+        The 3x3 matrix (N, M_x, M_y) per (eps_0, k_1, k_2) about the origin (as built:
+        every axial group stretching alike; ``EI_N_mm2`` then lets each group stretch
+        freely, the bending stiffness of the tip under a pure moment).
+    assembly, axial_groups
+        The as-built options used and the number of axial groups (1 when bonded).
     """
 
     design_name: str
@@ -81,6 +85,8 @@ class SectionResult:
     seconds: float
     backward_error: float
     fields: object = field(default=None, repr=False, compare=False)
+    assembly: dict | None = None
+    axial_groups: int = 1
 
     def gains(self, load: str) -> tuple[float, float]:
         """(kappa/p [1/(mm MPa)], eps/p [1/MPa]) for ``load``."""
@@ -131,7 +137,10 @@ def section_model(
     Parameters
     ----------
     design
-        A :class:`design.TipDesign`, a preset name or a TOML path.
+        A :class:`design.TipDesign`, a preset name or a TOML path. Its ``assembly``
+        (sliding interfaces, the filler as built, the base) is honoured
+        (``softcath.fem.section_model.assembly_options``); the default bonded tip takes
+        the original path unchanged.
     loads
         Subset of ``("cap", "lumen")``.
     mesh_size, segments
@@ -172,18 +181,31 @@ def section_model(
     )  # fmt: skip
     laws, extra = coil_terms(d, coil_bending, laws)
     mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments, mesher=mesher)
-    op = assemble(mesh, laws)
-    sol = solve(op, loads, extra_bending=sum(extra.values()))
-    K = sol.stiffness
+    if d.assembly.is_default:
+        op = assemble(mesh, laws)
+        sol = solve(op, loads, extra_bending=sum(extra.values()))
+        K = sol.stiffness
+        ei, ei_lat = float(K[2, 2] - K[0, 2] ** 2 / K[0, 0]), float(K[1, 1] - K[0, 1] ** 2 / K[0, 0])
+        kappa = {ld: float(s.strains[2]) for ld, s in sol.loads.items()}
+        eps = {ld: float(s.strains[0] + s.strains[2] * op.axial_centroid_y) for ld, s in sol.loads.items()}
+    else:  # the tip as built (softcath.fem.section_model.assembly_options)
+        from softcath.fem.section_model.assembly_options import as_built_operator, summary
+
+        mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=sum(extra.values()))
+        sm = summary(op, sol)
+        K, ei, ei_lat, kappa, eps = (
+            sm["stiffness"],
+            sm["EI"],
+            sm["EI_lateral"],
+            sm["curvature"],
+            sm["elongation"],
+        )
     ea = float(K[0, 0])
     formula_k, _ = gains(d, "cap")
-    kappa, eps, d_area, ratio = {}, {}, {}, {}
+    d_area, ratio = {}, {}
     for ld, s in sol.loads.items():
-        e0, k1, k2 = s.strains
-        kappa[ld] = float(k2)
-        eps[ld] = float(e0 + k2 * op.axial_centroid_y)
         d_area[ld] = s.lumen_area_change
-        ratio[ld] = float(k2 / formula_k) if formula_k != 0 else math.nan
+        ratio[ld] = float(kappa[ld] / formula_k) if formula_k != 0 else math.nan
     nu_used = laws[TUBE].poisson_ratio
     return SectionResult(
         design_name=d.name,
@@ -193,8 +215,8 @@ def section_model(
         lumen_area_change_mm2_per_MPa=d_area,
         fem_formula_ratio=ratio,
         EA_N=ea,
-        EI_N_mm2=float(K[2, 2] - K[0, 2] ** 2 / ea),
-        EI_lateral_N_mm2=float(K[1, 1] - K[0, 1] ** 2 / ea),
+        EI_N_mm2=ei,
+        EI_lateral_N_mm2=ei_lat,
         coupling_N_mm=float(K[0, 2]),
         neutral_axis_mm=float(K[0, 2] / ea),
         axial_centroid_mm=float(op.axial_centroid_y),
@@ -213,6 +235,8 @@ def section_model(
         seconds=float(time.perf_counter() - t0),
         backward_error=sol.backward_error,
         fields=(mesh, op, sol) if keep_fields else None,
+        assembly=d.assembly.to_dict(),
+        axial_groups=1 if d.assembly.is_default else sol.plan.n_groups,
     )
 
 

@@ -63,6 +63,11 @@ class SectionOperator:
         E_z-weighted centroid y of the solid (mm), the 3-D FEM's neutral axis.
     pinned
         The three DOFs fixed against in-plane rigid motion.
+    axial_groups
+        Per-triangle axial group (``None``: one group). With G groups the global
+        strains are (eps_0 of each group, k_1, k_2): parts free to slip axially
+        against each other stretch separately and share the curvatures
+        (``softcath.fem.section_model.assembly_options``).
     """
 
     mesh: object
@@ -81,11 +86,12 @@ class SectionOperator:
     bubble_from_strains: np.ndarray
     strain_matrix: np.ndarray
     quadrature_xy: np.ndarray
+    axial_groups: np.ndarray | None = None
 
     @property
     def ndofs(self) -> int:
-        """Unknowns of the condensed system (P2 in-plane DOFs + 3 global strains)."""
-        return int(self.K_uu.shape[0]) + 3
+        """Unknowns of the condensed system (P2 in-plane DOFs + the global strains)."""
+        return int(self.K_uu.shape[0]) + int(self.K_ug.shape[1])
 
     def strain_field(self, u_full: np.ndarray, strains: np.ndarray) -> np.ndarray:
         """Strains (eps_xx, eps_yy, eps_zz, gamma_xy) at the quadrature points, shape (4, nel, nq).
@@ -96,7 +102,8 @@ class SectionOperator:
         ue = u_full[self.basis.element_dofs].T  # (nel, nb)
         out = np.einsum("eqcb,eb->ceq", self.strain_matrix, ue)
         x, y = self.quadrature_xy
-        out[2] = strains[0] + strains[1] * x + strains[2] * y
+        e0 = strains[0] if self.axial_groups is None else np.asarray(strains)[self.axial_groups][:, None]
+        out[2] = e0 + strains[-2] * x + strains[-1] * y
         return out
 
     def full_field(self, u: np.ndarray, strains: np.ndarray) -> np.ndarray:
@@ -122,7 +129,9 @@ def _strains(basis) -> np.ndarray:
     return out
 
 
-def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOperator:
+def assemble(
+    section: SectionMesh, laws: Mapping[int, SectionLaw], *, axial_groups: np.ndarray | None = None
+) -> SectionOperator:
     """Assemble the generalised-plane-strain section operator.
 
     Parameters
@@ -131,6 +140,9 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         The labelled mesh.
     laws
         Region label -> :class:`SectionLaw`; every label in the mesh needs one.
+    axial_groups
+        Optional per-triangle group index 0..G-1: each group gets its own axial
+        strain eps_0 (then ``eps_zz = eps_0[group] + k_1 x + k_2 y``).
     """
     from skfem import CellBasis, ElementTriCCR, ElementVector
 
@@ -148,7 +160,13 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
 
     w = basis.dx  # (nel, nq)
     xq, yq = np.asarray(basis.global_coordinates())  # (nel, nq)
-    phi = np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
+    if axial_groups is None:
+        phi = np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
+    else:
+        groups = np.asarray(axial_groups, dtype=np.int64)
+        onehot = (groups[None, :] == np.arange(groups.max() + 1)[:, None]).astype(float)
+        phi = np.concatenate([np.broadcast_to(onehot[:, :, None], (onehot.shape[0],) + xq.shape), [xq, yq]])
+    ng = phi.shape[0]
     eps = _strains(basis)
     nb, nq = eps.shape[0], w.shape[1]
     # Batched products over (element, quadrature point): B is (nel, nq, 4, nb).
@@ -194,8 +212,8 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
     rows = np.broadcast_to(rdofs.T[:, :, None], k_rr.shape).ravel()
     cols = np.broadcast_to(rdofs.T[:, None, :], k_rr.shape).ravel()
     k_uu = sparse.coo_matrix((k_rr.ravel(), (rows, cols)), shape=(n, n)).tocsr()
-    k_ug = np.zeros((n, 3))
-    for k in range(3):
+    k_ug = np.zeros((n, ng))
+    for k in range(ng):
         k_ug[:, k] = np.bincount(rdofs.T.ravel(), weights=k_rg[:, :, k].ravel(), minlength=n)
 
     # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
@@ -220,6 +238,7 @@ def assemble(section: SectionMesh, laws: Mapping[int, SectionLaw]) -> SectionOpe
         bubble_from_strains=xg,
         strain_matrix=B,
         quadrature_xy=np.stack([xq, yq]),
+        axial_groups=None if axial_groups is None else np.asarray(axial_groups, dtype=np.int64),
     )
 
 

@@ -297,6 +297,11 @@ def run_workflow(
     fs = prep.full_scale_per_mm
     records, step_notes = step_records(steps, floor)
     notes += step_notes + decision_notes(steps, named, min_share, floor) + separability_notes(prep, named)
+    if steps[-1].extra.get("not_needed"):
+        notes.append(
+            "named at first but not needed in the final model (held out, by the margin): "
+            + ", ".join(steps[-1].extra["not_needed"])
+        )
     return DiscrepancyResult(
         reference=reference,
         named=named,

@@ -281,6 +281,10 @@ def name_effects(
     generator: form errors removed 0.1-0.6 % of the excess power, a genuine
     second effect at a comparable strength tens of per cent.
 
+    Finally every named effect must still be needed in the final model
+    (:func:`softcath.studies.discrepancy.necessity.drop_unneeded`: without it the
+    held-out RMSE is worse by the margin), else it is dropped.
+
     Returns the steps taken; the last step has ``named = None`` unless
     ``max_effects`` was reached.
     """
@@ -331,7 +335,9 @@ def name_effects(
         bar.total = bar.n  # the search ended: every candidate it needed was scored
         bar.refresh()
         bar.close()
-    return steps
+    from softcath.studies.discrepancy.necessity import drop_unneeded
+
+    return drop_unneeded(prep, steps, margin=margin, min_share=min_share, **kw)
 
 
 def _progress_bar(candidates: Sequence[str], max_effects: int):
