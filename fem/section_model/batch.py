@@ -375,6 +375,7 @@ def _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segm
         mesh_seconds=float(mesh.seconds),
         seconds=float(seconds),
         backward_error=backward,
+        assembly=d.assembly.to_dict(),
     )
 
 
@@ -400,7 +401,9 @@ def section_models(
     -------
     list
         Per design, a :class:`BatchItem` or the exception that design raised (a
-        design the template cannot morph to is solved on a fresh gmsh mesh).
+        design the template cannot morph to is solved on a fresh gmsh mesh; a design
+        whose ``assembly`` is not the default bonded tip is solved alone by
+        :func:`~softcath.fem.section_model.section_model`, which splits its interfaces).
     """
     from softcath.design.errors import DesignError
     from softcath.fem.adapter import geometry_from_design
@@ -417,9 +420,13 @@ def section_models(
     opts = {"coil_modulus": coil_modulus, "coil_bending": coil_bending}
     results: list = [None] * len(designs)
     groups: dict[str, list] = {}
+    alone: dict[int, str] = {}  # designs solved one by one below, with the mesher to use
     for i, d in enumerate(designs):
         t0 = time.perf_counter()
         try:
+            if not d.assembly.is_default:  # interfaces split, axial groups: the per-design path
+                alone[i] = "template"
+                continue
             g = geometry_from_design(d)
             check_section_budget(coil_outer_radius=g.coil_outer_radius, mesh_size=mesh_size)
             laws = laws_from_design(d, coil_modulus=coil_modulus)
@@ -436,7 +443,7 @@ def section_models(
         except Exception as exc:  # refused or failed: solved below on a fresh gmsh mesh
             _tick("morph", t0)
             log_fallback(g, exc)
-            results[i] = None
+            alone[i] = "gmsh"
             continue
         groups.setdefault(template.mesh.key, []).append((i, d, laws, sum(extra.values()), mesh, template))
     for members in groups.values():
@@ -459,13 +466,12 @@ def section_models(
                 results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
             except Exception as exc:
                 results[i] = exc
-    for i, d in enumerate(designs):
-        if results[i] is None:
-            try:
-                r = section_model(d, loads=loads, mesh_size=mesh_size, segments=segments, mesher="gmsh",
-                                  keep_fields=True, **opts)  # fmt: skip
-                strains = {ld: silicone_strain_range(r, ld) for ld in loads}
-                results[i] = BatchItem(dataclasses.replace(r, fields=None), strains)
-            except Exception as exc:
-                results[i] = exc
+    for i, mesher in alone.items():
+        try:
+            r = section_model(designs[i], loads=loads, mesh_size=mesh_size, segments=segments, mesher=mesher,
+                              keep_fields=True, **opts)  # fmt: skip
+            strains = {ld: silicone_strain_range(r, ld) for ld in loads}
+            results[i] = BatchItem(dataclasses.replace(r, fields=None), strains)
+        except Exception as exc:
+            results[i] = exc
     return results

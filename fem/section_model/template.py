@@ -295,7 +295,18 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
 
 
 def section_template(geometry: TipGeometry, *, mesh_size: float, segments: int) -> SectionTemplate:
-    """The template for ``geometry``'s topology at this mesh size (made once per process)."""
+    """The template for ``geometry``'s topology at this mesh size (made once per process).
+
+    Raises
+    ------
+    MorphError
+        For an as-built ``coat`` filler (``geometry.filler_coat > 0``): its outer circle is
+        a region boundary the templates do not carry, so such a section is meshed by gmsh.
+    """
+    if geometry.filler_coat > 0:
+        raise MorphError(
+            "geometry.filler_coat", geometry.filler_coat, "templates carry no coat circle; must be 0"
+        )
     return _template(reference_geometry(geometry), float(mesh_size), int(segments))
 
 

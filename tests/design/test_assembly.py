@@ -40,7 +40,9 @@ def test_overrides():
     assert (a.tube_coil, a.filler, a.filler_coat_thickness) == ("sliding", "coat", 0.03)
     with pytest.raises(design.DesignError, match=r"assembly = 'tube_coil': must be KEY=VALUE"):
         Assembly().with_overrides(["tube_coil"])
-    with pytest.raises(design.DesignError, match=r"assembly\.filler_coat_thickness = 'thin': must be a number"):
+    with pytest.raises(
+        design.DesignError, match=r"assembly\.filler_coat_thickness = 'thin': must be a number"
+    ):
         Assembly().with_overrides(["filler_coat_thickness=thin"])
 
 

@@ -48,3 +48,35 @@ def test_a_bad_design_is_returned_as_its_error_and_the_others_are_solved():
     assert items[1].result.loads == ("lumen",)
     with pytest.raises(DesignError, match="coil_bending"):
         section_models([good], coil_bending="spring")
+
+
+def test_as_built_designs_are_solved_as_built_next_to_batched_ones():
+    """A non-default assembly is not the bonded kernel's problem: the batch hands it to the
+    per-design section model (interfaces split, axial groups), whose answer it returns."""
+    from dataclasses import replace
+
+    from softcath.design.assembly import Assembly
+
+    paper = design.resolve("paper")
+    sliding = replace(
+        paper, assembly=Assembly(tube_coil="sliding", channel_coil="sliding", filler_coil="sliding")
+    )
+    coat = replace(paper, assembly=Assembly(filler="coat"))
+    designs = [sliding, random_designs(1, seed=53)[0], coat]
+    items = section_models(designs, loads=("lumen",))
+    for d, item in zip(designs, items, strict=True):
+        ref = section_model(d, loads=("lumen",), keep_fields=True)
+        got = item.result
+        assert got.assembly == d.assembly.to_dict()
+        assert got.axial_groups == ref.axial_groups
+        assert got.curvature_per_mm_per_MPa["lumen"] == pytest.approx(
+            ref.curvature_per_mm_per_MPa["lumen"], rel=1e-9
+        )
+        assert got.EI_N_mm2 == pytest.approx(ref.EI_N_mm2, rel=1e-9)
+        assert item.strain_range["lumen"] == pytest.approx(silicone_strain_range(ref, "lumen"), rel=1e-9)
+    assert items[0].result.axial_groups == 2
+    # the interfaces matter, so the batch did not solve the sliding tip as the bonded one
+    bonded = section_models([paper], loads=("lumen",))[0].result
+    assert items[0].result.curvature_per_mm_per_MPa["lumen"] != pytest.approx(
+        bonded.curvature_per_mm_per_MPa["lumen"], rel=1e-3
+    )
