@@ -81,7 +81,8 @@ def search(
         from pymoo.algorithms.moo.nsga2 import NSGA2
 
         algorithm = NSGA2(pop_size=pop)
-    res = minimize(problem, algorithm, ("n_evals", evo_budget), seed=seed, verbose=False)
+    # whole generations only, so the budget is never exceeded
+    res = minimize(problem, algorithm, ("n_gen", max(1, evo_budget // pop)), seed=seed, verbose=False)
     if single:
         best = _best_of(res)
         if polish and budget - 1 - res.algorithm.evaluator.n_eval > 2:
