@@ -21,6 +21,7 @@ from softcath.design.errors import DesignError
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
+from softcath.studies.selection.criteria import check_columns
 
 __all__ = ["Robustness", "Scores", "evaluate_parameters", "make_robustness"]
 
@@ -138,6 +139,7 @@ def evaluate_parameters(
         {**sample, **p} for p in params for sample in robust.values
     ]  # fmt: skip
     df = run_variants(problem, variants, backend)
+    check_columns([*problem.objectives, *problem.constraints], df.columns)
     objs, margins, ok = score_table(df, range(len(variants)), problem.objectives, problem.constraints)
     first = df.drop_duplicates("design_id").set_index("design_id")["reason"]
     reasons = tuple(str(first.get(i * s, "")) if not ok[i * s] else "" for i in range(n))
