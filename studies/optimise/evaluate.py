@@ -78,6 +78,8 @@ class Scores:
         (n, m) probability of meeting each constraint (robust only, else ``None``).
     reasons
         The first failure reason of each failed candidate (else empty).
+    samples_ok
+        (n,) robust only: buildable variants of each candidate (the others are left out).
     """
 
     objectives: np.ndarray
@@ -86,6 +88,7 @@ class Scores:
     percentiles: np.ndarray | None = None
     probabilities: np.ndarray | None = None
     reasons: tuple[str, ...] = ()
+    samples_ok: np.ndarray | None = None
 
 
 def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Sequence[str]) -> list[dict]:
@@ -146,14 +149,19 @@ def evaluate_parameters(
     if robust is None:
         return Scores(objs, margins, ok, reasons=reasons)
     objs = objs.reshape(n, s, k)
-    margins = margins.reshape(n, s, m)
-    with np.errstate(all="ignore"):
-        import warnings
+    oks = ok.reshape(n, s)
+    # Variants the design checks reject (e.g. a wall the sampled shape leaves too thin) are left out,
+    # as in `predict`, and counted; a candidate with no buildable variant is invalid.
+    margins = np.where(oks[:, :, None], margins.reshape(n, s, m), np.nan)
+    n_ok = oks.sum(axis=1)
+    import warnings
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN objective of a failed candidate
-            pct = np.nanpercentile(objs, [5, 50, 95], axis=1).transpose(1, 2, 0)
-    quant = np.quantile(margins, 1.0 - robust.probability, axis=1, method="inverted_cdf")
-    prob = (margins >= 0).mean(axis=1)
-    good = ok.reshape(n, s).any(axis=1)  # a failed sample counts against the constraints
-    return Scores(pct[:, :, 1], quant, good, pct, prob, reasons)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows of an invalid candidate
+        pct = np.nanpercentile(np.where(oks[:, :, None], objs, np.nan), [5, 50, 95], axis=1).transpose(
+            1, 2, 0
+        )
+        quant = np.nanquantile(margins, 1.0 - robust.probability, axis=1, method="inverted_cdf")
+        prob = (margins >= 0).sum(axis=1) / np.maximum(n_ok, 1)[:, None]
+    quant = np.where(n_ok[:, None] > 0, quant, -np.inf)
+    return Scores(pct[:, :, 1], quant, n_ok > 0, pct, prob, reasons, n_ok)

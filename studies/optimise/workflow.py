@@ -45,6 +45,8 @@ class _Recorder:
             row[f"margin {c.text}"] = float(s.margins[i, j])
             if s.probabilities is not None:
                 row[f"probability {c.text}"] = float(s.probabilities[i, j])
+        if s.samples_ok is not None:
+            row["buildable samples"] = int(s.samples_ok[i])
         row["ok"] = bool(s.ok[i])
         row["feasible"] = bool(s.ok[i] and np.all(s.margins[i] >= 0) and np.all(np.isfinite(s.objectives[i])))
         row["reason"] = s.reasons[i] if s.reasons else ""
