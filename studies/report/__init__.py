@@ -308,6 +308,7 @@ def write_report(
         body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
         if prefix:
             body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+        body = _explore_link(sweep_dir, stage) + body
         (stage / "index.html").write_text(
             page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
             encoding="utf-8",
@@ -318,6 +319,19 @@ def write_report(
             stale.unlink()
     path = out / "index.html"
     return path, sections
+
+
+def _explore_link(sweep_dir: Path, stage: Path) -> str:
+    """Write the interactive ``explore.html`` beside the page; the link to it."""
+    from softcath.studies.report.explore import write_explore
+    from softcath.studies.results import read_results
+
+    params = [p["path"] for p in _manifest(sweep_dir)["spec"]["parameters"]]
+    write_explore(sweep_dir, stage, read_results(sweep_dir), params)
+    return (
+        "<p><b><a href='explore.html'>Explore interactively</a></b>: hover for a design's parameters, "
+        "brush ranges in parallel coordinates, click a Pareto design for its section and tip.</p>"
+    )
 
 
 _ = Markup  # re-exported for callers building tables with HTML cells

@@ -20,6 +20,8 @@ from softcath.studies.report.html import esc
 __all__ = ["PLOTLY_JS", "write_plotly_js", "script_tag", "chart", "parity", "parallel", "pareto"]
 
 PLOTLY_JS = "plotly.min.js"
+#: Points drawn as SVG (hover on each); above this, WebGL.
+SVG_POINTS = 5000
 
 
 def write_plotly_js(folder: str | Path) -> Path:
@@ -68,7 +70,8 @@ def parity(x, y, params: Mapping[str, Sequence], *, xlabel: str, ylabel: str, na
 
     x, y = np.asarray(x, float), np.asarray(y, float)
     fig = go.Figure()
-    fig.add_trace(go.Scattergl(x=x, y=y, mode="markers", name=name, marker={"size": 6, "opacity": 0.7},
+    kind = go.Scatter if len(x) <= SVG_POINTS else go.Scattergl  # WebGL only where SVG gets slow
+    fig.add_trace(kind(x=x, y=y, mode="markers", name=name, marker={"size": 6, "opacity": 0.7},
                                text=_hover(params, len(x), label), hovertemplate="%{text}<extra></extra>"))  # fmt: skip
     finite = np.concatenate([x[np.isfinite(x)], y[np.isfinite(y)]])
     if finite.size:

@@ -3,7 +3,7 @@
 Winners (parameters, objectives, constraint margins, robust percentiles and
 probabilities, the 3-D FEM re-check), every evaluation in parallel
 coordinates (brush an axis to filter), the objectives of every evaluation
-with the winners highlighted (a click shows the design's section picture),
+with the winners highlighted (a click shows the design's section and bent tip),
 and a static convergence PNG for print.
 """
 
@@ -58,15 +58,19 @@ def _convergence_png(opt: dict, hist, path: Path) -> Path:
     return _save(fig, path)
 
 
-def _design_info(out_dir: Path, w: dict, draw: bool) -> dict:
+def _design_info(out_dir: Path, w: dict, draw: bool, opt: dict) -> dict:
+    """Label, hover/click HTML and the section-and-tip picture of a winner."""
     image = ""
     src = out_dir / "designs" / f"{w['name']}.toml"
     if draw and src.is_file():
-        from softcath import design
-        from softcath.studies.plots import section_plot
+        from softcath import analytic, design
+        from softcath.studies.report.figures import render_design
 
-        png = out_dir / "designs" / f"{w['name']}.png"
-        section_plot(png, design.load(src), title=w["name"])
+        d = design.load(src)
+        p_max = max(opt["pressures_MPa"])
+        kappa = float(np.asarray(analytic.response(d, np.array([p_max]), load="cap").curvature)[0])
+        png = render_design(d, out_dir / "designs" / f"{w['name']}.png", title=w["name"],
+                            curvatures={f"paper's formula, {fmt(p_max)} MPa": kappa})  # fmt: skip
         image = f"designs/{png.name}"
     lines = [f"<b>{esc(w['name'])}</b>{'' if w['feasible'] else ' (infeasible)'}"]
     lines += [f"{esc(k)} = {fmt(v)}" for k, v in {**w["parameters"], **w["objectives"]}.items()]
@@ -141,19 +145,24 @@ def write_optimum_report(out_dir: str | Path) -> Path:
         "Parameters and results of every evaluated design; drag along an axis to brush a range.",
     )  # fmt: skip
     draw = len(opt["best"]) <= MAX_PICTURES
-    info = [_design_info(out_dir, w, draw) for w in opt["best"]]
+    info = [_design_info(out_dir, w, draw, opt) for w in opt["best"]]
     x = [w["objectives"][objs[0]] for w in opt["best"]]
     if len(objs) > 1:
         y, ylab = [w["objectives"][objs[1]] for w in opt["best"]], objs[1]
     else:
         y, ylab = [w["constraints"][cons[0]] if cons else 0.0 for w in opt["best"]], (
             f"margin {cons[0]}" if cons else "")  # fmt: skip
-    feas = hist["feasible"].to_numpy(bool)
+    hy_src = hist[objs[1]] if len(objs) > 1 else (hist[f"margin {cons[0]}"] if cons else hist[objs[0]] * 0)
+    hx_all, hy_all = hist[objs[0]].to_numpy(float), hy_src.to_numpy(float)
+    winners = set(zip(np.asarray(x, float).tolist(), np.asarray(y, float).tolist(), strict=True))
+    # the other feasible evaluations (a winner's own evaluation is drawn once, as a winner)
+    feas = hist["feasible"].to_numpy(bool) & np.array(
+        [(a, b) not in winners for a, b in zip(hx_all.tolist(), hy_all.tolist(), strict=True)], bool
+    )
     all_info = info + [{"label": f"evaluation {i}", "html": f"evaluation {i}", "image": ""}
                        for i in np.flatnonzero(feas)]  # fmt: skip
-    hx = np.concatenate([np.asarray(x, float), hist[objs[0]].to_numpy(float)[feas]])
-    hy_src = hist[objs[1]] if len(objs) > 1 else (hist[f"margin {cons[0]}"] if cons else hist[objs[0]] * 0)
-    hy = np.concatenate([np.asarray(y, float), hy_src.to_numpy(float)[feas]])
+    hx = np.concatenate([np.asarray(x, float), hx_all[feas]])
+    hy = np.concatenate([np.asarray(y, float), hy_all[feas]])
     front = np.r_[np.ones(len(x), bool), np.zeros(int(feas.sum()), bool)]
     fig = ia.pareto(hx, hy, all_info, xlabel=objs[0], ylabel=ylab, on_front=front)
     body += "<h2>Objectives</h2>" + ia.chart(
