@@ -105,6 +105,14 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
         f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
     )
+    rb = sel.get("robust")
+    if rb:
+        out += (
+            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked designs "
+            f"meet every constraint with probability ≥ {fmt(rb['P'])} over {rb['samples']} samples of "
+            + ", ".join(f"<code>{esc(r['path'])}</code>" for r in rb["ranges"])
+            + "; the ranking below is on the objectives' p50.</p>"
+        )
     if fig_dir is not None:
         ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
         if ppath:

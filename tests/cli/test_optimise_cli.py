@@ -62,3 +62,17 @@ def test_optimise_refuses_bad_objectives(tmp_path, capsys, bad):
         ]
     )
     assert rc == 2 and "error" in capsys.readouterr().err
+
+
+def test_optimise_robust_reports_probabilities(tmp_path):
+    out = tmp_path / "rob"
+    rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4",
+               "--objective", "maximise bend_angle_deg at p=0.5", "--constraint", "bend_angle_deg <= 10 at p=0.5",
+               "--robust", "0.8", "--robust-vary", "materials.ecoflex_00_30.youngs_modulus=0.069:0.118",
+               "--samples", "8", "--budget", "30", "--no-fem-check", "--no-progress", "--out", str(out)])  # fmt: skip
+    assert rc == 0
+    doc = json.loads((out / "optimum.json").read_text())
+    assert doc["robust"]["P"] == 0.8 and doc["model_runs"] == 8 * doc["evaluations"]
+    best = doc["best"][0]
+    assert best["probabilities"]["bend_angle_deg <= 10 at p=0.5"] >= 0.8
+    assert set(best["percentiles"]["maximise bend_angle_deg at p=0.5"]) == {"p5", "p50", "p95"}
