@@ -20,8 +20,8 @@ from softcath.studies.report.html import Markup, esc, figure, fmt, note, page, t
 
 __all__ = ["write_optimum_report"]
 
-#: Winners drawn as section pictures (each ~0.3 s).
-MAX_PICTURES = 24
+#: Winners drawn as section-and-tip pictures (each ~0.3 s): the first ones of the Pareto set.
+MAX_PICTURES = 12
 
 
 def _read(out_dir: Path):
@@ -144,8 +144,7 @@ def write_optimum_report(out_dir: str | Path) -> Path:
         ia.parallel(cols, color=objs[0]), "opt-parallel",
         "Parameters and results of every evaluated design; drag along an axis to brush a range.",
     )  # fmt: skip
-    draw = len(opt["best"]) <= MAX_PICTURES
-    info = [_design_info(out_dir, w, draw, opt) for w in opt["best"]]
+    info = [_design_info(out_dir, w, k < MAX_PICTURES, opt) for k, w in enumerate(opt["best"])]
     x = [w["objectives"][objs[0]] for w in opt["best"]]
     if len(objs) > 1:
         y, ylab = [w["objectives"][objs[1]] for w in opt["best"]], objs[1]

@@ -12,15 +12,16 @@ from softcath.cli.main import main
 E_TUBE = "materials.medical_silicone_tubing.youngs_modulus"
 
 
-def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys):
+def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("softcath.studies.report.optimum.MAX_PICTURES", 2)  # pictures take ~0.3 s each
     out = tmp_path / "opt"
     rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4", "--vary", "tube.h=-0.03:0.03",
                "--objective", "maximise bend_angle_deg at p=0.5", "--objective", "minimise max_strain at p=0.5",
-               "--constraint", "bend_angle_deg >= 8 at p=0.5", "--budget", "40", "--no-fem-check",
+               "--constraint", "bend_angle_deg >= 8 at p=0.5", "--budget", "30", "--no-fem-check",
                "--no-progress", "--out", str(out)])  # fmt: skip
     assert rc == 0
     doc = json.loads((out / "optimum.json").read_text())
-    assert doc["model"] == "paper" and doc["evaluations"] <= 40
+    assert doc["model"] == "paper" and doc["evaluations"] <= 30
     assert doc["best"]
     for w in doc["best"]:
         assert set(w["parameters"]) == {E_TUBE, "tube.h"}
@@ -32,6 +33,7 @@ def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys):
     html = (out / "index.html").read_text()
     assert '<script src="plotly.min.js">' in html and (out / "plotly.min.js").stat().st_size > 1e6
     assert "NSGA-II" in capsys.readouterr().out
+    assert len(list((out / "designs").glob("*.png"))) == min(2, len(doc["best"]))
 
 
 def test_optimise_refusals_name_the_option(tmp_path, capsys):
