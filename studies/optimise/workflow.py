@@ -102,7 +102,8 @@ def optimise(
     seed
         Seeds the search (and nothing else: the robust sample has its own seed).
     robust
-        Optimise the objectives' p50 under constraints met with probability ≥ P.
+        Optimise the objectives' p50 under constraints met with probability ≥ P (a range on a
+        design variable is left out: the optimiser chooses that value).
     workers, scheduler, client
         Local processes, a Dask scheduler address, or a Dask client (one at most).
     fem_check
@@ -115,6 +116,12 @@ def optimise(
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 10:
         raise DesignError("budget", budget, "must be an integer >= 10")
     t0 = time.perf_counter()
+    if robust is not None and {r.path for r in robust.ranges} & set(problem.paths):
+        from softcath.studies.optimise.evaluate import make_robustness
+
+        # a design variable is the optimiser's to choose, not uncertain: its range is left out
+        kept = [r for r in robust.ranges if r.path not in problem.paths]
+        robust = make_robustness(robust.probability, kept, samples=robust.samples, seed=robust.seed)
     signs = np.array([o.sign for o in problem.objectives])
     with (
         Backend(workers=workers, scheduler=scheduler, client=client) as backend,

@@ -158,3 +158,15 @@ def test_winner_rechecked_by_the_3d_fem(table):
     assert check["objectives"]["maximise bend_angle_deg at p=0.5"] == pytest.approx(
         best.objectives["maximise bend_angle_deg at p=0.5"], rel=0.05
     )
+
+
+def test_robust_range_on_a_design_variable_is_left_out(table):
+    ranges = [
+        Range(E_TUBE, low=1.6, high=4.4),
+        Range("materials.ecoflex_00_30.youngs_modulus", low=0.05, high=0.2),
+    ]
+    rob = make_robustness(0.5, ranges, samples=4, seed=0)
+    p = make_problem(table, variables=[f"{E_TUBE}=1:4"], objectives=[BEND], model="paper", load="cap")
+    opt = optimise(p, budget=20, seed=0, robust=rob, progress=False)
+    assert [r["path"] for r in opt.robust["ranges"]] == ["materials.ecoflex_00_30.youngs_modulus"]
+    assert opt.best[0].parameters[E_TUBE] == pytest.approx(1.0, rel=0.01)
