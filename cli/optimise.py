@@ -90,6 +90,11 @@ def run(args: argparse.Namespace) -> int:
         objs = ", ".join(f"{k} = {v:.4g}" for k, v in w.objectives.items() if v is not None)
         params = ", ".join(f"{k}={v:.4g}" for k, v in w.parameters.items())
         print(f"  {w.name}{'' if w.feasible else ' (INFEASIBLE)'}: {objs}; {params}")
+        if w.probabilities is not None:
+            pct = "; ".join(f"{k.split(None, 1)[-1]}: {_g(v['p5'])}/{_g(v['p50'])}/{_g(v['p95'])}"
+                            for k, v in w.percentiles.items())  # fmt: skip
+            prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in w.probabilities.items())
+            print(f"    p5/p50/p95 {pct}{'; ' + prob if prob else ''}")
         if w.fem_check:
             print(f"    {_fem_line(w.fem_check)}")
     if len(opt.best) > 5:
@@ -113,3 +118,7 @@ def _fem_line(check: dict) -> str:
     rd = check["curvature_rel_diff"]
     agree = f"; its curvature differs from the model's by {rd:.2%}" if rd is not None else ""
     return f"3-D FEM: {verdict} the constraints{agree}"
+
+
+def _g(v) -> str:
+    return "—" if v is None else f"{v:.4g}"
