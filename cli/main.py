@@ -44,6 +44,7 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("discrepancy", "softcath.cli.discrepancy"),
     ("coil", "softcath.cli.coil"),
     ("predict", "softcath.cli.predict"),
+    ("optimise", "softcath.cli.optimise"),
 )
 
 EXIT_ERROR = 2

@@ -41,6 +41,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="load case to select on (default: lumen for the section model and FEM, cap for the paper's formula)",
     )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
+    robust = parser.add_argument_group(
+        "robust selection (re-evaluates the ranked designs over material ranges)"
+    )
+    robust.add_argument("--robust", type=float, default=None, metavar="P",
+                        help="keep designs meeting every constraint with probability >= P (e.g. 0.95)")  # fmt: skip
+    robust.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI",
+                        help="uncertain parameter (repeatable; default: the base design's ranges file)")  # fmt: skip
+    robust.add_argument("--ranges", default=None, metavar="FILE", help="ranges TOML (as softcath predict's)")
+    robust.add_argument("--samples", type=int, default=32, help="samples per design (default 32)")
+    robust.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
+    robust.add_argument("--robust-model", default=None, choices=("paper", "section", "section-nonlinear"),
+                        help="model of the re-evaluation (default: section; paper for a paper selection)")  # fmt: skip
+    robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
+    robust.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -65,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
         from softcath.studies.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
+    if args.robust is not None:
+        sel = _robust(args, sel)
     path = write_selection(sel, out)
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
@@ -82,5 +98,49 @@ def run(args: argparse.Namespace) -> int:
             f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["parameters"].items()
         )
         print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
+    if sel.robust is not None:
+        rb = sel.robust
+        print(f"robust ({rb['model']} model, P = {rb['P']:g}, {rb['samples']} samples of "
+              f"{', '.join(r['path'] for r in rb['ranges'])}): {rb['n_passing']} of {rb['n_evaluated']} pass")  # fmt: skip
+        if rb["left_out"]:
+            print(f"  ranges left out (swept by the sweep): {', '.join(rb['left_out'])}")
+        for r in sel.ranked[:5]:
+            pct = "; ".join(f"{k.split(None, 1)[-1]}: {v['p5']:.4g}/{v['p50']:.4g}/{v['p95']:.4g}"
+                            for k, v in r["percentiles"].items())  # fmt: skip
+            prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in r["probabilities"].items())
+            print(
+                f"  #{r['rank']} design {r['design_id']} (nominal #{r['nominal_rank']}): p5/p50/p95 {pct}; {prob}"
+            )
     print(f"selection: {path}")
     return 0
+
+
+def _robust(args: argparse.Namespace, sel):
+    """The robust re-evaluation of the nominal ranking."""
+    import json
+    from pathlib import Path
+
+    from softcath.design.errors import DataError, DesignError
+    from softcath.studies.selection import robust_select, sweep_ranges
+
+    manifest = Path(args.dir) / "sweep.json"
+    try:
+        doc = json.loads(manifest.read_text(encoding="utf-8"))
+        spec, base_table = doc["spec"], doc["base_table"]
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); --robust needs it") from None
+    try:
+        ranges = sweep_ranges(spec.get("base", ""), base_table, args.vary, args.ranges)
+        return robust_select(
+            sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], probability=args.robust,
+            ranges=ranges, samples=args.samples, seed=args.seed, model=args.robust_model,
+            workers=args.workers, progress=not args.no_progress,
+        )  # fmt: skip
+    except DesignError as exc:
+        flags = {
+            "robust": "--robust",
+            "samples": "--samples",
+            "ranges": "--vary/--ranges",
+            "model": "--robust-model",
+        }
+        raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None

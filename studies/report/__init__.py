@@ -105,6 +105,14 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
         f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
     )
+    rb = sel.get("robust")
+    if rb:
+        out += (
+            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked designs "
+            f"meet every constraint with probability ≥ {fmt(rb['P'])} over {rb['samples']} samples of "
+            + ", ".join(f"<code>{esc(r['path'])}</code>" for r in rb["ranges"])
+            + "; the ranking below is on the objectives' p50.</p>"
+        )
     if fig_dir is not None:
         ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
         if ppath:
@@ -308,6 +316,7 @@ def write_report(
         body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
         if prefix:
             body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+        body = _explore_link(sweep_dir, stage) + body
         (stage / "index.html").write_text(
             page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
             encoding="utf-8",
@@ -318,6 +327,19 @@ def write_report(
             stale.unlink()
     path = out / "index.html"
     return path, sections
+
+
+def _explore_link(sweep_dir: Path, stage: Path) -> str:
+    """Write the interactive ``explore.html`` beside the page; the link to it."""
+    from softcath.studies.report.explore import write_explore
+    from softcath.studies.results import read_results
+
+    params = [p["path"] for p in _manifest(sweep_dir)["spec"]["parameters"]]
+    write_explore(sweep_dir, stage, read_results(sweep_dir), params)
+    return (
+        "<p><b><a href='explore.html'>Explore interactively</a></b>: hover for a design's parameters, "
+        "brush ranges in parallel coordinates, click a Pareto design for its section and tip.</p>"
+    )
 
 
 _ = Markup  # re-exported for callers building tables with HTML cells

@@ -34,6 +34,10 @@ choose explicitly (``paper``, ``section`` or ``fem``; ``cap`` or ``lumen``).
 Ranking: designs that fail (status) or break a constraint are dropped; the
 rest are ordered Pareto front first (no other design is at least as good in
 every objective and better in one), each group by the first objective.
+
+Robust selection (:func:`robust_select`): the ranked designs are re-evaluated
+over material and manufacturing ranges and kept when every constraint holds
+with probability ≥ P, ranked on the objectives' p50.
 """
 
 from __future__ import annotations
@@ -43,6 +47,7 @@ from softcath.studies.selection.expressions import SelectionError
 from softcath.studies.selection.models import MODEL_NAMES, resolve_model
 from softcath.studies.selection.output import write_selection
 from softcath.studies.selection.ranking import MAX_POINTS, Selection, pareto_front, select
+from softcath.studies.selection.robust import robust_select, sweep_ranges
 
 __all__ = [
     "Constraint",
@@ -55,6 +60,8 @@ __all__ = [
     "parse_objective",
     "pareto_front",
     "resolve_model",
+    "robust_select",
     "select",
+    "sweep_ranges",
     "write_selection",
 ]

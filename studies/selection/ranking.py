@@ -51,6 +51,9 @@ class Selection:
         ``fem``), or ``table`` when the results carry no model columns.
     note
         Why that model or load was used when it was not asked for (else empty).
+    robust
+        Robust re-evaluation (:func:`softcath.studies.selection.robust.robust_select`): P, samples,
+        ranges, model, per-design probabilities and percentiles; ``None`` for a nominal selection.
     constraints, objectives
         The expressions as given.
     n_designs, n_feasible
@@ -77,6 +80,7 @@ class Selection:
     points: list[list[float]] = field(default_factory=list)
     model: str = "table"
     note: str = ""
+    robust: dict | None = None
 
     def to_json(self) -> dict:
         return {
@@ -91,6 +95,7 @@ class Selection:
             "pareto_front": self.pareto_front,
             "ranked": self.ranked,
             "points": self.points,
+            **({"robust": self.robust} if self.robust is not None else {}),
         }
 
 

@@ -261,3 +261,139 @@ def test_the_checks_catch_a_broken_page(browser, tmp_path, body, what):
                 opened.check()
     finally:
         opened.close()
+
+
+# --- interactive (Plotly) pages: render offline, respond to a hover, a brush and a click ---------------
+
+
+def check_charts(opened: Opened, ids: tuple[str, ...]) -> None:
+    """Each Plotly chart drew its SVG, from the folder's own plotly.min.js."""
+    page = opened.page
+    assert page.evaluate("typeof Plotly") == "object", "plotly.min.js not loaded"
+    scripts = page.evaluate("Array.from(document.scripts).map(s => s.getAttribute('src')).filter(Boolean)")
+    assert scripts == ["plotly.min.js"]
+    for i in ids:
+        assert page.locator(f"[id='{i}'] .main-svg").count() >= 1, f"chart {i!r} did not render"
+
+
+def check_hover(opened: Opened, div: str, expect: str) -> None:
+    """Moving the mouse onto a point shows its hover label, which contains ``expect``."""
+    page = opened.page
+    point = page.locator(f"[id='{div}'] .scatterlayer .point").nth(1)
+    point.scroll_into_view_if_needed()
+    box = point.bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.wait_for_selector(f"[id='{div}'] .hoverlayer .hovertext", timeout=5000)
+    assert expect in page.locator(f"[id='{div}'] .hoverlayer").text_content()
+
+
+def check_brush(opened: Opened, div: str) -> None:
+    """A drag along the first axis of the parallel coordinates brushes a range (constraintrange)."""
+    page = opened.page
+    axis = page.locator(f"[id='{div}'] .axis-brush rect.background").first
+    axis.scroll_into_view_if_needed()
+    box = axis.bounding_box()
+    x = box["x"] + box["width"] / 2
+    assert page.evaluate(f"document.getElementById('{div}').data[0].dimensions[0].constraintrange") is None
+    page.mouse.move(x, box["y"] + 0.2 * box["height"])
+    page.mouse.down()
+    page.mouse.move(x, box["y"] + 0.6 * box["height"], steps=6)
+    page.mouse.up()
+    brushed = page.evaluate(f"document.getElementById('{div}').data[0].dimensions[0].constraintrange")
+    assert brushed is not None and len(brushed) == 2 and brushed[0] < brushed[1]
+
+
+def check_click(opened: Opened, div: str, expect: str, image: bool = True) -> None:
+    """A click on a Pareto point shows the design (and its picture) in the panel beside the chart."""
+    page = opened.page
+    point = page.locator(f"[id='{div}'] .scatterlayer .trace").last.locator(".point").first
+    point.scroll_into_view_if_needed()
+    box = point.bounding_box()
+    page.mouse.click(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    panel = page.locator(f"[id='{div}-panel']")
+    panel.locator(f"text={expect}").first.wait_for(timeout=5000)
+    if image:
+        img = panel.locator("img")
+        img.wait_for(timeout=5000)
+        page.wait_for_function(
+            "i => i.complete && i.naturalWidth > 0", arg=img.element_handle(), timeout=5000
+        )
+
+
+def test_interactive_charts_respond_offline(browser, tmp_path):
+    """The chart helpers alone (no softcath run): render, hover, brush, click; no network."""
+    from softcath.studies.report import interactive as ia
+    from softcath.studies.report.html import page
+
+    ia.write_plotly_js(tmp_path)
+    x = np.linspace(0.1, 1.0, 12)
+    params = {"tube.h": np.linspace(-0.04, 0.04, 12)}
+    info = [{"label": f"design {i}", "html": f"<b>design {i}</b>", "image": ""} for i in range(12)]
+    body = ia.script_tag()
+    body += ia.chart(ia.parity(x, 1.1 * x, params, xlabel="a", ylabel="b", name="cap"), "par", "parity")
+    body += ia.chart(ia.parallel({"tube.h": params["tube.h"], "bend": 30 * x}, color="bend"), "pc", "pc")
+    body += ia.chart(ia.pareto(x, x**2, info, xlabel="a", ylabel="b", on_front=x > 0.5), "po", "po")
+    body += ia.click_panel("po", info)
+    html = tmp_path / "charts.html"
+    html.write_text(page("charts", body))
+    opened = Opened(browser, html, tmp_path, "charts")
+    try:
+        opened.check(headings=("charts",))
+        check_charts(opened, ("par", "pc", "po"))
+        check_hover(opened, "par", "tube.h = ")
+        check_brush(opened, "pc")
+        check_click(opened, "po", "design", image=False)
+        opened.assert_clean()
+    finally:
+        opened.close()
+
+
+@pytest.mark.slow
+def test_sweep_explore_page(browser, tmp_path, spec_writer):
+    """`softcath report` after a two-objective select: explore.html's parity, parallel coordinates and Pareto."""
+    spec = spec_writer(
+        """
+        [sweep]
+        name = "explore"
+        base = "paper"
+        pressures_MPa = [0.5, 1.0]
+        loads = ["cap", "lumen"]
+        [parameters]
+        "tube.h" = { values = [-0.03, 0.0, 0.03] }
+        "tube.a_int" = { values = [0.08, 0.1, 0.12] }
+        """
+    )
+    out = tmp_path / "run"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    assert main(["select", str(out), "--objective", "maximise bend_per_MPa_deg",
+                 "--objective", "minimise elongation at p_max"]) == 0  # fmt: skip
+    assert main(["report", str(out)]) == 0
+    opened = Opened(browser, out / "report" / "explore.html", tmp_path, "sweep_explore")
+    try:
+        opened.check(headings=("Parity", "Parameters and results", "Selection"))
+        check_charts(opened, ("parity-cap", "parallel", "pareto"))
+        check_hover(opened, "parity-cap", "tube.a_int = ")
+        check_brush(opened, "parallel")
+        check_click(opened, "pareto", "design")
+        opened.assert_clean()
+    finally:
+        opened.close()
+
+
+@pytest.mark.slow
+def test_optimise_report_page(browser, tmp_path):
+    """`softcath optimise` (NSGA-II on the formula): its report's parallel coordinates and Pareto click."""
+    out = tmp_path / "opt"
+    assert main(["optimise", "paper", "--model", "paper", "--vary", "tube.h=-0.03:0.03",
+                 "--vary", "materials.medical_silicone_tubing.youngs_modulus=1:4",
+                 "--objective", "maximise bend_angle_deg at p=0.5", "--objective", "minimise max_strain at p=0.5",
+                 "--budget", "40", "--no-fem-check", "--no-progress", "--out", str(out)]) == 0  # fmt: skip
+    opened = Opened(browser, out / "index.html", tmp_path, "optimise_report")
+    try:
+        opened.check(headings=("Winners", "Every evaluation", "Objectives", "Convergence"))
+        check_charts(opened, ("opt-parallel", "opt-pareto"))
+        check_brush(opened, "opt-parallel")
+        check_click(opened, "opt-pareto", "pareto_")
+        opened.assert_clean()
+    finally:
+        opened.close()

@@ -1,0 +1,124 @@
+"""Optimise a design over dotted design paths, with `select`'s expressions as objectives and constraints.
+
+Example: softcath optimise paper --vary tube.h=-0.04:0.04 --vary tube.a_int=0.07:0.13
+--objective "maximise bend_angle_deg at p=0.5" --constraint "max_strain <= 0.3" --out out/opt.
+One objective: differential evolution (pymoo) then a COBYLA polish; several: NSGA-II (pymoo), the
+Pareto set. --robust P optimises the objectives' p50 over the design's material/manufacturing ranges
+(those of `softcath predict`) with every constraint met with probability >= P. Writes
+DIR/optimum.json, DIR/history.parquet, DIR/designs/*.toml and the report DIR/index.html.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from softcath.cli.options import add_design, add_out, add_pressure_list, add_progress, add_seed
+
+HELP = "optimise a design (DE or NSGA-II) under select-style objectives and constraints"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    add_design(p)
+    p.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI", required=True,
+                   help="a design variable: dotted design path and bounds (repeatable)")  # fmt: skip
+    p.add_argument("--objective", action="append", default=[], metavar="EXPR", required=True,
+                   help="e.g. 'maximise bend_angle_deg at p=0.5' (repeat for a Pareto set)")  # fmt: skip
+    p.add_argument(
+        "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
+    )
+    p.add_argument("--model", default="section", choices=("paper", "section", "section-nonlinear"),
+                   help="model tier evaluating every candidate (default section)")  # fmt: skip
+    p.add_argument("--load", default=None, choices=("cap", "lumen"),
+                   help="load case (default: lumen; cap for the paper's formula)")  # fmt: skip
+    add_pressure_list(p, default="0.5")
+    p.add_argument("--robust", type=float, default=None, metavar="P",
+                   help="meet every constraint with probability >= P over the material ranges")  # fmt: skip
+    p.add_argument("--robust-vary", action="append", default=[], metavar="PATH=LO:HI",
+                   help="uncertain parameter for --robust (default: the design's ranges file)")  # fmt: skip
+    p.add_argument("--ranges", type=Path, default=None, help="ranges TOML for --robust")
+    p.add_argument("--samples", type=int, default=16, help="robust samples per candidate (default 16)")
+    p.add_argument("--budget", type=int, default=200, help="candidate designs to evaluate (default 200)")
+    add_seed(p, what="seed of the search and of the robust sample")
+    backend = p.add_mutually_exclusive_group()
+    backend.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
+    backend.add_argument(
+        "--scheduler", default=None, metavar="tcp://HOST:PORT", help="an existing Dask scheduler"
+    )
+    p.add_argument("--no-fem-check", action="store_true", help="skip the 3-D FEM re-check of the winners")
+    add_progress(p)
+    add_out(p)
+
+
+def run(args: argparse.Namespace) -> int:
+    from softcath.design.errors import DesignError
+    from softcath.studies.atomic import prepare_out_dir
+    from softcath.studies.optimise import make_problem, make_robustness, optimise, write_optimum
+    from softcath.studies.predict.ranges import base_table
+
+    try:
+        pressures = [float(x) for x in args.pressures.split(",") if x.strip()]
+    except ValueError:
+        raise DesignError("--pressures", args.pressures, "must be numbers separated by commas") from None
+    table = base_table(args.design)
+    load = args.load or ("cap" if args.model == "paper" else "lumen")
+    try:
+        problem = make_problem(
+            table, variables=args.vary, objectives=args.objective, constraints=args.constraint,
+            model=args.model, load=load, pressures_MPa=pressures,
+        )  # fmt: skip
+    except DesignError as exc:
+        raise DesignError(_flag(exc.parameter), exc.value, exc.bound) from None
+    robust = None
+    if args.robust is not None:
+        from softcath.studies.predict import resolve_ranges
+
+        ranges = resolve_ranges(args.design, args.robust_vary, args.ranges)
+        robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
+    out = prepare_out_dir(args.out)
+    opt = optimise(
+        problem, budget=args.budget, seed=args.seed, robust=robust, workers=args.workers,
+        scheduler=args.scheduler, fem_check=not args.no_fem_check, progress=not args.no_progress,
+    )  # fmt: skip
+    paths = write_optimum(opt, problem, out)
+    from softcath.studies.report.optimum import write_optimum_report
+
+    report = write_optimum_report(out)
+    print(f"{opt.algorithm} on the {opt.model} model ({opt.load} load), {opt.backend}: "
+          f"{opt.evaluations} designs ({opt.model_runs} model runs) in {opt.seconds:.1f} s")  # fmt: skip
+    for w in opt.best[:5]:
+        objs = ", ".join(f"{k} = {v:.4g}" for k, v in w.objectives.items() if v is not None)
+        params = ", ".join(f"{k}={v:.4g}" for k, v in w.parameters.items())
+        print(f"  {w.name}{'' if w.feasible else ' (INFEASIBLE)'}: {objs}; {params}")
+        if w.probabilities is not None:
+            pct = "; ".join(f"{k.split(None, 1)[-1]}: {_g(v['p5'])}/{_g(v['p50'])}/{_g(v['p95'])}"
+                            for k, v in w.percentiles.items())  # fmt: skip
+            prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in w.probabilities.items())
+            print(f"    p5/p50/p95 {pct}{'; ' + prob if prob else ''}")
+        if w.fem_check:
+            print(f"    {_fem_line(w.fem_check)}")
+    if len(opt.best) > 5:
+        print(f"  ... {len(opt.best) - 5} more on the Pareto front")
+    print(f"optimum: {paths['optimum']}; report: {report}")
+    return 0
+
+
+def _flag(parameter: str) -> str:
+    """The command-line option behind a library parameter name."""
+    head, _, rest = parameter.partition(".")
+    flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
+            "pressures_MPa": "--pressures", "model": "--model", "load": "--load"}.get(head)  # fmt: skip
+    return f"{flag} {rest}".strip() if flag else parameter
+
+
+def _fem_line(check: dict) -> str:
+    if check["status"] != "ok":
+        return f"3-D FEM re-check failed: {check['reason']}"
+    verdict = "meets" if check["feasible"] else "MISSES"
+    rd = check["curvature_rel_diff"]
+    agree = f"; its curvature differs from the model's by {rd:.2%}" if rd is not None else ""
+    return f"3-D FEM: {verdict} the constraints{agree}"
+
+
+def _g(v) -> str:
+    return "—" if v is None else f"{v:.4g}"

@@ -1,0 +1,164 @@
+"""An optimisation problem: design variables with bounds, objectives, constraints, a model tier, pressures.
+
+Objectives and constraints are :mod:`softcath.studies.selection` expressions
+over the sweep's result columns; the model tier names the sweep evaluator that
+computes them (``paper`` is the analytic formula every evaluation carries).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from softcath.design.errors import DesignError
+from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
+
+__all__ = ["EVALUATOR_OF", "Variable", "Problem", "parse_variable", "make_problem"]
+
+#: Model tier -> the sweep evaluator that computes its columns.
+EVALUATOR_OF = {"paper": "analytic", "section": "section", "section-nonlinear": "section-nonlinear"}
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One design variable: a dotted path of the base design and its bounds ``low < high``."""
+
+    path: str
+    low: float
+    high: float
+
+    def value(self, u: float) -> float:
+        """The value at unit coordinate ``u`` in [0, 1]."""
+        return self.low + float(u) * (self.high - self.low)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What to optimise (see the module docstring).
+
+    Attributes
+    ----------
+    base_table
+        The base design's TOML tables.
+    variables
+        The design variables.
+    objectives, constraints
+        Parsed expressions (one objective: a single-objective search; several: a Pareto set).
+    model
+        Model tier (a key of :data:`EVALUATOR_OF`).
+    load
+        Load case the expressions read (``cap`` or ``lumen``).
+    pressures_MPa
+        Pressures every design is evaluated at (ascending; ``at p=NUM`` pressures included).
+    section_options
+        Options of the section model (``mesh_size``, ``coil_bending``).
+    """
+
+    base_table: Mapping[str, Any]
+    variables: tuple[Variable, ...]
+    objectives: tuple[Objective, ...]
+    constraints: tuple[Constraint, ...]
+    model: str
+    load: str
+    pressures_MPa: tuple[float, ...]
+    section_options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def evaluator(self) -> str:
+        return EVALUATOR_OF[self.model]
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        return tuple(v.path for v in self.variables)
+
+    def parameters(self, unit: Sequence[float]) -> dict[str, float]:
+        """``{path: value}`` of the design at unit coordinates ``unit``."""
+        return {v.path: v.value(u) for v, u in zip(self.variables, unit, strict=True)}
+
+
+def parse_variable(text: str) -> Variable:
+    """``PATH=LO:HI`` -> :class:`Variable` (errors name ``vary.PATH``)."""
+    path, sep, spec = text.partition("=")
+    path = path.strip()
+    if not path or not sep:
+        raise DesignError("vary", text, "must be PATH=LO:HI")
+    parts = spec.split(":")
+    if len(parts) != 2:
+        raise DesignError(f"vary.{path}", spec, "must be LO:HI")
+    try:
+        low, high = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise DesignError(f"vary.{path}", spec, "LO and HI must be numbers") from None
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise DesignError(f"vary.{path}", spec, "LO and HI must be finite")
+    if not high > low:
+        raise DesignError(f"vary.{path}.high", high, f"must be > low = {low:g}")
+    return Variable(path, low, high)
+
+
+def _available_evaluators() -> tuple[str, ...]:
+    from softcath.studies.sweep.spec import EVALUATORS
+
+    return tuple(EVALUATORS)
+
+
+def make_problem(
+    base_table: Mapping[str, Any],
+    *,
+    variables: Sequence[Variable | str],
+    objectives: Sequence[str],
+    constraints: Sequence[str] = (),
+    model: str = "section",
+    load: str = "lumen",
+    pressures_MPa: Sequence[float] = (0.5,),
+    section_options: Mapping[str, Any] | None = None,
+) -> Problem:
+    """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
+    from softcath.studies.sweep.variants import check_path
+
+    if model not in EVALUATOR_OF:
+        raise DesignError("model", model, f"must be one of {', '.join(EVALUATOR_OF)}")
+    if EVALUATOR_OF[model] not in _available_evaluators():
+        raise DesignError(
+            "model", model, "this installation's sweep has no such evaluator yet; use section or paper"
+        )
+    if load not in ("cap", "lumen"):
+        raise DesignError("load", load, "must be cap or lumen")
+    vs = tuple(v if isinstance(v, Variable) else parse_variable(v) for v in variables)
+    if not vs:
+        raise DesignError("variables", [], "give at least one design variable PATH=LO:HI")
+    seen: set[str] = set()
+    for v in vs:
+        if v.path in seen:
+            raise DesignError(f"vary.{v.path}", v.path, "is given twice")
+        seen.add(v.path)
+        try:
+            check_path(base_table, v.path)
+        except DesignError as exc:
+            raise DesignError(f"vary.{v.path}", v.path, exc.bound) from None
+    if not objectives:
+        raise DesignError("objectives", [], "give at least one objective, e.g. 'maximise bend_angle_deg'")
+    objs = tuple(parse_objective(o) for o in objectives)
+    cons = tuple(parse_constraint(c) for c in constraints)
+    ps = set()
+    for p in pressures_MPa:
+        if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p) or p < 0:
+            raise DesignError("pressures_MPa", p, "must be finite numbers >= 0")
+        ps.add(float(p))
+    for item in (*objs, *cons):
+        if item.where and item.where.startswith("p="):
+            ps.add(float(item.where.split("=", 1)[1]))
+    if not any(p > 0 for p in ps):
+        raise DesignError("pressures_MPa", sorted(ps), "must include a pressure > 0")
+    return Problem(
+        base_table=base_table,
+        variables=vs,
+        objectives=objs,
+        constraints=cons,
+        model=model,
+        load=load,
+        pressures_MPa=tuple(sorted(ps)),
+        section_options=dict(section_options or {}),
+    )

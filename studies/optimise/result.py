@@ -1,0 +1,96 @@
+"""The outcome of an optimisation: winners with parameters, objectives and margins; the JSON it writes."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["Winner", "Optimum"]
+
+
+@dataclass(frozen=True)
+class Winner:
+    """One winning design.
+
+    Attributes
+    ----------
+    name
+        File stem of its design TOML (``best``, or ``pareto_01``…).
+    parameters
+        ``{path: value}`` of the design variables.
+    objectives
+        ``{objective text: value}`` (robust: the p50).
+    constraints
+        ``{constraint text: margin}``, ≥ 0 when met (robust: at probability P).
+    percentiles
+        Robust only: ``{objective text: {"p5", "p50", "p95"}}``.
+    probabilities
+        Robust only: ``{constraint text: probability of meeting it}``.
+    fem_check
+        The 3-D linear FEM's re-check (``None`` when skipped).
+    """
+
+    name: str
+    parameters: dict[str, float]
+    objectives: dict[str, float]
+    constraints: dict[str, float]
+    feasible: bool
+    percentiles: dict[str, dict[str, float]] | None = None
+    probabilities: dict[str, float] | None = None
+    fem_check: dict[str, Any] | None = None
+
+    def to_json(self) -> dict:
+        out = {
+            "name": self.name,
+            "parameters": self.parameters,
+            "objectives": self.objectives,
+            "constraints": self.constraints,
+            "feasible": self.feasible,
+        }
+        if self.percentiles is not None:
+            out["percentiles"] = self.percentiles
+            out["probabilities"] = self.probabilities
+        if self.fem_check is not None:
+            out["fem_check"] = self.fem_check
+        return out
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """What :func:`softcath.studies.optimise.optimise` found (``optimum.json``'s content)."""
+
+    model: str
+    load: str
+    algorithm: str
+    evaluations: int
+    model_runs: int
+    seed: int
+    budget: int
+    backend: str
+    variables: tuple[dict, ...]
+    objectives: tuple[str, ...]
+    constraints: tuple[str, ...]
+    pressures_MPa: tuple[float, ...]
+    best: tuple[Winner, ...]
+    seconds: float
+    robust: dict | None = None
+    history: Any = field(default=None, repr=False, compare=False)
+
+    def to_json(self) -> dict:
+        return {
+            "model": self.model,
+            "load": self.load,
+            "algorithm": self.algorithm,
+            "evaluations": self.evaluations,
+            "model_runs": self.model_runs,
+            "budget": self.budget,
+            "seed": self.seed,
+            "backend": self.backend,
+            "variables": list(self.variables),
+            "objectives": list(self.objectives),
+            "constraints": list(self.constraints),
+            "pressures_MPa": list(self.pressures_MPa),
+            "robust": self.robust,
+            "best": [w.to_json() for w in self.best],
+            "seconds": self.seconds,
+        }

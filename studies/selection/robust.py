@@ -1,0 +1,126 @@
+"""Robust selection: re-evaluate the nominal passers over material/manufacturing ranges, keep the sure ones.
+
+Each ranked design of a nominal :class:`~softcath.studies.selection.Selection`
+is combined with one seeded Latin-hypercube sample of the uncertain
+parameters (the ranges of ``softcath predict``; the same sample for every
+design) and evaluated by a sweep model tier (the section model unless the
+selection was on the paper's formula). A design passes when it meets every
+constraint with probability ≥ P; passers are ranked on the objectives' p50
+(Pareto front first, then the first objective), and every design reports
+p5/p50/p95 of each objective and the probability of each constraint.
+Variants the design checks reject (a sampled shape leaving too thin a wall)
+are left out of the probabilities, as ``predict`` does, and counted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from softcath.design.errors import DesignError
+from softcath.studies.selection.criteria import parse_constraint, parse_objective
+from softcath.studies.selection.ranking import Selection, pareto_front
+
+__all__ = ["sweep_ranges", "robust_select"]
+
+
+def sweep_ranges(
+    base: str, base_table: Mapping[str, Any], vary: Sequence[str] = (), ranges_file: str | Path | None = None
+) -> list:
+    """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's) defaults."""
+    from softcath.studies.predict.ranges import check_ranges, default_ranges, load_ranges, parse_vary
+
+    path = ranges_file if ranges_file is not None else default_ranges(str(base))
+    known = load_ranges(path) if path is not None else {}
+    if vary:
+        ranges = [parse_vary(v, known) for v in vary]
+    elif known:
+        ranges = [r for r, default in known.values() if default]
+    else:
+        raise DesignError("ranges", str(base), "the sweep's base design has no ranges file: give ranges")
+    check_ranges(ranges, dict(base_table))
+    return ranges
+
+
+def robust_select(
+    selection: Selection,
+    *,
+    base_table: Mapping[str, Any],
+    pressures_MPa: Sequence[float],
+    probability: float,
+    ranges: Sequence,
+    samples: int = 32,
+    seed: int = 0,
+    model: str | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = False,
+) -> Selection:
+    """``selection`` with its ranked designs re-evaluated robustly (see the module docstring).
+
+    Ranges on a parameter the sweep varied are left out (each design fixes
+    that value); the result's ``robust`` records P, the samples, the ranges,
+    the model and every design's probabilities and percentiles.
+    """
+    from tqdm import tqdm
+
+    from softcath.studies.optimise import Backend, Problem, evaluate_parameters, make_robustness
+
+    model = model or ("paper" if selection.model == "paper" else "section")
+    swept = {p for r in selection.ranked for p in r["parameters"]}
+    use = [r for r in ranges if r.path not in swept]
+    left_out = [r.path for r in ranges if r.path in swept]
+    rob = make_robustness(probability, use, samples=samples, seed=seed)
+    objs = tuple(parse_objective(o) for o in selection.objectives)
+    cons = tuple(parse_constraint(c) for c in selection.constraints)
+    problem = Problem(base_table=base_table, variables=(), objectives=objs, constraints=cons, model=model,
+                      load=selection.load, pressures_MPa=tuple(sorted(set(pressures_MPa))))  # fmt: skip
+    designs = [{k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
+               for r in selection.ranked]  # fmt: skip
+    scores = []
+    with Backend(workers=workers, scheduler=scheduler) as backend, tqdm(
+        total=len(designs), desc="robust select", unit="design", disable=not progress
+    ) as bar:  # fmt: skip
+        for d in designs:  # one design (its whole sample) per batch: the bar moves as designs finish
+            scores.append(evaluate_parameters(problem, [d], backend, rob))
+            bar.update()
+    per_design, passing = {}, []
+    for r, s in zip(selection.ranked, scores, strict=True):
+        did = r["design_id"]
+        probs = {c.text: float(s.probabilities[0, j]) for j, c in enumerate(cons)}
+        pct = {o.text: dict(zip(("p5", "p50", "p95"), map(_num, s.percentiles[0, j]), strict=True))
+               for j, o in enumerate(objs)}  # fmt: skip
+        ok = bool(s.ok[0] and all(p >= probability for p in probs.values())
+                  and all(v["p50"] is not None for v in pct.values()))  # fmt: skip
+        per_design[str(did)] = {"passes": ok, "probabilities": probs, "percentiles": pct,
+                                "buildable_samples": int(s.samples_ok[0])}  # fmt: skip
+        if ok:
+            passing.append((r, [o.sign * pct[o.text]["p50"] for o in objs]))
+    matrix = np.array([v for _, v in passing], float).reshape(len(passing), len(objs))
+    front = pareto_front(matrix)
+    order = sorted(
+        range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
+    )
+    ranked = []
+    for rank, k in enumerate(order, start=1):
+        r = passing[k][0]
+        info = per_design[str(r["design_id"])]
+        ranked.append({**r, "rank": rank, "pareto": bool(front[k]), "nominal_rank": r["rank"],
+                       "objectives": {t: v["p50"] for t, v in info["percentiles"].items()},
+                       "percentiles": info["percentiles"], "probabilities": info["probabilities"]})  # fmt: skip
+    robust = {
+        **rob.to_json(), "model": model, "left_out": left_out, "n_evaluated": len(designs),
+        "n_passing": len(passing), "designs": per_design,
+    }  # fmt: skip
+    return dataclasses.replace(
+        selection, ranked=ranked, robust=robust,
+        pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
+    )  # fmt: skip
+
+
+def _num(v) -> float | None:
+    return float(v) if np.isfinite(v) else None

@@ -1,0 +1,80 @@
+"""softcath optimise: the files it writes, and its refusals naming the option."""
+
+from __future__ import annotations
+
+import json
+
+import pandas as pd
+import pytest
+
+from softcath.cli.main import main
+
+E_TUBE = "materials.medical_silicone_tubing.youngs_modulus"
+
+
+def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("softcath.studies.report.optimum.MAX_PICTURES", 2)  # pictures take ~0.3 s each
+    out = tmp_path / "opt"
+    rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4", "--vary", "tube.h=-0.03:0.03",
+               "--objective", "maximise bend_angle_deg at p=0.5", "--objective", "minimise max_strain at p=0.5",
+               "--constraint", "bend_angle_deg >= 8 at p=0.5", "--budget", "30", "--no-fem-check",
+               "--no-progress", "--out", str(out)])  # fmt: skip
+    assert rc == 0
+    doc = json.loads((out / "optimum.json").read_text())
+    assert doc["model"] == "paper" and doc["evaluations"] <= 30
+    assert doc["best"]
+    for w in doc["best"]:
+        assert set(w["parameters"]) == {E_TUBE, "tube.h"}
+        assert set(w["objectives"]) == {"maximise bend_angle_deg at p=0.5", "minimise max_strain at p=0.5"}
+        assert w["constraints"]["bend_angle_deg >= 8 at p=0.5"] >= 0
+        assert (out / "designs" / f"{w['name']}.toml").is_file()
+    hist = pd.read_parquet(out / "history.parquet")
+    assert len(hist) == doc["evaluations"] and "margin bend_angle_deg >= 8 at p=0.5" in hist
+    html = (out / "index.html").read_text()
+    assert '<script src="plotly.min.js">' in html and (out / "plotly.min.js").stat().st_size > 1e6
+    assert "NSGA-II" in capsys.readouterr().out
+    assert len(list((out / "designs").glob("*.png"))) == min(2, len(doc["best"]))
+
+
+def test_optimise_refusals_name_the_option(tmp_path, capsys):
+    rc = main(["optimise", "paper", "--vary", "tube.h=0.1:-0.1", "--objective", "maximise bend_angle_deg",
+               "--out", str(tmp_path / "o")])  # fmt: skip
+    assert rc == 2
+    assert "--vary tube.h" in capsys.readouterr().err
+    rc = main(["optimise", "paper", "--vary", "tube.h=0:0.01", "--objective", "maximise bend_angle_deg",
+               "--robust", "1.5", "--model", "paper", "--out", str(tmp_path / "o")])  # fmt: skip
+    assert rc == 2
+    assert "robust = 1.5" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("bad", ["maximise bend_angle_deg ** 2", "bend_angle_deg", "maximise bend_angel_deg"])
+def test_optimise_refuses_bad_objectives(tmp_path, capsys, bad):
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--vary",
+            "tube.h=0:0.01",
+            "--objective",
+            bad,
+            "--model",
+            "paper",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
+    assert rc == 2 and "error" in capsys.readouterr().err
+
+
+def test_optimise_robust_reports_probabilities(tmp_path):
+    out = tmp_path / "rob"
+    rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4",
+               "--objective", "maximise bend_angle_deg at p=0.5", "--constraint", "bend_angle_deg <= 10 at p=0.5",
+               "--robust", "0.8", "--robust-vary", "materials.ecoflex_00_30.youngs_modulus=0.069:0.118",
+               "--samples", "8", "--budget", "30", "--no-fem-check", "--no-progress", "--out", str(out)])  # fmt: skip
+    assert rc == 0
+    doc = json.loads((out / "optimum.json").read_text())
+    assert doc["robust"]["P"] == 0.8 and doc["model_runs"] == 8 * doc["evaluations"]
+    best = doc["best"][0]
+    assert best["probabilities"]["bend_angle_deg <= 10 at p=0.5"] >= 0.8
+    assert set(best["percentiles"]["maximise bend_angle_deg at p=0.5"]) == {"p5", "p50", "p95"}
