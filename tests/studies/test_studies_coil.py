@@ -52,7 +52,7 @@ def test_coil_writes_json_and_png(tmp_path):
     ("argv", "message"),
     [
         (["coil", "nope"], "softcath coil: error: design = 'nope'"),
-        (["coil", "paper", "--elements-per-turn", "4"], "elements_per_turn = 4: must be an integer >= 6"),
+        (["coil", "paper", "--elements-per-turn", "4"], "--elements-per-turn = 4: must be an integer >= 6"),
     ],
 )
 def test_coil_bad_input_is_one_line(tmp_path, capsys, argv, message):
