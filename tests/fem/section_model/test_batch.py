@@ -80,3 +80,18 @@ def test_as_built_designs_are_solved_as_built_next_to_batched_ones():
     assert items[0].result.curvature_per_mm_per_MPa["lumen"] != pytest.approx(
         bonded.curvature_per_mm_per_MPa["lumen"], rel=1e-3
     )
+
+
+def test_chunked_assembly_gives_the_same_answers(monkeypatch):
+    """Designs of one template are assembled CHUNK at a time (memory); the answers do not depend on it."""
+    from softcath.fem.section_model import batch
+
+    designs = random_designs(4, seed=41) + [design.resolve("paper")] * 3
+    whole = section_models(designs, loads=("lumen",))
+    monkeypatch.setattr(batch, "CHUNK", 2)
+    chunked = section_models(designs, loads=("lumen",))
+    for a, b in zip(whole, chunked, strict=True):
+        assert b.result.curvature_per_mm_per_MPa == pytest.approx(
+            a.result.curvature_per_mm_per_MPa, rel=1e-12
+        )
+        assert b.strain_range["lumen"] == pytest.approx(a.strain_range["lumen"], rel=1e-12)
