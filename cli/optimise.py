@@ -11,9 +11,17 @@ DIR/optimum.json, DIR/history.parquet, DIR/designs/*.toml and the report DIR/ind
 from __future__ import annotations
 
 import argparse
+import contextlib
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_pressure_list, add_progress, add_seed
+from softcath.cli.options import (
+    add_design,
+    add_out,
+    add_pressure_list,
+    add_progress,
+    add_seed,
+    parse_pressure_list,
+)
 
 HELP = "optimise a design (DE or NSGA-II) under select-style objectives and constraints"
 
@@ -51,35 +59,32 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.design.errors import DesignError
     from softcath.studies.atomic import prepare_out_dir
-    from softcath.studies.optimise import make_problem, make_robustness, optimise, write_optimum
+    from softcath.studies.optimise import check_search, make_problem, make_robustness, optimise, write_optimum
     from softcath.studies.predict.ranges import base_table
 
-    try:
-        pressures = [float(x) for x in args.pressures.split(",") if x.strip()]
-    except ValueError:
-        raise DesignError("--pressures", args.pressures, "must be numbers separated by commas") from None
+    # Everything that can be checked is checked before the output folder or any run.
+    pressures = parse_pressure_list(args.pressures, param="--pressures")
     table = base_table(args.design)
     load = args.load or ("cap" if args.model == "paper" else "lumen")
-    try:
+    with _as_options():
         problem = make_problem(
             table, variables=args.vary, objectives=args.objective, constraints=args.constraint,
             model=args.model, load=load, pressures_MPa=pressures,
         )  # fmt: skip
-    except DesignError as exc:
-        raise DesignError(_flag(exc.parameter), exc.value, exc.bound) from None
-    robust = None
-    if args.robust is not None:
-        from softcath.studies.predict import resolve_ranges
+        robust = None
+        if args.robust is not None:
+            from softcath.studies.predict import resolve_ranges
 
-        ranges = resolve_ranges(args.design, args.robust_vary, args.ranges)
-        robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
+            ranges = resolve_ranges(args.design, args.robust_vary, args.ranges)
+            robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
+        check_search(problem, budget=args.budget, seed=args.seed, robust=robust)
     out = prepare_out_dir(args.out)
-    opt = optimise(
-        problem, budget=args.budget, seed=args.seed, robust=robust, workers=args.workers,
-        scheduler=args.scheduler, fem_check=not args.no_fem_check, progress=not args.no_progress,
-    )  # fmt: skip
+    with _as_options():
+        opt = optimise(
+            problem, budget=args.budget, seed=args.seed, robust=robust, workers=args.workers,
+            scheduler=args.scheduler, fem_check=not args.no_fem_check, progress=not args.no_progress,
+        )  # fmt: skip
     paths = write_optimum(opt, problem, out)
     from softcath.studies.report.optimum import write_optimum_report
 
@@ -107,8 +112,21 @@ def _flag(parameter: str) -> str:
     """The command-line option behind a library parameter name."""
     head, _, rest = parameter.partition(".")
     flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
-            "pressures_MPa": "--pressures", "model": "--model", "load": "--load"}.get(head)  # fmt: skip
+            "pressures_MPa": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
+            "samples": "--samples", "seed": "--seed", "robust": "--robust", "workers": "--workers",
+            "ranges": "--robust-vary/--ranges", "backend": "--workers/--scheduler"}.get(head)  # fmt: skip
     return f"{flag} {rest}".strip() if flag else parameter
+
+
+@contextlib.contextmanager
+def _as_options():
+    """A library refusal in this command's terms (:func:`_flag`), value and bound kept."""
+    from softcath.design.errors import DesignError
+
+    try:
+        yield
+    except DesignError as exc:
+        raise DesignError(_flag(exc.parameter), exc.value, exc.bound) from None
 
 
 def _fem_line(check: dict) -> str:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out
+from softcath.cli.options import add_out, add_seed
 
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
@@ -50,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="uncertain parameter (repeatable; default: the base design's ranges file)")  # fmt: skip
     robust.add_argument("--ranges", default=None, metavar="FILE", help="ranges TOML (as softcath predict's)")
     robust.add_argument("--samples", type=int, default=32, help="samples per design (default 32)")
-    robust.add_argument("--seed", type=int, default=0, help="seed of the sample (default 0)")
+    add_seed(robust, what="seed of the sample")
     robust.add_argument("--robust-model", default=None, choices=("paper", "section", "section-nonlinear"),
                         help="model of the re-evaluation (default: section; paper for a paper selection)")  # fmt: skip
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
@@ -140,7 +140,9 @@ def _robust(args: argparse.Namespace, sel):
         flags = {
             "robust": "--robust",
             "samples": "--samples",
+            "seed": "--seed",
             "ranges": "--vary/--ranges",
             "model": "--robust-model",
+            "workers": "--workers",
         }
         raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None

@@ -19,7 +19,7 @@ from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.evaluate import Robustness, Scores, evaluate_parameters, make_robustness
 from softcath.studies.optimise.problem import EVALUATOR_OF, Problem, Variable, make_problem, parse_variable
 from softcath.studies.optimise.result import Optimum, Winner
-from softcath.studies.optimise.workflow import optimise, write_optimum
+from softcath.studies.optimise.workflow import check_search, optimise, write_optimum
 
 __all__ = [
     "EVALUATOR_OF",
@@ -30,6 +30,7 @@ __all__ = [
     "Scores",
     "Variable",
     "Winner",
+    "check_search",
     "evaluate_parameters",
     "make_problem",
     "make_robustness",

@@ -23,7 +23,62 @@ from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
 from softcath.studies.selection.criteria import check_columns
 
-__all__ = ["Robustness", "Scores", "evaluate_parameters", "make_robustness"]
+__all__ = [
+    "MAX_ROBUST_SAMPLES",
+    "MAX_WORK_SECONDS",
+    "Robustness",
+    "Scores",
+    "check_work",
+    "estimate_run_seconds",
+    "evaluate_parameters",
+    "make_robustness",
+]
+
+#: Most robust samples per candidate (as ``predict``'s section tier: every variant is built and
+#: kept in memory; 10⁹ would never finish drawing the sample).
+MAX_ROBUST_SAMPLES = 10_000
+#: Longest estimated work of an optimisation or a robust selection, s (``predict``'s bound).
+MAX_WORK_SECONDS = 2 * 3600.0
+#: One formula run, s: building and checking the variant's design dominates (``predict``: ~10 ms).
+_FORMULA_SECONDS = 0.01
+#: One section-model run on the sweep's batched path per estimated DOF, s: 29.5 ms of worker CPU
+#: for the paper section (docs/section.md), whose estimated DOFs are 2.8k.
+_SECTION_SECONDS_PER_DOF = 1.05e-5
+
+
+def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | None = None) -> float:
+    """Estimated seconds of one model run of the base design (the section tiers by its section's DOFs).
+
+    Raises
+    ------
+    DesignError
+        From :func:`softcath.fem.limits.check_section_budget` when one section does not fit at all.
+    """
+    if model == "paper":
+        return _FORMULA_SECONDS
+    from softcath import design
+    from softcath.fem.limits import check_section_budget
+    from softcath.fem.section_model.mesh import MESH_SIZE
+
+    d = design.from_dict(base_table)
+    h = MESH_SIZE if mesh_size is None else mesh_size
+    dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=h)
+    return _FORMULA_SECONDS + _SECTION_SECONDS_PER_DOF * dofs
+
+
+def check_work(model: str, base_table: dict, runs: int, *, param: str, value, mesh_size=None) -> float:
+    """Refuse ``runs`` model runs whose estimated time is above :data:`MAX_WORK_SECONDS`; return it.
+
+    ``param`` and ``value`` name the input that set the count (``budget``, ``samples``).
+    """
+    each = estimate_run_seconds(model, base_table, mesh_size=mesh_size)
+    seconds = runs * each
+    if seconds > MAX_WORK_SECONDS:
+        raise DesignError(
+            param, value, f"{runs} {model}-model runs would take about {seconds / 3600:.3g} h (~{each:.2g} s "
+            f"each); at most {MAX_WORK_SECONDS / 3600:g} h: evaluate fewer designs or samples",
+        )  # fmt: skip
+    return seconds
 
 
 @dataclass(frozen=True)
@@ -51,8 +106,10 @@ def make_robustness(probability: float, ranges: Sequence, *, samples: int = 32, 
 
     if isinstance(probability, bool) or not isinstance(probability, (int, float)) or not 0 < probability < 1:
         raise DesignError("robust", probability, "must be a probability in (0, 1), e.g. 0.95")
-    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
-        raise DesignError("samples", samples, "must be an integer >= 2")
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 2 <= samples <= MAX_ROBUST_SAMPLES:
+        raise DesignError("samples", samples, f"must be an integer in [2, {MAX_ROBUST_SAMPLES}]")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= 2**32 - 1:
+        raise DesignError("seed", seed, "must be an integer in [0, 4294967295]")
     use = tuple(r for r in ranges if not r.path.startswith("model."))
     if not use:
         raise DesignError("ranges", [r.path for r in ranges], "need at least one design or material range")

@@ -14,7 +14,7 @@ from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.result import Optimum, Winner
 from softcath.studies.optimise.search import search
 
-__all__ = ["optimise", "write_optimum"]
+__all__ = ["check_search", "optimise", "write_optimum"]
 
 
 class _Recorder:
@@ -79,6 +79,25 @@ def _winner(problem: Problem, name: str, row: dict, robust: bool) -> Winner:
     )
 
 
+def check_search(problem: Problem, *, budget: int, seed: int = 0, robust: Robustness | None = None) -> None:
+    """Refuse a budget or seed that cannot work, or a search estimated beyond two hours, before any run.
+
+    Raises
+    ------
+    DesignError
+        Naming ``budget`` or ``seed`` with its bound.
+    """
+    from softcath.studies.optimise.evaluate import check_work
+
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 10:
+        raise DesignError("budget", budget, "must be an integer >= 10")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= 2**32 - 1:
+        raise DesignError("seed", seed, "must be an integer in [0, 4294967295]")
+    runs = budget * (robust.samples if robust is not None else 1)
+    check_work(problem.model, problem.base_table, runs, param="budget", value=budget,
+               mesh_size=problem.section_options.get("mesh_size"))  # fmt: skip
+
+
 def optimise(
     problem: Problem,
     *,
@@ -113,8 +132,7 @@ def optimise(
     """
     from tqdm import tqdm
 
-    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 10:
-        raise DesignError("budget", budget, "must be an integer >= 10")
+    check_search(problem, budget=budget, seed=seed, robust=robust)
     t0 = time.perf_counter()
     if robust is not None and {r.path for r in robust.ranges} & set(problem.paths):
         from softcath.studies.optimise.evaluate import make_robustness

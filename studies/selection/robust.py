@@ -75,6 +75,10 @@ def robust_select(
     use = [r for r in ranges if r.path not in swept]
     left_out = [r.path for r in ranges if r.path in swept]
     rob = make_robustness(probability, use, samples=samples, seed=seed)
+    from softcath.studies.optimise.evaluate import check_work
+
+    # every ranked design's whole sample, estimated before any run
+    check_work(model, dict(base_table), len(selection.ranked) * samples, param="samples", value=samples)
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
     problem = Problem(base_table=base_table, variables=(), objectives=objs, constraints=cons, model=model,

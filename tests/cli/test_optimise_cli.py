@@ -78,3 +78,30 @@ def test_optimise_robust_reports_probabilities(tmp_path):
     best = doc["best"][0]
     assert best["probabilities"]["bend_angle_deg <= 10 at p=0.5"] >= 0.8
     assert set(best["percentiles"]["maximise bend_angle_deg at p=0.5"]) == {"p5", "p50", "p95"}
+
+
+@pytest.mark.parametrize(
+    ("extra", "expected"),
+    [
+        (["--pressures", "1e9"], "--pressures = 1e+09: must be within ±100 MPa"),
+        (["--pressures", "nan"], "--pressures = nan"),
+        (["--budget", "1000000000"], "--budget = 1000000000: 1000000000 section-model runs would take about"),
+        (
+            ["--robust", "0.9", "--samples", "1000000000"],
+            "--samples = 1000000000: must be an integer in [2, 10000]",
+        ),
+        (
+            ["--robust", "0.9", "--samples", "1000", "--budget", "1000"],
+            "--budget = 1000: 1000000 section-model runs",
+        ),
+        (["--seed", "-1"], "invalid seed -1"),
+    ],
+)
+def test_optimise_refuses_absurd_work_before_any_run_naming_the_option(tmp_path, capsys, extra, expected):
+    """As every command: one line naming option, value and bound, before the folder or any model run."""
+    out = tmp_path / "o"
+    rc = main(["optimise", "paper", "--vary", "tube.h=-0.03:0.03", "--objective", "maximise bend_angle_deg at p=0.5",
+               "--no-fem-check", "--no-progress", *extra, "--out", str(out)])  # fmt: skip
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and expected in err and len(err.splitlines()) == 1
+    assert not out.exists()

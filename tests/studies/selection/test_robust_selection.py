@@ -92,3 +92,22 @@ def test_select_cli_robust_needs_a_manifest(sweep, tmp_path, capsys):
     (copy / "sweep.json").unlink()
     rc = main(["select", str(copy), "--objective", OBJ, "--robust", "0.9"])
     assert rc == 2 and "sweep.json" in capsys.readouterr().err
+
+
+def test_work_beyond_two_hours_or_absurd_samples_is_refused_before_any_run(sweep, monkeypatch):
+    from softcath.design.errors import DesignError
+
+    out, spec = sweep
+    sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
+    kw = {
+        "base_table": spec.base_table,
+        "pressures_MPa": spec.pressures_MPa,
+        "probability": 0.9,
+        "ranges": RANGES,
+    }
+    with pytest.raises(DesignError, match=r"samples = 20000: must be an integer in \[2, 10000\]"):
+        robust_select(sel, samples=20_000, **kw)
+    monkeypatch.setattr("softcath.studies.optimise.evaluate.MAX_WORK_SECONDS", 1.0)
+    runs = len(sel.ranked) * 1000
+    with pytest.raises(DesignError, match=rf"samples = 1000: {runs} section-model runs would take about"):
+        robust_select(sel, samples=1000, model="section", **kw)
