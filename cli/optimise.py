@@ -85,10 +85,12 @@ def run(args: argparse.Namespace) -> int:
             problem, budget=args.budget, seed=args.seed, robust=robust, workers=args.workers,
             scheduler=args.scheduler, fem_check=not args.no_fem_check, progress=not args.no_progress,
         )  # fmt: skip
-    paths = write_optimum(opt, problem, out)
+    from softcath.studies.atomic import staged_dir, unstage
     from softcath.studies.report.optimum import write_optimum_report
 
-    report = write_optimum_report(out)
+    with staged_dir(out) as stage:  # the record, designs and report replace earlier ones only together
+        paths = {k: unstage(v, stage, out) for k, v in write_optimum(opt, problem, stage).items()}
+        report = unstage(write_optimum_report(stage), stage, out)
     print(f"{opt.algorithm} on the {opt.model} model ({opt.load} load), {opt.backend}: "
           f"{opt.evaluations} designs ({opt.model_runs} model runs) in {opt.seconds:.1f} s")  # fmt: skip
     for w in opt.best[:5]:

@@ -105,3 +105,19 @@ def test_optimise_refuses_absurd_work_before_any_run_naming_the_option(tmp_path,
     err = capsys.readouterr().err.strip()
     assert rc == 2 and expected in err and len(err.splitlines()) == 1
     assert not out.exists()
+
+
+def test_optimise_leaves_no_partial_outputs_when_a_writer_fails(tmp_path, capsys, monkeypatch):
+    """Record, designs and report appear together or not at all (as every command's outputs)."""
+    from softcath.design.errors import DataError
+
+    def broken(folder):
+        raise DataError(f"{folder}: disk full")
+
+    monkeypatch.setattr("softcath.studies.report.optimum.write_optimum_report", broken)
+    out = tmp_path / "opt"
+    rc = main(["optimise", "paper", "--model", "paper", "--vary", "tube.h=-0.03:0.03", "--objective",
+               "maximise bend_angle_deg at p=0.5", "--budget", "10", "--no-fem-check", "--no-progress",
+               "--out", str(out)])  # fmt: skip
+    assert rc == 2 and "disk full" in capsys.readouterr().err
+    assert not out.exists() or not any(out.iterdir())
