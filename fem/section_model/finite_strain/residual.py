@@ -25,12 +25,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import sparse
 
 from softcath.fem.nonlinear.tensors import cofactor, det
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 
-__all__ = ["Tangent", "internal", "assemble", "FIVE"]
+__all__ = ["Tangent", "Volumetric", "internal", "with_globals", "FIVE"]
 
 #: The varying components of F as (row, column) pairs.
 FIVE = ((0, 0), (0, 1), (1, 0), (1, 1), (2, 2))
@@ -186,25 +185,6 @@ def _volumetric(disc, cells, law, f, jac, b, w, p5, a5, given):
     gv = np.einsum("cq,cqa,cql->cal", w, q, dj)
     k_vol = projected * gv.transpose(0, 2, 1) @ (minv @ gv)
     return p5, a5, k_vol, Volumetric(cells, coef, gv, minv, projected)
-
-
-def assemble(disc: Discretisation, blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> tuple:
-    """Global residual and sparse tangent from local blocks.
-
-    ``blocks`` holds (local DOFs (m, nl) with globals as -1, -2, -3 -> appended,
-    residuals (m, nl), tangents (m, nl, nl)).
-    """
-    n = disc.ndofs
-    r = np.zeros(n)
-    rows, cols, vals = [], [], []
-    for dofs, res, stiff in blocks:
-        np.add.at(r, dofs, res)
-        nl = dofs.shape[1]
-        rows.append(np.broadcast_to(dofs[:, :, None], (dofs.shape[0], nl, nl)).ravel())
-        cols.append(np.broadcast_to(dofs[:, None, :], (dofs.shape[0], nl, nl)).ravel())
-        vals.append(stiff.ravel())
-    k = sparse.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
-    return r, k.tocsc()
 
 
 def with_globals(disc: Discretisation, dofs: np.ndarray) -> np.ndarray:
