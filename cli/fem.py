@@ -8,7 +8,11 @@ skipped with --no-png like tip.png).
 
 ``--nonlinear``: the finite-strain pressure sweep (docs/nonlinear.md), writing
 DIR/fem.json (the linear check's keys plus steps and Newton iterations),
-pressure_sweep.csv, tip_series.pvd + vtu/, deformed_tip.png and bend_curve.png.
+pressure_sweep.csv (per pressure: pressure_MPa, bend_angle_rad, bend_angle_deg,
+curvature_per_mm (theta/s of the whole tip), curvature_mid_per_mm and
+bend_rate_mid_per_mm (d theta/ds and d theta/dZ over the mid-span), elongation,
+tip_x_mm, tip_y_mm, newton_iterations, linear_fem_bend_angle_rad,
+analytic_bend_angle_rad), tip_series.pvd + vtu/, deformed_tip.png and bend_curve.png.
 
 The two modes have their own documented defaults:
 

@@ -13,6 +13,11 @@ wire's EA and EI). ``--coil-bound`` makes the coils' axial law bilinear
 then nonlinear in pressure, section.csv holds the bilinear curve,
 section.json a ``coil_bound`` block (threshold pressure, curve) and
 DIR/section_curve.png the curvature against pressure.
+
+``--nonlinear`` runs the finite-strain section model instead (large bends;
+``softcath.cli.section_nonlinear``): the bend curve through every pressure of
+the range, with DIR/section_curve.png against the linear model and, with
+``--measured CSV``, a measured curve.
 """
 
 from __future__ import annotations
@@ -100,6 +105,26 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "resolved: the resolved wire's EA and EI",
     )
     add_assembly(p)
+    p.add_argument(
+        "--nonlinear",
+        action="store_true",
+        help="finite-strain section model: the bend curve at large bends (lumen area, volume, strain)",
+    )
+    p.add_argument(
+        "--hoop-cap",
+        type=float,
+        default=None,
+        metavar="X",
+        help="with --nonlinear: cap the coils' hoop modulus at X times the stiffest silicone's E, as the "
+        "3-D finite-strain FEM does (default: no cap)",
+    )
+    p.add_argument(
+        "--measured",
+        type=Path,
+        default=None,
+        metavar="CSV",
+        help="with --nonlinear: a measurement CSV whose curvature is drawn against pressure",
+    )
     p.add_argument("--no-png", action="store_true", help="skip the PNG")
     add_out(p)
 
@@ -152,6 +177,11 @@ def _coil_options(args: argparse.Namespace) -> tuple[dict, str | None, tuple[flo
 
 
 def run(args: argparse.Namespace) -> int:
+    from softcath.cli.section_nonlinear import check_options, run_nonlinear
+
+    check_options(args)
+    if args.nonlinear:
+        return run_nonlinear(args)
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
     from softcath.studies.atomic import prepare_out_dir
 

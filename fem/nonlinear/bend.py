@@ -3,7 +3,9 @@
 :func:`bend_curve` meshes the tip (or takes a mesh), assigns the finite-strain
 laws, clamps the base, pressurises the lumen with a follower load and walks
 the pressures with Newton. At each requested pressure it reports the bend
-angle (rotation of the tip-end section), curvature θ/s, elongation, tip pose,
+angle (rotation of the tip-end section), curvature θ/s, the mid-span
+curvature dθ/ds and bend rate dθ/dZ (sections in the middle of the tip,
+:func:`~softcath.fem.nonlinear.post.midspan_bend`), elongation, tip pose,
 and next to them the linear FEM (same mesh, small-strain tangent at zero
 load, scaled with p) and the analytic model. This is the function the
 studies package calls.
@@ -25,14 +27,16 @@ from softcath.fem.nonlinear.linsolve import TangentSolver
 from softcath.fem.nonlinear.meshes import dofs_of_facets
 from softcath.fem.nonlinear.newton import NonlinearResult, solve
 from softcath.fem.nonlinear.post import (
+    MIDSPAN,
     bend_angle,
     bend_angles,
     curvature_variation,
     max_principal_strain,
+    midspan_bend,
     tip_pose,
 )
 
-__all__ = ["BendCurve", "bend_curve", "departure_angle", "LOADS"]
+__all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "LOADS"]
 
 log = logging.getLogger(__name__)
 
@@ -53,7 +57,20 @@ class BendCurve:
     bend_angle
         Rotation of the tip-end section toward the channel side [rad] (nonlinear FEM).
     curvature
-        θ / s [1/mm], s the arc length of a circle through the tip.
+        θ / s [1/mm], s the arc length of a circle through the tip (clamp and cap zones included).
+    curvature_mid
+        Mid-span curvature dθ/ds [1/mm]: the rate of the section rotation along the
+        deformed centroid line (the fibre through ``midspan_axis``) over the ``midspan`` window
+        (:func:`~softcath.fem.nonlinear.post.midspan_bend`); NaN when the mesh has
+        fewer than two z levels there.
+    bend_rate_mid
+        Mid-span bend rate dθ/dZ [rad/mm] per unit undeformed axial coordinate
+        (= ``curvature_mid`` × the centroid-line stretch).
+    midspan
+        The mid-span window (start, end) as fractions of the bending length.
+    midspan_axis
+        Reference (X, Y) [mm] of the centroid line of ``curvature_mid``: the sections'
+        axial-stiffness (E_z-weighted) centroid over the window.
     elongation
         s / L − 1 [-].
     tip_x, tip_y
@@ -83,6 +100,10 @@ class BendCurve:
     pressure: np.ndarray
     bend_angle: np.ndarray
     curvature: np.ndarray
+    curvature_mid: np.ndarray
+    bend_rate_mid: np.ndarray
+    midspan: tuple[float, float]
+    midspan_axis: tuple[float, float]
     elongation: np.ndarray
     tip_x: np.ndarray
     tip_y: np.ndarray
@@ -126,6 +147,16 @@ def departure_angle(nonlinear: np.ndarray, other: np.ndarray, threshold: float =
     return float(nl[k - 1] + t * (nl[k] - nl[k - 1]))
 
 
+_VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+
+
+def axial_modulus(law) -> float:
+    """Small-strain Young's modulus along z of a law with ``small_strain_tensor()`` [MPa]: 1 / (ℂ⁻¹)_zzzz."""
+    c = np.asarray(law.small_strain_tensor(), float)
+    voigt = np.array([[c[i, j, k, m] for k, m in _VOIGT] for i, j in _VOIGT])
+    return float(1.0 / np.linalg.inv(voigt)[2, 2])
+
+
 class _Model:
     """Mesh + body + loads of one design, reused for the linear and nonlinear solves."""
 
@@ -152,6 +183,24 @@ class _Model:
             return float("nan")
         f = self.body.deformation_gradient(u.ravel(), self._strain_cells)
         return float(max_principal_strain(f).max())
+
+    def axial_centroid(self, window: tuple[float, float]) -> tuple[float, float]:
+        """Reference (X, Y) [mm] of the sections' axial-stiffness centroid over ``window`` (fractions of L).
+
+        The E_z-weighted mean of the quadrature points with Z in the window: the
+        fibre the linear section model's elongation and the finite-strain section
+        model's curvature refer to (paper eq. 5 on the mesh).
+        """
+        body = self.body
+        moduli = {lab: axial_modulus(law) for lab, law in body.laws.items()}
+        e_z = np.array([moduli[lab] for lab in body.labels.tolist()])
+        x = np.asarray(body.basis.global_coordinates())  # (3, cells, points)
+        z = x[2]
+        length = self.cmesh.length
+        w = body.weights * e_z[:, None] * ((z >= window[0] * length) & (z <= window[1] * length))
+        if not w.sum() > 0:
+            return (float("nan"), float("nan"))
+        return (float((w * x[0]).sum() / w.sum()), float((w * x[1]).sum() / w.sum()))
 
     def linear_unit_angle(self) -> float:
         """dθ/dp [rad/MPa] of the linear FEM (tangent at zero load, unit pressure)."""
@@ -180,6 +229,7 @@ def bend_curve(
     size: float = 0.15,
     layers: int = 4,
     curvature_points: int = 12,
+    midspan: tuple[float, float] = MIDSPAN,
     mixed: bool = False,
     substeps: int = 1,
     max_iter: int = 20,
@@ -203,6 +253,10 @@ def bend_curve(
         defaults (18k DOFs for the paper's design) finish a 4-pressure sweep in 1–6 min
         here; 12 segments per circle under-fill the coil's area by ~2 % (it spans ~17
         segments at size 0.15), the finer 24 costs twice the DOFs and Newton cutbacks.
+    midspan
+        Window of the mid-span curvature, (start, end) as fractions of the bending
+        length (default [0.3, 0.7]: out of the clamp and cap zones; see
+        :func:`~softcath.fem.nonlinear.post.midspan_bend`).
     mixed
         Use the mixed u–p (P2–P0) formulation for the silicones.
     substeps
@@ -224,6 +278,9 @@ def bend_curve(
     p = np.atleast_1d(np.asarray(pressures, float))
     if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
         raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
+    w = tuple(float(x) for x in np.ravel(midspan))
+    if len(w) != 2 or not (0.0 <= w[0] < w[1] <= 1.0):
+        raise NonlinearError(f"midspan = {midspan!r}: must be (start, end) with 0 <= start < end <= 1")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
         raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
     t0 = time.perf_counter()
@@ -256,6 +313,13 @@ def bend_curve(
     arc = np.array([ps.arc_length for ps in poses])
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.where(arc > 0, theta / arc, 0.0)
+    axis = model.axial_centroid(w)
+    mids = [
+        midspan_bend(model.body.nodes, res.displacements[k], length=length, window=w, axis_point=axis)
+        for k in pick
+    ]
+    if mids[0].stations.size < 2:
+        log.info("mid-span curvature: fewer than two mesh z levels in Z/L in %s; refine layers", w)
     lin = model.linear_unit_angle() * p
     ana = analytic.response(design, p, load=load).bend_angle
     log.info(
@@ -268,6 +332,10 @@ def bend_curve(
         pressure=p,
         bend_angle=theta,
         curvature=curvature,
+        curvature_mid=np.array([m.curvature for m in mids]),
+        bend_rate_mid=np.array([m.bend_rate for m in mids]),
+        midspan=w,
+        midspan_axis=axis,
         elongation=arc / length - 1.0,
         tip_x=np.array([ps.tip_x for ps in poses]),
         tip_y=np.array([ps.tip_y for ps in poses]),

@@ -111,6 +111,14 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
         f"{np.degrees(curve.linear_bend_angle[-1]):.2f} deg linear FEM, "
         f"{np.degrees(curve.analytic_bend_angle[-1]):.2f} deg analytic",
     ]
+    k_mid = curve.curvature_mid[-1]
+    if np.isfinite(k_mid):
+        w0, w1 = curve.midspan
+        lines.append(
+            f"  mid-span (Z/L {w0:g}-{w1:g}): curvature dtheta/ds {k_mid:.4g} 1/mm "
+            f"(theta/s of the whole tip {curve.curvature[-1]:.4g}), "
+            f"bend rate dtheta/dZ {curve.bend_rate_mid[-1]:.4g} rad/mm"
+        )
     for k, v in summary.get("departure_5pct_deg", {}).items():
         lines.append(f"  {k} departs by 5 %: " + ("not within the sweep" if v is None else f"at {v:.1f} deg"))
     lines.append(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
@@ -150,7 +158,28 @@ def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
 
 
 def write_outputs(curve, out: Path, *, design_name: str = "design", compare_linear: bool = False) -> dict:
-    """Write fem.json, pressure_sweep.csv, the VTU series and the PNGs of ``curve`` into ``out``."""
+    """Write fem.json, pressure_sweep.csv, the VTU series and the PNGs of ``curve`` into ``out``.
+
+    Parameters
+    ----------
+    curve : softcath.fem.nonlinear.bend.BendCurve
+        The finite-strain sweep.
+    out : pathlib.Path
+        Output folder (created if missing).
+    design_name : str
+        Name written into ``fem.json``.
+    compare_linear : bool
+        Add the bend angles where the linear FEM and the analytic model depart by 5 %.
+
+    Returns
+    -------
+    dict
+        The ``fem.json`` document. Besides the final pressure's values it holds
+        ``midspan``: the mid-span window (fractions of L), the reference (X, Y) of its
+        centroid line (the axial-stiffness centroid) and, per pressure of the
+        sweep, ``curvature_mid_per_mm`` (dθ/ds) and ``bend_rate_mid_per_mm`` (dθ/dZ),
+        null where the mesh has too few z levels in the window.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     k = -1
@@ -161,6 +190,8 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
         "pressure_MPa": float(curve.pressure[k]),
         "bend_angle_rad": float(curve.bend_angle[k]),
         "curvature_per_mm": float(curve.curvature[k]),
+        "curvature_mid_per_mm": _finite_or_none(curve.curvature_mid[k]),
+        "bend_rate_mid_per_mm": _finite_or_none(curve.bend_rate_mid[k]),
         "elongation": float(curve.elongation[k]),
         "tip_x_mm": float(curve.tip_x[k]),
         "tip_y_mm": float(curve.tip_y[k]),
@@ -179,6 +210,13 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
             }
             for s in curve.result.steps
         ],
+        "midspan": {
+            "window_fraction_of_length": [float(x) for x in curve.midspan],
+            "centroid_line_xy_mm": [_finite_or_none(x) for x in curve.midspan_axis],
+            "pressure_MPa": [float(x) for x in curve.pressure],
+            "curvature_mid_per_mm": [_finite_or_none(x) for x in curve.curvature_mid],
+            "bend_rate_mid_per_mm": [_finite_or_none(x) for x in curve.bend_rate_mid],
+        },
         "pressure_sweep_csv": "pressure_sweep.csv",
     }
     if compare_linear:
@@ -196,6 +234,8 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
                 "bend_angle_rad",
                 "bend_angle_deg",
                 "curvature_per_mm",
+                "curvature_mid_per_mm",
+                "bend_rate_mid_per_mm",
                 "elongation",
                 "tip_x_mm",
                 "tip_y_mm",
@@ -211,6 +251,8 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
                     f"{curve.bend_angle[i]:.9g}",
                     f"{np.degrees(curve.bend_angle[i]):.6g}",
                     f"{curve.curvature[i]:.9g}",
+                    f"{curve.curvature_mid[i]:.9g}",
+                    f"{curve.bend_rate_mid[i]:.9g}",
                     f"{curve.elongation[i]:.9g}",
                     f"{curve.tip_x[i]:.9g}",
                     f"{curve.tip_y[i]:.9g}",

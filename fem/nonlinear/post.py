@@ -1,12 +1,16 @@
-"""Post-processing of a deformed tip: end rotation, bend angle, tip pose.
+"""Post-processing of a deformed tip: end rotation, bend angle, tip pose, mid-span curvature.
 
 The bend angle is measured from the cross-section at the tip end: the rigid
 rotation that best maps its reference nodes onto their deformed positions
 (Kabsch / orthogonal Procrustes). That is robust to the section's own
-distortion and defined for any angle up to ±180°.
+distortion and defined for any angle up to ±180°. :func:`midspan_bend` applies
+the same fit to sections along the middle of the tip, away from the clamp and
+the cap, for the curvature of the uniformly bent part.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -17,6 +21,9 @@ __all__ = [
     "TipPose",
     "tip_pose",
     "curvature_variation",
+    "MIDSPAN",
+    "MidspanBend",
+    "midspan_bend",
     "max_principal_strain",
 ]
 
@@ -46,8 +53,7 @@ def bend_angle(
     so the range is (−π, π].
     """
     r = best_rotation(nodes[end_mask], nodes[end_mask] + u[end_mask])
-    t = r[:, axis]
-    return float(np.arctan2(sign * t[toward], t[axis]))
+    return _section_angle(r, axis, toward, sign)
 
 
 def bend_angles(nodes: np.ndarray, displacements: np.ndarray, end_mask: np.ndarray) -> np.ndarray:
@@ -110,6 +116,150 @@ def curvature_variation(nodes: np.ndarray, u: np.ndarray, *, length: float, marg
     kappa = dtheta / ds
     mean = kappa.mean()
     return float((kappa.max() - kappa.min()) / abs(mean)) if mean != 0 else float("nan")
+
+
+#: Default mid-span window, as fractions of the bending length L (see :func:`midspan_bend`).
+MIDSPAN = (0.3, 0.7)
+
+
+@dataclass(frozen=True)
+class MidspanBend:
+    """Bend of the middle of the tip (:func:`midspan_bend`).
+
+    Attributes
+    ----------
+    bend_rate : float
+        dθ/dZ [rad/mm]: least-squares slope of the section rotation over the
+        undeformed axial coordinate Z.
+    curvature : float
+        dθ/ds [1/mm] = ``bend_rate / stretch``, s the arc length along the
+        deformed centroid line.
+    stretch : float
+        λ_c [-]: arc length of the deformed centroid line between the first and
+        last station over their distance in Z.
+    stations : numpy.ndarray
+        Z of the stations [mm], increasing.
+    angles : numpy.ndarray
+        Section rotation θ(Z) at each station [rad] (unwrapped along Z).
+    centroids : numpy.ndarray
+        (n, 3) deformed positions of the centroid line at the stations [mm].
+    """
+
+    bend_rate: float
+    curvature: float
+    stretch: float
+    stations: np.ndarray
+    angles: np.ndarray
+    centroids: np.ndarray
+
+
+def _section_angle(rotation: np.ndarray, axis: int, toward: int, sign: float) -> float:
+    """atan2(sign·t_toward, t_axis) of t = R e_axis: the turn of ``axis`` toward ``sign·e_toward`` [rad]."""
+    t = rotation[:, axis]
+    return float(np.arctan2(sign * t[toward], t[axis]))
+
+
+def midspan_bend(
+    nodes: np.ndarray,
+    u: np.ndarray,
+    *,
+    length: float,
+    window: tuple[float, float] = MIDSPAN,
+    axis_point: tuple[float, float] | None = None,
+    min_nodes: int = 3,
+) -> MidspanBend:
+    """Curvature of the middle of the tip from the rotations of its sections.
+
+    Every z level of the mesh's nodes with ``window[0]·L ≤ Z ≤ window[1]·L`` is a
+    station. Each station's section is fitted with the rigid motion that best maps
+    its reference nodes onto their deformed positions (Kabsch, as
+    :func:`bend_angle`): its rotation gives θ(Z) (the axis z turning toward −y is
+    positive), and the fitted motion carries the reference centroid line
+    (``axis_point``, the same material line at every station) to its deformed
+    position. Then
+
+    - ``bend_rate`` = dθ/dZ, the least-squares slope of θ over the undeformed Z;
+    - ``stretch`` λ_c: the deformed centroid line's arc length over the window's
+      ΔZ, each interval's arc taken as the circular arc through its two centroid
+      points whose tangent turns by the interval's Δθ (arc = chord · (Δθ/2) / sin(Δθ/2));
+    - ``curvature`` = dθ/ds = ``bend_rate`` / λ_c.
+
+    For a prismatic body bent into an arc of curvature κ with a centroid-line
+    stretch λ (Rivlin's flexure: plane sections stay plane and rigidly rotated),
+    this returns ``bend_rate`` = λκ and ``curvature`` = κ exactly, at any angle.
+
+    The default window, the middle 40 % of L, keeps the stations out of the end
+    zones, where the section is not in the uniform (Saint-Venant) bending state:
+    the rigid clamp restrains the section's own deformation at Z = 0, and the
+    sealed cap (a silicone plug, the last ``cap_thickness``) carries the pressure
+    load into the wall at the far end. Such end disturbances decay over about
+    one section diameter; for the paper's tip (L = 5 mm, coil OD 0.8 mm, cap
+    0.3 mm) the window [1.5, 3.5] mm lies ≥ 1.9 diameters from the clamp and
+    ≥ 1.5 from the cap's inner face, and on the default mesh (4 layers, P2
+    nodes) it holds three stations, Z = 1.76, 2.35, 2.94 mm. Measured there
+    (lumen load, 0.01 MPa, 6 and 8 layers): the local dθ/dZ between levels stays
+    within ±4 % of the mid-span value from Z ≈ 1 to 4 mm and falls to about −15 %
+    at 4.5 mm and −50 % at 0.2 mm; on 8 layers the windows [0.2, 0.8], [0.3, 0.7]
+    and [0.4, 0.6] agree within 0.3 %.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        (n, 3) reference node positions [mm], the tip's axis along z from the
+        clamp (Z = 0) to the tip end (Z = ``length``).
+    u : numpy.ndarray
+        (n, 3) displacements [mm].
+    length : float
+        Bending length L [mm].
+    window : tuple of float
+        (start, end) of the mid-span as fractions of ``length``, 0 ≤ start < end ≤ 1.
+    axis_point : tuple of float, optional
+        Reference (X, Y) of the centroid line [mm]; default: the mean reference
+        position of the stations' nodes.
+    min_nodes : int
+        z levels with fewer nodes (not a whole section) are not stations.
+
+    Returns
+    -------
+    MidspanBend
+        All NaN (and no stations) when the window holds fewer than two stations.
+
+    Raises
+    ------
+    ValueError
+        If ``window`` is not 0 ≤ start < end ≤ 1.
+    """
+    w0, w1 = (float(w) for w in window)
+    if not (0.0 <= w0 < w1 <= 1.0):
+        raise ValueError(f"window = {tuple(window)!r}: must be 0 <= start < end <= 1 (fractions of length)")
+    nodes = np.asarray(nodes, float)
+    u = np.asarray(u, float).reshape(nodes.shape)
+    tol = 1e-9 * max(float(length), 1.0)
+    z = np.round(nodes[:, 2], 9)
+    inside = (z >= w0 * length - tol) & (z <= w1 * length + tol)
+    levels, counts = np.unique(z[inside], return_counts=True)
+    levels = levels[counts >= min_nodes]
+    if levels.size < 2:
+        nan = float("nan")
+        return MidspanBend(nan, nan, nan, levels, np.full(levels.shape, nan), np.full((levels.size, 3), nan))
+    sections = [z == lv for lv in levels]
+    if axis_point is None:
+        in_sections = np.any(sections, axis=0)
+        axis_point = nodes[in_sections, :2].mean(axis=0)
+    theta, cent = [], []
+    for lv, sel in zip(levels, sections, strict=True):
+        ref, cur = nodes[sel], nodes[sel] + u[sel]
+        r = best_rotation(ref, cur)
+        theta.append(_section_angle(r, 2, 1, -1.0))
+        a = np.array([axis_point[0], axis_point[1], lv])
+        cent.append(cur.mean(axis=0) + r @ (a - ref.mean(axis=0)))
+    theta = np.unwrap(np.asarray(theta))
+    cent = np.asarray(cent)
+    bend_rate = float(np.polyfit(levels, theta, 1)[0])
+    chord = np.linalg.norm(np.diff(cent, axis=0), axis=1)
+    arc = chord / np.sinc(np.diff(theta) / (2 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
+    stretch = float(arc.sum() / (levels[-1] - levels[0]))
+    return MidspanBend(bend_rate, bend_rate / stretch, stretch, levels, theta, cent)
 
 
 def max_principal_strain(f: np.ndarray) -> np.ndarray:

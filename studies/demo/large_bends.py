@@ -1,4 +1,5 @@
-"""Demo section 3: large bends, the finite-strain FEM against the linear one, and the silicone strain."""
+"""Demo section 3: large bends in four tiers (formula, linear section, finite-strain section, 3-D
+finite-strain FEM), the pressure each needs for 90 degrees, and the silicone strain."""
 
 from __future__ import annotations
 
@@ -7,17 +8,86 @@ import numpy as np
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput, unavailable
 from softcath.studies.report.html import figure, fmt, table
 
-__all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "section_large_bends"]
+__all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SECTION_CURVE_PRESSURES_MPA", "section_large_bends"]
 
 #: Lumen-load pressures of the finite-strain section [MPa]: far enough to see the bend outgrow the linear
 #: prediction and the silicone strain approach the demo's limit (0.47 at 0.5 MPa), in ~15 s on the coarse
 #: default mesh.
 DEMO_LARGE_BEND_PRESSURES_MPA = (0.1, 0.2, 0.3, 0.4, 0.5)
 
+#: The finite-strain section model's curve [MPa]: past 90 degrees for the paper design (about 0.8 MPa), in
+#: about two seconds.
+DEMO_SECTION_CURVE_PRESSURES_MPA = tuple(round(0.1 * i, 1) for i in range(1, 11))
+
+
+def _pressure_for(angle: float, pressure, bend) -> float | None:
+    """First pressure where ``bend`` [rad] reaches ``angle`` (linear interpolation), None if it does not."""
+    p = np.concatenate([[0.0], np.asarray(pressure, float)])
+    a = np.concatenate([[0.0], np.asarray(bend, float)])
+    hit = np.flatnonzero(a >= angle)
+    if hit.size == 0:
+        return None
+    i = int(hit[0])
+    return float(p[i - 1] + (angle - a[i - 1]) * (p[i] - p[i - 1]) / (a[i] - a[i - 1]))
+
+
+def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
+    """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from scipy.optimize import brentq
+
+    from softcath import analytic
+    from softcath.fem.section_model import section_model
+    from softcath.fem.section_model.finite_strain import section_curve
+
+    length = float(d.tip.bending_length)
+    fine = np.linspace(0.0, DEMO_SECTION_CURVE_PRESSURES_MPA[-1], 101)
+    lin = section_model(d, loads=("lumen",))
+    linear_tiers = {  # their own bend angle: kappa p over the stretched length (eq. 9)
+        "paper's formula (eq. 7, cap load)": lambda p: analytic.response(d, p, load="cap").bend_angle,
+        "linear section model": lambda p: lin.response(p, "lumen").bend_angle,
+    }
+    fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen")
+    tiers = {name: (fine, np.asarray(f(fine), float)) for name, f in linear_tiers.items()}
+    tiers["finite-strain section model (uniform arc)"] = (fs.pressure, fs.bend_angle_rad)
+    if fem_curve is not None:
+        tiers["3-D finite-strain FEM, tip end section"] = (fem_curve.pressure, fem_curve.bend_angle)
+        rate = np.asarray(fem_curve.bend_rate_mid, float)
+        if np.all(np.isfinite(rate)):
+            tiers["3-D finite-strain FEM, mid-span rate x L"] = (fem_curve.pressure, rate * length)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for (name, (p, a)), style in zip(tiers.items(), ("--", "-.", "o-", "s", "^"), strict=False):
+        ax.plot(p, np.degrees(a), style, label=name, ms=5)
+    ax.axhline(90.0, color="0.6", lw=0.8)
+    ax.set_xlabel("lumen pressure [MPa]")
+    ax.set_ylabel("bend angle [deg]")
+    ax.set_title(f"{d.name}: four tiers of the bend")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    p90 = {name: _pressure_for(np.pi / 2, p, a) for name, (p, a) in tiers.items()}
+    for name, f in linear_tiers.items():  # beyond the plotted range: solve their own closed form
+        p90[name] = float(brentq(lambda p, f=f: float(f(p)) - np.pi / 2, 0.0, 100.0, xtol=1e-12))
+    reached = {name: (float(p[-1]), float(np.degrees(a[-1]))) for name, (p, a) in tiers.items()}
+    return [(name, p90[name], *reached[name]) for name in tiers], {"section_curve": fs, "p90": p90}
+
 
 def section_large_bends(ctx: DemoContext) -> SectionOutput:
     if not ctx.fem:
-        return unavailable("the finite-strain FEM", "switched off with --no-fem", lead="Not run")
+        f0 = ctx.out_dir / "large_bends_tiers.png"
+        rows90, _ = four_tiers(ctx.design, None, f0)
+        return SectionOutput(
+            "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
+            + figure(
+                f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models."
+            )
+            + _table90(rows90),
+            (f0,),
+        )
     try:
         from softcath.fem.nonlinear import bend_curve
         from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
@@ -26,8 +96,10 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
     d = ctx.design
     c = bend_curve(d, DEMO_LARGE_BEND_PRESSURES_MPA, load="lumen")
     f1, f2 = ctx.out_dir / "large_bends_curve.png", ctx.out_dir / "large_bends_tip.png"
+    f0 = ctx.out_dir / "large_bends_tiers.png"
     plot_curve(c, f1)
     plot_deformed(c, f2)
+    rows90, tiers = four_tiers(d, c, f0)
     rows = [
         (p, np.degrees(a), np.degrees(lin), np.degrees(ana), e, int(it))
         for p, a, lin, ana, e, it in zip(
@@ -54,10 +126,18 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
             f"(it is {fmt(c.max_strain[-1], 2)} at {fmt(c.pressure[-1])} MPa): for this design the strain "
             "limit, not the bend, is what to design against."
         )
+    fs = tiers["section_curve"]
+    text.append(
+        f"The finite-strain section model (a 2-D solve of the section at finite strain, {fs.dofs} DOFs, "
+        f"{fmt(fs.seconds, 2)} s for {fs.pressure.size} pressures) follows the 3-D FEM's mid-span bend; "
+        "the 3-D tip's end section turns less than the uniform arc by its clamp and cap zones."
+    )
     html = (
         "<p>"
         + " ".join(text)
         + "</p>"
+        + figure(f0.name, "Bend angle vs lumen pressure in four tiers; the grey line is 90°.")
+        + _table90(rows90)
         + figure(
             f1.name, "Bend angle vs lumen pressure: finite-strain FEM, linear FEM, analytic (lumen load)."
         )
@@ -82,4 +162,13 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
         "pressure": float(c.pressure[-1]), "angle_deg": float(np.degrees(c.bend_angle[-1])), "ratio": ratio,
         "strain_over_at": over[0] if over else None,
     }  # fmt: skip
-    return SectionOutput(html, (f1, f2))
+    ctx.shared["large_bends"]["p90_MPa"] = tiers["p90"]
+    return SectionOutput(html, (f0, f1, f2))
+
+
+def _table90(rows90) -> str:
+    rows = [
+        (name, "not reached" if p90 is None else fmt(p90, 3), fmt(p_last), fmt(a_last, 3))
+        for name, p90, p_last, a_last in rows90
+    ]
+    return table(["tier", "pressure for 90° [MPa]", "computed up to [MPa]", "bend there [deg]"], rows)

@@ -1,0 +1,415 @@
+r"""The finite-strain bend curve of a design: :func:`section_curve`.
+
+One section mesh, one discretisation, a Newton walk through the requested
+pressures. Per pressure the state gives the stretch lambda and the bend
+vector k of the uniform mid-span arc, from which
+
+- the **bend rate** :math:`\lambda k_2` [rad/mm of undeformed length]: the turn
+  of the sections per unit reference length, the same for every fibre (the
+  3-D FEM's ``bend_rate_mid_per_mm``);
+- the **curvature** :math:`k_2 / (1 + k\cdot\bar x)` of the fibre through the
+  deformed section's axial-stiffness centroid :math:`\bar x` (the 3-D FEM's
+  ``curvature_mid_per_mm`` and the linear section model's curvature), and
+  that fibre's **elongation** :math:`\lambda (1 + k\cdot\bar x) - 1`;
+- the **bend angle** and **tip pose** of paper eq. 9 with the stretched
+  length: a uniform arc of that curvature over the stretched bending length,
+  whose angle is :math:`\lambda k_2 L` (L the bending length).
+
+End zones. The uniform arc is the tip far from its ends. The clamped 3-D tip
+turns less: at the clamp the section cannot warp, and the cap's plug carries
+no wall pressure. ``bend_angle`` is the uniform-arc angle; the 3-D tip's end
+rotation is below it by those zones (the 3-D FEM's ``curvature_mid_per_mm``
+is the comparable quantity). The package documentation states the measured
+size of that difference.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from softcath.design.errors import DesignError
+
+__all__ = ["SectionCurve", "section_curve", "section_laws", "PRESSURE_MAX"]
+
+log = logging.getLogger(__name__)
+
+#: Largest pressure [MPa] the model accepts: far past any silicone tube's burst.
+PRESSURE_MAX = 100.0
+
+#: Columns of ``section.csv`` (the ``analytic.csv`` columns first).
+CSV_COLUMNS = (
+    "pressure_MPa",
+    "curvature_per_mm",
+    "elongation",
+    "bend_angle_rad",
+    "tip_x_mm",
+    "tip_y_mm",
+    "bend_rate_per_mm",
+    "lumen_area_mm2",
+    "lumen_volume_change_mm3",
+    "max_strain",
+    "newton_iterations",
+    "residual",
+)
+
+
+@dataclass(frozen=True)
+class SectionCurve:
+    """Finite-strain response of a design at increasing pressures (arrays over pressure).
+
+    Attributes
+    ----------
+    pressure
+        Lumen pressure [MPa].
+    curvature_per_mm
+        Curvature of the axial-stiffness centroid fibre [1/mm] (positive toward the channel).
+    lateral_curvature_per_mm
+        The same across the plane of symmetry (zero for a symmetric section).
+    bend_rate_per_mm
+        Section turn per unit undeformed length, lambda k_2 [rad/mm].
+    elongation
+        Axial strain of the centroid fibre, lambda (1 + k . x) - 1.
+    bend_angle_rad, tip_x_mm, tip_y_mm
+        Uniform arc over the stretched bending length (paper eq. 9 frame).
+    lumen_area_mm2
+        Deformed lumen area.
+    lumen_volume_change_mm3
+        Volume the syringe adds to the lumen over the bending length.
+    max_strain
+        Largest principal (Biot) strain in the silicones.
+    newton_iterations
+        Newton iterations spent reaching each pressure from the previous one.
+    residual
+        Relative residual of each converged state.
+    linear_curvature_per_mm_per_MPa
+        The small-load slope dkappa/dp (the linear section model's gain on the same laws).
+    """
+
+    design_name: str
+    load: str
+    pressure: np.ndarray
+    curvature_per_mm: np.ndarray
+    lateral_curvature_per_mm: np.ndarray
+    bend_rate_per_mm: np.ndarray
+    elongation: np.ndarray
+    bend_angle_rad: np.ndarray
+    tip_x_mm: np.ndarray
+    tip_y_mm: np.ndarray
+    lumen_area_mm2: np.ndarray
+    lumen_volume_change_mm3: np.ndarray
+    max_strain: np.ndarray
+    newton_iterations: np.ndarray
+    residual: np.ndarray
+    linear_curvature_per_mm_per_MPa: float
+    length_mm: float
+    lumen_area_rest_mm2: float
+    dofs: int
+    n_triangles: int
+    mesh_size_mm: float
+    poisson_ratio_silicone: float
+    hoop_cap: float | None
+    seconds: float
+    mesh_seconds: float
+    state: object = field(default=None, repr=False, compare=False)
+
+    def rows(self) -> list[dict[str, float]]:
+        """One dict per pressure with the :data:`CSV_COLUMNS` keys."""
+        cols = {
+            "pressure_MPa": self.pressure,
+            "curvature_per_mm": self.curvature_per_mm,
+            "elongation": self.elongation,
+            "bend_angle_rad": self.bend_angle_rad,
+            "tip_x_mm": self.tip_x_mm,
+            "tip_y_mm": self.tip_y_mm,
+            "bend_rate_per_mm": self.bend_rate_per_mm,
+            "lumen_area_mm2": self.lumen_area_mm2,
+            "lumen_volume_change_mm3": self.lumen_volume_change_mm3,
+            "max_strain": self.max_strain,
+            "newton_iterations": self.newton_iterations,
+            "residual": self.residual,
+        }
+        return [{k: float(v[i]) for k, v in cols.items()} for i in range(self.pressure.size)]
+
+    def to_json(self) -> dict:
+        """Plain-JSON summary (``section.json`` with ``"nonlinear": true``)."""
+        d = {k: v for k, v in asdict(self).items() if k != "state"}
+        for k, v in d.items():
+            if isinstance(v, np.ndarray):
+                d[k] = v.tolist()
+        d["nonlinear"] = True
+        return d
+
+    def pressure_for_angle(self, angle_rad: float) -> float:
+        """Pressure [MPa] at which the uniform-arc bend reaches ``angle_rad`` (linear
+        interpolation between computed pressures), or NaN if the curve stops short."""
+        keep = self.pressure > 0
+        a = np.concatenate([[0.0], self.bend_angle_rad[keep]])
+        p = np.concatenate([[0.0], self.pressure[keep]])
+        if not np.all(np.diff(a) > 0) or not (0.0 <= angle_rad <= a[-1]):
+            return float("nan")
+        return float(np.interp(angle_rad, a, p))
+
+
+def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: float | None = None) -> dict:
+    """Region label -> finite-strain law whose small-strain limit is the linear section model's.
+
+    Silicones: the decoupled Yeoh law of ``softcath.fem.nonlinear`` (neo-Hookean from E, nu
+    when the material has no Yeoh fit); coils: Saint Venant-Kirchhoff with the linear
+    section model's homogenised transversely isotropic tensor.
+
+    Parameters
+    ----------
+    silicone_poisson
+        Replace every silicone's Poisson ratio (e.g. 0.4999 for the incompressible limit).
+    hoop_cap
+        Cap the coils' hoop modulus at this multiple of the stiffest silicone's E, as the
+        3-D finite-strain FEM does for its conditioning (None: no cap).
+    """
+    from softcath.fem.adapter import coil_law
+    from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
+    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young
+    from softcath.fem.section_model.laws import NU_MAX
+
+    if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
+        raise DesignError("silicone_poisson", silicone_poisson, f"must be in [0, {NU_MAX}]")
+    if hoop_cap is not None and not (np.isfinite(hoop_cap) and hoop_cap > 0):
+        raise DesignError("hoop_cap", hoop_cap, "must be finite and > 0 (or None for no cap)")
+    silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
+    e_max = max(m.youngs_modulus for m in silicones)
+
+    def silicone(m):
+        nu = m.poisson_ratio if silicone_poisson is None else silicone_poisson
+        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=nu, yeoh=m.yeoh)
+
+    def coil(c):
+        law = coil_law(c, "tension")
+        if hoop_cap is not None and law.transverse_modulus > hoop_cap * e_max:
+            from dataclasses import replace
+
+            law = replace(law, transverse_modulus=hoop_cap * e_max)
+        return AnisotropicSVK(law.tensor())
+
+    laws = {COIL: coil(design.coil), CHANNEL: coil(design.channel), TUBE: silicone(design.tube.material)}
+    if design.filler is not None:
+        laws[FILLER] = silicone(design.filler)
+    return laws
+
+
+def _check_pressures(pressures) -> np.ndarray:
+    p = np.atleast_1d(np.asarray(pressures, dtype=float))
+    if p.ndim != 1 or p.size == 0:
+        raise DesignError("pressures", pressures, "must be a non-empty list of pressures [MPa]")
+    if not np.all(np.isfinite(p)) or np.any(p < 0) or np.any(p > PRESSURE_MAX):
+        raise DesignError("pressures", p.tolist(), f"must be finite and in [0, {PRESSURE_MAX:g}] MPa")
+    if np.any(np.diff(p) <= 0):
+        raise DesignError("pressures", p.tolist(), "must be strictly increasing")
+    return p
+
+
+def section_curve(
+    design,
+    pressures: Sequence[float],
+    *,
+    load: str = "lumen",
+    mesh_size: float | None = None,
+    segments: int | None = None,
+    silicone_poisson: float | None = None,
+    hoop_cap: float | None = None,
+    laws: Mapping[int, object] | None = None,
+    mesher: str = "template",
+    progress: bool = False,
+) -> SectionCurve:
+    """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
+
+    Parameters
+    ----------
+    design
+        A :class:`design.TipDesign`, a preset name or a TOML path.
+    pressures
+        Pressures [MPa], strictly increasing, in [0, :data:`PRESSURE_MAX`]; 0 gives the rest state.
+    load
+        ``"lumen"`` (follower pressure on the lumen wall plus the cap force; the real load)
+        or ``"cap"`` (the cap force on the deformed lumen alone; the paper's load).
+    mesh_size, segments, mesher
+        Section mesh controls (default: the linear section model's; ``mesher`` ``template``
+        morphs one mesh per section topology, ``gmsh`` meshes afresh).
+    silicone_poisson, hoop_cap
+        Material options of :func:`section_laws`.
+    laws
+        Region label -> finite-strain law, overriding :func:`section_laws` (e.g. the 3-D
+        FEM's ``catheter_laws`` for a comparison on equal materials).
+    progress
+        Show a progress bar over the pressures.
+
+    Raises
+    ------
+    DesignError
+        Bad input; :class:`SectionConvergenceError` (a ``DesignError``) names the
+        pressure reached when Newton fails, with the converged part in ``.curve``.
+
+    Examples
+    --------
+    >>> from softcath.fem.section_model.finite_strain import section_curve
+    >>> c = section_curve("paper", [0.3, 0.6])
+    >>> [round(float(a), 1) for a in c.bend_angle_rad * 180 / 3.141592653589793]
+    [24.6, 59.1]
+    """
+    from softcath import design as design_pkg
+    from softcath.analytic.pose import tip_pose
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.geometry import FILLER, TUBE
+    from softcath.fem.section_model.finite_strain.discretisation import discretise
+    from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
+    from softcath.fem.section_model.finite_strain.newton import (
+        LOADS,
+        Loading,
+        Problem,
+        SectionConvergenceError,
+        walk,
+    )
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+
+    if load not in LOADS:
+        raise DesignError("load", load, f"must be one of {LOADS}")
+    p = _check_pressures(pressures)
+    d = design_pkg.resolve(design)
+    if not d.assembly.is_default:
+        raise DesignError(
+            "assembly", d.assembly.to_dict(), "the finite-strain section model takes the bonded tip only "
+            "(interfaces and fillers as built are in the linear section model and the 3-D FEM)"
+        )  # fmt: skip
+    t0 = time.perf_counter()
+    mesh_size = MESH_SIZE if mesh_size is None else mesh_size
+    segments = SEGMENTS if segments is None else segments
+    section = catheter_section_mesh(
+        geometry_from_design(d), mesh_size=mesh_size, segments=segments, mesher=mesher
+    )
+    law_map = (
+        dict(laws)
+        if laws is not None
+        else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
+    )
+    disc = discretise(section, law_map)
+    wall = lumen_wall(section, disc)
+    problem = Problem(disc, wall, disc.pinned, tuple(k for k in (TUBE, FILLER) if k in law_map))
+    positive = p[p > 0]
+    p_top = float(positive[-1]) if positive.size else 1.0
+    loading = Loading(pressure=p_top, load=load)
+    q_rest = np.zeros(disc.ndofs)
+    q_rest[disc.n_u] = 1.0
+    rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
+    gain = _linear_gain(problem, q_rest, loading) / p_top
+
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=positive.size, desc="finite-strain section", unit="pressure")
+    states = []
+    error = None
+    try:
+        states = walk(problem, loading, positive / p_top, on_state=(lambda s: bar.update(1)) if bar else None)
+    except SectionConvergenceError as exc:
+        error = exc
+        states = list(exc.states)
+    finally:
+        if bar is not None:
+            bar.close()
+    n_zero = p.size - positive.size
+    rows = [_rest_row(d, rest)] * n_zero + [_row(d, disc, wall, s, rest) for s in states]
+    cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
+    k_c = cols.get("curvature", np.zeros(0))
+    length = float(d.tip.bending_length)
+    stretched = length * (1.0 + cols.get("elongation", np.zeros(0)))
+    tip_x, tip_y, _ = tip_pose(k_c, stretched)
+    curve = SectionCurve(
+        design_name=d.name,
+        load=load,
+        pressure=p[: len(rows)],
+        curvature_per_mm=k_c,
+        lateral_curvature_per_mm=cols.get("lateral", np.zeros(0)),
+        bend_rate_per_mm=cols.get("rate", np.zeros(0)),
+        elongation=cols.get("elongation", np.zeros(0)),
+        bend_angle_rad=cols.get("rate", np.zeros(0)) * length,
+        tip_x_mm=np.asarray(tip_x, float),
+        tip_y_mm=np.asarray(tip_y, float),
+        lumen_area_mm2=cols.get("area", np.zeros(0)),
+        lumen_volume_change_mm3=(cols.get("volume", np.zeros(0)) - rest.volume) * length,
+        max_strain=cols.get("max_strain", np.zeros(0)),
+        newton_iterations=cols.get("iterations", np.zeros(0, int)).astype(int),
+        residual=cols.get("residual", np.zeros(0)),
+        linear_curvature_per_mm_per_MPa=float(gain),
+        length_mm=length,
+        lumen_area_rest_mm2=float(rest.area),
+        dofs=int(disc.ndofs),
+        n_triangles=int(section.triangles.shape[0]),
+        mesh_size_mm=float(mesh_size),
+        poisson_ratio_silicone=_poisson(law_map[TUBE]),
+        hoop_cap=hoop_cap,
+        seconds=float(time.perf_counter() - t0),
+        mesh_seconds=float(section.seconds),
+        state=(disc, states),
+    )
+    log.info("finite-strain section: %d pressures in %.3g s (%d DOFs)", len(rows), curve.seconds, disc.ndofs)
+    if error is not None:
+        error.curve = curve
+        raise error
+    return curve
+
+
+def _poisson(law) -> float:
+    c = law.small_strain_tensor()
+    lam, mu = c[0, 0, 1, 1], c[0, 1, 0, 1]
+    return float(lam / (2 * (lam + mu)))
+
+
+def _centroid(disc, u, g) -> np.ndarray:
+    """Axial-stiffness-weighted centroid of the deformed section (small-strain E_z weights)."""
+    du, x = disc.element_fields(u)
+    w = disc.weights * disc.axial_modulus[:, None]
+    return np.einsum("cq,cqa->a", w, x) / w.sum()
+
+
+def _row(d, disc, wall, state, rest) -> dict:
+    from softcath.fem.section_model.finite_strain.lumen import lumen_volume
+
+    u, g = state.q[: disc.n_u], state.q[disc.n_u :]
+    lam, k1, k2 = (float(v) for v in g)
+    xc = _centroid(disc, u, g)
+    stretch = 1.0 + k1 * xc[0] + k2 * xc[1]
+    lv = lumen_volume(wall, u, g)
+    return {
+        "curvature": k2 / stretch,
+        "lateral": k1 / stretch,
+        "rate": lam * k2,
+        "elongation": lam * stretch - 1.0,
+        "area": lv.area,
+        "volume": lv.volume,
+        "max_strain": state.max_strain,
+        "iterations": state.iterations,
+        "residual": state.residual,
+    }
+
+
+def _rest_row(d, rest) -> dict:
+    return {
+        "curvature": 0.0, "lateral": 0.0, "rate": 0.0, "elongation": 0.0, "area": rest.area,
+        "volume": rest.volume, "max_strain": 0.0, "iterations": 0, "residual": 0.0,
+    }  # fmt: skip
+
+
+def _linear_gain(problem, q_rest, loading) -> float:
+    """dk_2/dfactor at rest (= dkappa/dfactor there): one solve with the rest-state tangent."""
+    from softcath.fem.section_model.finite_strain.newton import factorise, load_vector, residual_tangent
+
+    disc = problem.disc
+    _, k, _, _ = residual_tangent(problem, q_rest, loading, 0.0)
+    free = problem.free
+    rate = np.zeros(disc.ndofs)
+    rate[free] = factorise(problem, k).solve(load_vector(problem, q_rest, loading)[free])
+    return float(rate[disc.n_u + 2])
