@@ -9,6 +9,12 @@ measured gain falls, RBD-FAST sensitivity indices, the ranges and their
 sources), DIR/samples.csv (every variant: tier, parameter values, κ/p, ε/p;
 empty gains for variants the design checks reject) and DIR/prediction.png
 (the band of each tier and the measured line).
+
+``--nonlinear`` (with ``--model section``) adds the finite-strain section
+model's bands at ``--pressures``: per pressure p5/p50/p95 of the curvature
+and bend angle (``nonlinear`` in prediction.json, DIR/curve_band.png), and
+``--measured CSV`` places a measured curve in them pressure by pressure, not
+only its line-fit slope.
 """
 
 from __future__ import annotations
@@ -49,7 +55,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--finite-strain", action="store_true",
                    help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)")  # fmt: skip
     p.add_argument("--pressures", default="0.1,0.3,0.6", metavar="P,P,...",
-                   help="pressures of --finite-strain [MPa], increasing (default 0.1,0.3,0.6, the prototype's)")  # fmt: skip
+                   help="pressures of --finite-strain and --nonlinear [MPa], increasing (default 0.1,0.3,0.6, "
+                   "the prototype's)")  # fmt: skip
+    p.add_argument("--nonlinear", action="store_true",
+                   help="with --model section: bands of the finite-strain section model's curve at --pressures")  # fmt: skip
+    p.add_argument("--curve-samples", type=int, default=64,
+                   help="samples of --nonlinear (about a second each; default 64)")  # fmt: skip
+    p.add_argument("--measured", type=Path, default=None, metavar="CSV",
+                   help="with --nonlinear: a measurement CSV compared with the bands pressure by pressure")  # fmt: skip
     add_progress(p)
     add_out(p)
 
@@ -62,7 +75,8 @@ def run(args: argparse.Namespace) -> int:
 
     compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
     # Everything that can be checked is checked before the output folder or any run.
-    pressures = _pressures(args.pressures) if args.finite_strain else None
+    pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
+    measured = _nonlinear_inputs(args)
     with as_options(_OPTIONS):
         check_predict_inputs(
             samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
@@ -85,8 +99,21 @@ def run(args: argparse.Namespace) -> int:
         )  # fmt: skip
         doc["finite_strain"] = fs
         points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
-    with Outputs(out) as o:  # all three files or none
+    if args.nonlinear:
+        from softcath.studies.predict.curve_band import curve_bands
+
+        with as_options({**_OPTIONS, "samples": "--curve-samples"}):
+            doc["nonlinear"] = curve_bands(
+                args.design, pressures, vary=args.vary, ranges_file=args.ranges, samples=args.curve_samples,
+                seed=args.seed, load=args.load or "lumen", measured=measured, progress=not args.no_progress,
+            )  # fmt: skip
+    with Outputs(out) as o:  # all files or none
         o.json("prediction.json", doc)
+        if args.nonlinear:
+            from softcath.studies.predict.plot import curve_band_picture
+
+            curve_band_picture(doc["nonlinear"], o.path("curve_band.png"), measured=measured,
+                               title=f"{doc['design']}: finite-strain section model, curvature bands")  # fmt: skip
         _write_samples(o.path("samples.csv"), tiers)
         band_picture(tiers, o.path("prediction.png"), measured_gain=args.measured_gain, points=points,
                      title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
@@ -109,8 +136,60 @@ def run(args: argparse.Namespace) -> int:
         fs = doc["finite_strain"]
         print(f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
               f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm")  # fmt: skip
-    print(f"wrote {out}/prediction.json, samples.csv, prediction.png")
+    if "nonlinear" in doc:
+        _print_nonlinear(doc["nonlinear"])
+    extra = ", curve_band.png" if args.nonlinear else ""
+    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
     return 0
+
+
+def _nonlinear_inputs(args: argparse.Namespace):
+    """Check the --nonlinear options before any work; the measurement read, or None."""
+    from softcath.design.errors import DesignError
+
+    if args.measured is not None and not args.nonlinear:
+        raise DesignError("--measured", str(args.measured), "needs --nonlinear")
+    if args.nonlinear and args.model != "section":
+        raise DesignError(
+            "--model", args.model, "must be section with --nonlinear (the finite-strain section model)"
+        )
+    if not args.nonlinear:
+        return None
+    from softcath.studies.predict.curve_band import MAX_CURVE_SAMPLES
+
+    if not 2 <= args.curve_samples <= MAX_CURVE_SAMPLES:
+        raise DesignError("--curve-samples", args.curve_samples, f"must be in [2, {MAX_CURVE_SAMPLES}]")
+    if args.measured is None:
+        return None
+    from softcath.design.measurement import read_measurement_csv
+
+    return read_measurement_csv(args.measured, missing="drop")
+
+
+def _print_nonlinear(nl: dict) -> None:
+    print(
+        f"finite-strain section model ({nl['load']} load, {nl['feasible_samples']}/{nl['samples']} variants):"
+    )
+    for pt in nl["pressures"]:
+        b = pt["curvature_percentiles"]
+        print(
+            f"  p = {pt['pressure_MPa']:g} MPa: kappa p5 {b['p5']:.4g}, p50 {b['p50']:.4g}, p95 {b['p95']:.4g} 1/mm"
+        )
+    g = nl["gain_line_fit_percentiles"]
+    print(f"  line-fit kappa/p p5 {g['p5']:.4g}, p50 {g['p50']:.4g}, p95 {g['p95']:.4g} 1/(mm MPa)")
+    m = nl.get("measured")
+    if m:
+        for pt in m["points"]:
+            if pt["measured_curvature_per_mm"] is None:
+                print(f"  measured at {pt['pressure_MPa']:g} MPa: no measured point within half a step")
+                continue
+            where = "inside the band" if pt["measured_in_band"] else pt["measured_outside"]
+            print(f"  measured at {pt['pressure_MPa']:g} MPa: {pt['measured_curvature_per_mm']:.4g} 1/mm, "
+                  f"percentile {pt['measured_percentile']:.1f} ({where}), {pt['measured_over_p50']:.3g}x p50")  # fmt: skip
+        print(
+            f"  measured: {m['pressures_in_band']} of {m['pressures_compared']} pressures inside the band; "
+            f"its line-fit kappa/p {m['gain_line_fit']:.4g}"
+        )
 
 
 def _write_samples(path: Path, tiers) -> None:
@@ -127,12 +206,12 @@ def _write_samples(path: Path, tiers) -> None:
 
 
 def _pressures(text: str) -> list[float]:
-    """The finite-strain FEM's pressures: checked (finite, ±100 MPa, > 0, increasing, two or more)."""
+    """The finite-strain pressures: checked (finite, ±100 MPa, > 0, increasing, two or more)."""
     from softcath.design.errors import DesignError
 
     values = parse_pressure_list(text, param="--pressures", increasing=True)
     if values[0] <= 0:
-        raise DesignError("--pressures", text, "must be > 0 MPa for the finite-strain FEM")
+        raise DesignError("--pressures", text, "must be > 0 MPa for the finite-strain models")
     if len(values) < 2:
         raise DesignError("--pressures", text, "needs two or more pressures for the line fit")
     return values

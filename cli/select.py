@@ -3,8 +3,10 @@
 Examples: --constraint "bend_angle_deg >= 90 at p_max" --constraint "max_strain <= 0.3"
 --objective "maximise bend_per_MPa_deg" --objective "minimise elongation at p_max".
 Columns such as bend_angle_deg, bend_per_MPa_deg, max_strain resolve to one model: by default the
-section model under the lumen load when the sweep has section-model columns, else the paper's
-formula (cap load); --model and --load choose. Writes DIR/selection.json (ranked list, Pareto
+finite-strain section model when the sweep ran it, else the section model under the lumen load when
+the sweep has section-model columns, else the paper's formula (cap load); --model and --load choose.
+A bend constraint ranked on a linear model whose designs bend past its validity (5 deg) is re-checked
+with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json (ranked list, Pareto
 front, model and load); `softcath report DIR` shows it.
 """
 
@@ -31,8 +33,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--model",
         default=None,
-        choices=("paper", "section", "fem"),
-        help="model behind bend_angle_deg, max_strain, ... (default: section if the sweep has it, else paper)",
+        choices=("paper", "section", "section-nonlinear", "fem"),
+        help="model behind bend_angle_deg, max_strain, ... (default: section-nonlinear, then section, if the "
+        "sweep has it, else paper)",
+    )
+    parser.add_argument(
+        "--no-recheck",
+        action="store_true",
+        help="keep a linear model's ranking even where a bend constraint is beyond its validity",
     )
     parser.add_argument(
         "--load",
@@ -79,6 +87,8 @@ def run(args: argparse.Namespace) -> int:
         from softcath.studies.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
+    if not args.no_recheck:
+        sel = _recheck(args, sel, df)
     if args.robust is not None:
         sel = _robust(args, sel)
     path = write_selection(sel, out)
@@ -113,6 +123,37 @@ def run(args: argparse.Namespace) -> int:
             )
     print(f"selection: {path}")
     return 0
+
+
+def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:
+    """(spec, base_table) from the sweep's manifest."""
+    import json
+    from pathlib import Path
+
+    from softcath.design.errors import DataError
+
+    manifest = Path(args.dir) / "sweep.json"
+    try:
+        doc = json.loads(manifest.read_text(encoding="utf-8"))
+        return doc["spec"], doc["base_table"]
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); {why} needs it") from None
+
+
+def _recheck(args: argparse.Namespace, sel, df):
+    """Re-check with the finite-strain section model a bend constraint beyond a linear model's validity."""
+    from softcath.studies.results import model_columns
+    from softcath.studies.selection import large_bend_constraints, recheck_large_bends
+
+    if sel.model not in ("paper", "section", "fem"):
+        return sel
+    big = large_bend_constraints(sel, model_columns(df, sel.model))
+    if not big:
+        return sel
+    spec, base_table = _manifest(args, "the large-bend re-check (or give --no-recheck)")
+    return recheck_large_bends(
+        sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], constraints=big, workers=args.workers
+    )
 
 
 def _robust(args: argparse.Namespace, sel):

@@ -68,7 +68,7 @@ COLUMN_UNITS = {
     "max_strain_fem": "-", "curvature_variation_fem": "-", "fem_residual": "-", "fem_n_elements": "-",
     "fem_dofs": "-", "rel_diff_curvature": "-", "rel_diff_elongation": "-", "rel_diff_bend_angle": "-",
     "abs_rel_diff_curvature": "-", "curvature_per_mm": "1/mm", "elongation": "-", "bend_angle_deg": "deg",
-    "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|section|fem", "feasible_strain": "bool",
+    "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|section|fem|section-nonlinear", "feasible_strain": "bool",
     "feasible": "bool", "status": "ok|failed", "reason": "text", "analytic_seconds": "s",
     "fem_mesh_seconds": "s", "fem_solve_seconds": "s", "cpu_seconds": "s",
     "nonlinear_bend_angle_rad": "rad", "nonlinear_curvature_per_mm": "1/mm", "nonlinear_max_strain": "-",
@@ -76,12 +76,23 @@ COLUMN_UNITS = {
     "bend_angle_section_deg": "deg", "tip_x_section_mm": "mm", "tip_y_section_mm": "mm",
     "max_strain_section": "-", "section_formula_ratio": "-", "section_seconds": "s",
     "rel_diff_fem_section_curvature": "-", "fem_formula_ratio": "-",
+    "curvature_section_nonlinear_per_mm": "1/mm", "elongation_section_nonlinear": "-",
+    "bend_angle_section_nonlinear_rad": "rad", "bend_angle_section_nonlinear_deg": "deg",
+    "tip_x_section_nonlinear_mm": "mm", "tip_y_section_nonlinear_mm": "mm", "max_strain_section_nonlinear": "-",
+    "lumen_volume_change_section_nonlinear_mm3": "mm^3", "section_nonlinear_seconds": "s",
 }  # fmt: skip
 
 #: Section-model columns; sweeps (or resumed task files) from before the section evaluator lack them.
 SECTION_COLUMNS = (
     "curvature_section_per_mm", "elongation_section", "bend_angle_section_rad", "tip_x_section_mm",
     "tip_y_section_mm", "max_strain_section", "section_formula_ratio", "section_seconds",
+)  # fmt: skip
+
+#: Columns of the ``section-nonlinear`` evaluator (the finite-strain section model).
+SECTION_NONLINEAR_COLUMNS = (
+    "curvature_section_nonlinear_per_mm", "elongation_section_nonlinear", "bend_angle_section_nonlinear_rad",
+    "tip_x_section_nonlinear_mm", "tip_y_section_nonlinear_mm", "max_strain_section_nonlinear",
+    "lumen_volume_change_section_nonlinear_mm3", "section_nonlinear_seconds",
 )  # fmt: skip
 
 #: Model -> its columns for the best-estimate quantities (see :func:`model_columns`).
@@ -92,6 +103,10 @@ MODEL_COLUMNS = {
                 "bend_angle_deg": "bend_angle_section_deg", "max_strain": "max_strain_section"},
     "fem": {"curvature_per_mm": "curvature_fem_per_mm", "elongation": "elongation_fem",
             "bend_angle_deg": "bend_angle_fem_deg", "max_strain": "max_strain_fem"},
+    "section-nonlinear": {"curvature_per_mm": "curvature_section_nonlinear_per_mm",
+                          "elongation": "elongation_section_nonlinear",
+                          "bend_angle_deg": "bend_angle_section_nonlinear_deg",
+                          "max_strain": "max_strain_section_nonlinear"},
 }  # fmt: skip
 
 
@@ -103,13 +118,16 @@ def _rel(fem: np.ndarray, ana: np.ndarray) -> np.ndarray:
 def add_derived_columns(df, *, max_strain: float, p_max: float):
     """Add degrees, relative differences, best estimates and feasibility flags; returns the new frame."""
     df = df.rename(columns=_FEM_RENAME)
-    for c in SECTION_COLUMNS:
+    for c in (*SECTION_COLUMNS, *SECTION_NONLINEAR_COLUMNS):
         if c not in df.columns:
             df[c] = np.nan
     df["at_p_max"] = np.isclose(df["pressure_MPa"].to_numpy(float), p_max, rtol=1e-12, atol=0.0)
     df["bend_angle_analytic_deg"] = np.degrees(df["bend_angle_analytic_rad"].to_numpy(float))
     df["bend_angle_fem_deg"] = np.degrees(df["bend_angle_fem_rad"].to_numpy(float))
     df["bend_angle_section_deg"] = np.degrees(df["bend_angle_section_rad"].to_numpy(float))
+    df["bend_angle_section_nonlinear_deg"] = np.degrees(
+        df["bend_angle_section_nonlinear_rad"].to_numpy(float)
+    )
     for name, ana, fem in (
         ("curvature", "curvature_analytic_per_mm", "curvature_fem_per_mm"),
         ("elongation", "elongation_analytic", "elongation_fem"),
@@ -121,10 +139,14 @@ def add_derived_columns(df, *, max_strain: float, p_max: float):
     df["rel_diff_fem_section_curvature"] = _rel(fem_k, df["curvature_section_per_mm"].to_numpy(float))
     df["fem_formula_ratio"] = _over_formula(df, fem_k)
     has_fem, has_sec = np.isfinite(fem_k), np.isfinite(df["curvature_section_per_mm"].to_numpy(float))
-    df["source"] = np.where(has_fem, "fem", np.where(has_sec, "section", "analytic"))
+    has_sn = np.isfinite(df["curvature_section_nonlinear_per_mm"].to_numpy(float))
+    df["source"] = np.where(
+        has_sn, "section-nonlinear", np.where(has_fem, "fem", np.where(has_sec, "section", "analytic"))
+    )
     for best in MODEL_COLUMNS["paper"]:
         value = df[MODEL_COLUMNS["paper"][best]].to_numpy(float)
-        for model in ("section", "fem"):  # later models win where they ran
+        # later models win where they ran: the finite-strain section model is the one valid at large bends
+        for model in ("section", "fem", "section-nonlinear"):
             v = df[MODEL_COLUMNS[model][best]].to_numpy(float)
             value = np.where(np.isfinite(v), v, value)
         df[best] = value

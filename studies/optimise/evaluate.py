@@ -44,6 +44,9 @@ _FORMULA_SECONDS = 0.01
 #: One section-model run on the sweep's batched path per estimated DOF, s: 29.5 ms of worker CPU
 #: for the paper section (docs/section.md), whose estimated DOFs are 2.8k.
 _SECTION_SECONDS_PER_DOF = 1.05e-5
+#: The finite-strain section model's walk through a few pressures against one linear solve: about
+#: fifteen Newton iterations of a tangent twice the linear model's size (~1 s for the paper section).
+_FINITE_STRAIN_FACTOR = 30.0
 
 
 def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | None = None) -> float:
@@ -63,7 +66,8 @@ def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | Non
     d = design.from_dict(base_table)
     h = MESH_SIZE if mesh_size is None else mesh_size
     dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=h)
-    return _FORMULA_SECONDS + _SECTION_SECONDS_PER_DOF * dofs
+    factor = _FINITE_STRAIN_FACTOR if model == "section-nonlinear" else 1.0
+    return _FORMULA_SECONDS + factor * _SECTION_SECONDS_PER_DOF * dofs
 
 
 def check_work(model: str, base_table: dict, runs: int, *, param: str, value, mesh_size=None) -> float:

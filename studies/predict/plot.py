@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["band_picture"]
+__all__ = ["band_picture", "curve_band_picture"]
 
 _LABELS = {
     "paper": "paper's formula (eq. 7)",
@@ -65,3 +65,35 @@ def band_picture(
     fig.savefig(out, dpi=120)
     plt.close(fig)
     return out
+
+
+def curve_band_picture(nonlinear: Mapping, path: str | Path, *, measured=None, title: str = "") -> Path:
+    """Curvature against pressure: the finite-strain section model's p5-p95 band, p50 and nominal,
+    the measured points and their per-pressure medians (``nonlinear``: ``curve_bands``'s document)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pts = nonlinear["pressures"]
+    p = np.array([pt["pressure_MPa"] for pt in pts])
+    band = {q: np.array([pt["curvature_percentiles"][q] for pt in pts]) for q in ("p5", "p50", "p95")}
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.fill_between(p, band["p5"], band["p95"], alpha=0.25, label="p5-p95, finite-strain section")
+    ax.plot(p, band["p50"], "o-", label="p50")
+    ax.plot(p, [pt["nominal_curvature_per_mm"] for pt in pts], "d--", label="nominal design")
+    if measured is not None:
+        ax.plot(measured.pressure_MPa, measured.curvature_per_mm, ".", ms=2, alpha=0.3, color="0.3",
+                label="measured")  # fmt: skip
+        med = nonlinear.get("measured", {}).get("points", [])
+        mp = [m["pressure_MPa"] for m in med if m["measured_curvature_per_mm"] is not None]
+        mk = [m["measured_curvature_per_mm"] for m in med if m["measured_curvature_per_mm"] is not None]
+        ax.plot(mp, mk, "ks", label="measured, median per pressure")
+    ax.set_xlabel("pressure [MPa]")
+    ax.set_ylabel("curvature [1/mm]")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)

@@ -26,10 +26,14 @@ sweep) are skipped; a design with no defined row fails the constraint.
 Model and load: the best-estimate columns ``curvature_per_mm``,
 ``elongation``, ``bend_angle_deg``, ``max_strain`` and ``bend_per_MPa_deg``
 resolve to one model's columns (:func:`softcath.studies.results.model_columns`). By
-default that is the section model under the lumen load (the real load) when
-the sweep has section-model columns, else the paper's formula (analytic
+default that is the finite-strain section model when the sweep ran it (valid
+at every bend), else the section model under the lumen load (the real load)
+when the sweep has section-model columns, else the paper's formula (analytic
 model) under the cap load, with a note saying so; ``model`` and ``load``
-choose explicitly (``paper``, ``section`` or ``fem``; ``cap`` or ``lumen``).
+choose explicitly (``paper``, ``section``, ``section-nonlinear`` or ``fem``;
+``cap`` or ``lumen``). A bend constraint ranked on a linear tier whose designs
+bend past its validity is re-checked with the finite-strain section model
+(:func:`recheck_large_bends`).
 
 Ranking: designs that fail (status) or break a constraint are dropped; the
 rest are ordered Pareto front first (no other design is at least as good in
@@ -44,6 +48,11 @@ from __future__ import annotations
 
 from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
 from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.selection.large_bends import (
+    LINEAR_BEND_LIMIT_DEG,
+    large_bend_constraints,
+    recheck_large_bends,
+)
 from softcath.studies.selection.models import MODEL_NAMES, resolve_model
 from softcath.studies.selection.output import write_selection
 from softcath.studies.selection.ranking import MAX_POINTS, Selection, pareto_front, select
@@ -60,6 +69,9 @@ __all__ = [
     "parse_objective",
     "pareto_front",
     "resolve_model",
+    "large_bend_constraints",
+    "recheck_large_bends",
+    "LINEAR_BEND_LIMIT_DEG",
     "robust_select",
     "select",
     "sweep_ranges",

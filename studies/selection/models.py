@@ -6,7 +6,12 @@ from softcath.studies.selection.expressions import SelectionError
 
 __all__ = ["MODEL_NAMES", "resolve_model"]
 
-MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+MODEL_NAMES = {
+    "paper": "the paper's formula",
+    "section": "the section model",
+    "fem": "the 3-D FEM",
+    "section-nonlinear": "the finite-strain section model",
+}
 
 
 def resolve_model(df, model: str | None = None, load: str | None = None):
@@ -20,7 +25,9 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     loads = sorted(set(df["load"]))
     notes = []
     if model is None:
-        if has_model(df, "section"):
+        if has_model(df, "section-nonlinear"):  # valid at every bend, small or large
+            model = "section-nonlinear"
+        elif has_model(df, "section"):
             model = "section"
         elif "curvature_analytic_per_mm" in df.columns:
             model = "paper"

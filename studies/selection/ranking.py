@@ -51,6 +51,9 @@ class Selection:
         ``fem``), or ``table`` when the results carry no model columns.
     note
         Why that model or load was used when it was not asked for (else empty).
+    recheck
+        Large-bend re-check (:func:`softcath.studies.selection.large_bends.recheck_large_bends`): the
+        finite-strain section model's verdict on designs ranked by a linear tier; ``None`` if not run.
     robust
         Robust re-evaluation (:func:`softcath.studies.selection.robust.robust_select`): P, samples,
         ranges, model, per-design probabilities and percentiles; ``None`` for a nominal selection.
@@ -81,6 +84,7 @@ class Selection:
     model: str = "table"
     note: str = ""
     robust: dict | None = None
+    recheck: dict | None = None
 
     def to_json(self) -> dict:
         return {
@@ -96,6 +100,7 @@ class Selection:
             "ranked": self.ranked,
             "points": self.points,
             **({"robust": self.robust} if self.robust is not None else {}),
+            **({"recheck": self.recheck} if self.recheck is not None else {}),
         }
 
 

@@ -70,7 +70,7 @@ def robust_select(
 
     from softcath.studies.optimise import Backend, Problem, evaluate_parameters, make_robustness
 
-    model = model or ("paper" if selection.model == "paper" else "section")
+    model = model or (selection.model if selection.model in ("paper", "section-nonlinear") else "section")
     swept = {p for r in selection.ranked for p in r["parameters"]}
     use = [r for r in ranges if r.path not in swept]
     left_out = [r.path for r in ranges if r.path in swept]

@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.studies.results import _FEM_RENAME
+from softcath.studies.results import _FEM_RENAME, SECTION_NONLINEAR_COLUMNS
 from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns_many
+from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -321,6 +322,20 @@ def evaluate_task(task: dict) -> pd.DataFrame:
                 for col, v in values[load].items():
                     sec_cols[load][col][i] = v
 
+    sn_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_NONLINEAR_COLUMNS} for load in loads}
+    if "section-nonlinear" in task["evaluators"]:
+        for i in ok:
+            try:
+                values = section_nonlinear_columns(designs[i], pressures, loads, task.get("section"))
+            except Exception as exc:  # a stalled Newton walk is reported per design, never ends the sweep
+                log.warning("finite-strain section model failed for design %s: %s", ids[i], exc)
+                why = f"section-nonlinear failed: {type(exc).__name__}: {exc}"
+                fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+                continue
+            for load in loads:
+                for col, v in values[load].items():
+                    sn_cols[load][col][i] = v
+
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
     frames = []
     for load in loads:
@@ -342,6 +357,8 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         for k, v in nl_cols[load].items():
             cols[k] = v.ravel()
         for k, v in sec_cols[load].items():
+            cols[k] = v.ravel()
+        for k, v in sn_cols[load].items():
             cols[k] = v.ravel()
         status, reason = [], []
         for i in range(n_d):

@@ -7,8 +7,9 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["analytic"]      # and/or "section" (2-D section model, ~0.2 s/design), "fem",
-                                   # "nonlinear" (finite-strain FEM, slow)
+    evaluators = ["analytic"]      # and/or "section" (2-D section model, ~0.2 s/design),
+                                   # "section-nonlinear" (finite-strain section model, ~1 s/design
+                                   # and load: large bends), "fem", "nonlinear" (finite-strain FEM, slow)
     seed = 7                       # Latin hypercube seed
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
@@ -50,9 +51,11 @@ from softcath.design.errors import DesignError
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
-EVALUATORS = ("analytic", "section", "fem", "nonlinear")
+EVALUATORS = ("analytic", "section", "section-nonlinear", "fem", "nonlinear")
 #: Designs per task at most when the section model runs (~0.2 s each): tasks of a few seconds.
 SECTION_CHUNK = 25
+#: Designs per task at most with the finite-strain section model (~1 s a design and load).
+SECTION_NONLINEAR_CHUNK = 8
 LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
     "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
@@ -102,7 +105,9 @@ class SweepSpec:
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
-        From ``("analytic", "section", "fem", "nonlinear")``: the analytic model always runs.
+        From ``("analytic", "section", "section-nonlinear", "fem", "nonlinear")``: the analytic
+        model always runs; ``section-nonlinear`` is the finite-strain section model (~1 s per design
+        and load).
     n_samples
         Latin-hypercube sample size (0 when no parameter is ``lhs``).
     seed
@@ -140,7 +145,7 @@ class SweepSpec:
 
     @property
     def uses_section(self) -> bool:
-        return "section" in self.evaluators
+        return "section" in self.evaluators or "section-nonlinear" in self.evaluators
 
     @property
     def section_options(self) -> dict:
@@ -178,6 +183,8 @@ class SweepSpec:
         :data:`SECTION_CHUNK` when the section model runs."""
         if self.uses_fem:
             return 1
+        if "section-nonlinear" in self.evaluators:
+            return min(self.chunk_size, SECTION_NONLINEAR_CHUNK)
         return min(self.chunk_size, SECTION_CHUNK) if self.uses_section else self.chunk_size
 
     def to_json(self) -> dict:

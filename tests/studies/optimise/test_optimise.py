@@ -89,13 +89,19 @@ def test_robust_constraint_holds_with_probability(table):
     assert pct["p50"] < 10.0  # the nominal optimum would sit on the cap
 
 
-def test_unavailable_model_and_bad_bounds_are_named(table):
-    with pytest.raises(DesignError, match="model = 'section-nonlinear'.*no such evaluator"):
-        import softcath.studies.sweep.spec as spec
+def test_finite_strain_model_optimises_on_its_own_bend(table):
+    """The finite-strain section model as the optimiser's model: an active bound (a softer tube bends
+    more) whose objective is the finite-strain curve's own bend of the winner."""
+    from softcath.fem.section_model.finite_strain import section_curve
 
-        if "section-nonlinear" in spec.EVALUATORS:
-            pytest.skip("the finite-strain section evaluator is present")
-        make_problem(table, variables=[f"{E_TUBE}=1:4"], objectives=[BEND], model="section-nonlinear")
+    p = make_problem(table, variables=[f"{E_TUBE}=1.5:4"], objectives=[BEND], model="section-nonlinear")
+    best = optimise(p, budget=10, seed=2, progress=False).best[0]
+    assert best.parameters[E_TUBE] == pytest.approx(1.5, rel=0.05)
+    c = section_curve(build_variant(table, best.parameters), [0.5])
+    assert best.objectives[BEND] == pytest.approx(math.degrees(c.bend_angle_rad[0]), rel=1e-6)
+
+
+def test_bad_bounds_are_named(table):
     with pytest.raises(DesignError, match=r"vary.tube.h.high = -0.1: must be > low = 0.1"):
         make_problem(table, variables=["tube.h=0.1:-0.1"], objectives=[BEND])
     with pytest.raises(DesignError, match="vary.tube.nope.*not a field"):
