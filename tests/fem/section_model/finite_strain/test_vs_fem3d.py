@@ -17,8 +17,8 @@ mesh (0.15 mm, 4 layers, 18k DOFs) and 0.974 -> 0.938 on a finer one
 0.03 % from its default mesh to a 4x finer one at 0.6 MPa. So the test takes
 both 3-D meshes and extrapolates to zero mesh size (Richardson, the P2
 elements' second order): the extrapolated 3-D bend rate must agree with the
-section model within 3 % at every pressure of 0.1-0.6 MPa (measured: -1.8 % to +2.1 %, within
- 2.1 %), and the refinement must close at least half of the coarse mesh's gap at
+section model within 3 % at every pressure of 0.1-0.6 MPa (measured: -1.8 % to
++2.1 %), and the refinement must close at least half of the coarse mesh's gap at
 0.6 MPa (the 3-D converges toward the section model, not away).
 """
 
