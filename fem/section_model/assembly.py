@@ -256,18 +256,13 @@ def _rigid_pins(basis, mesh) -> np.ndarray:
     return np.array([nd[0, a], nd[1, a], nd[0, b]])
 
 
-def _lumen_load(section: SectionMesh, mesh, basis):
-    """Unit lumen-pressure load vector, and the lumen's area and centroid.
+def lumen_edge_elements(section: SectionMesh, mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(parent triangle, local edge 0-2) of every lumen edge of ``section`` in ``mesh``.
 
-    Integrated directly on each lumen edge's parent element: the edge's
-    reference points are known, so no inverse isoparametric map is needed
-    (scikit-fem's ``FacetBasis`` solves one by Newton's method, a third of the
-    assembly time here). Gauss-Legendre with 4 points is exact for the
-    P2-mapped edge geometry times the cubic shape functions up to the
-    curved Jacobian's smooth factor.
+    Local edges are (0,1), (1,2), (2,0) of ``mesh.t`` (counter-clockwise triangles).
     """
     le = np.sort(section.lumen_edges, axis=1)
-    t = mesh.t  # (3, nel), local edges (0,1), (1,2), (2,0) counter-clockwise
+    t = mesh.t
     nv = int(t.max()) + 1
     local = ((0, 1), (1, 2), (2, 0))
     all_edges = np.sort(np.concatenate([t[[i, j]].T for i, j in local]), axis=1)  # (3 nel, 2)
@@ -279,7 +274,21 @@ def _lumen_load(section: SectionMesh, mesh, basis):
         raise DesignError("section.lumen", len(le), "a lumen edge belongs to no triangle")
     hit = order[pos]
     nel = t.shape[1]
-    elems, which = hit % nel, hit // nel
+    return hit % nel, hit // nel
+
+
+def _lumen_load(section: SectionMesh, mesh, basis):
+    """Unit lumen-pressure load vector, and the lumen's area and centroid.
+
+    Integrated directly on each lumen edge's parent element: the edge's
+    reference points are known, so no inverse isoparametric map is needed
+    (scikit-fem's ``FacetBasis`` solves one by Newton's method, a third of the
+    assembly time here). Gauss-Legendre with 4 points is exact for the
+    P2-mapped edge geometry times the cubic shape functions up to the
+    curved Jacobian's smooth factor.
+    """
+    t = mesh.t
+    elems, which = lumen_edge_elements(section, mesh)
     s, ws = np.polynomial.legendre.leggauss(4)
     s, ws = 0.5 * (s + 1), 0.5 * ws
     # Reference points along each local edge, traversed from its first to its second vertex.

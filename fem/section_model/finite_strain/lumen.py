@@ -27,8 +27,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
-
 __all__ = ["LumenWall", "lumen_wall", "LumenVolume", "lumen_volume"]
 
 
@@ -63,20 +61,10 @@ class LumenWall:
 def lumen_wall(section, disc) -> LumenWall:
     """The lumen wall of ``section`` on the discretisation ``disc``."""
     mesh, basis = disc.mesh, disc.basis
-    le = np.sort(section.lumen_edges, axis=1)
+    from softcath.fem.section_model.assembly import lumen_edge_elements
+
     t = mesh.t
-    nv = int(t.max()) + 1
-    local = ((0, 1), (1, 2), (2, 0))
-    all_edges = np.sort(np.concatenate([t[[i, j]].T for i, j in local]), axis=1)
-    keys = all_edges[:, 0].astype(np.int64) * nv + all_edges[:, 1]
-    order = np.argsort(keys)
-    want = le[:, 0].astype(np.int64) * nv + le[:, 1]
-    pos = np.clip(np.searchsorted(keys[order], want), 0, keys.size - 1)
-    if not np.array_equal(keys[order][pos], want):
-        raise DesignError("section.lumen", len(le), "a lumen edge belongs to no triangle")
-    hit = order[pos]
-    nel = t.shape[1]
-    elems, which = hit % nel, hit // nel
+    elems, which = lumen_edge_elements(section, mesh)
     s, ws = np.polynomial.legendre.leggauss(4)
     s, ws = 0.5 * (s + 1), 0.5 * ws
     start = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])[which]
