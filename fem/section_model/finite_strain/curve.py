@@ -256,8 +256,8 @@ def section_curve(
     --------
     >>> from softcath.fem.section_model.finite_strain import section_curve
     >>> c = section_curve("paper", [0.3, 0.6])
-    >>> [round(float(a), 1) for a in c.bend_angle_rad * 180 / 3.141592653589793]
-    [24.6, 59.1]
+    >>> [round(float(a)) for a in c.bend_angle_rad * 180 / 3.141592653589793]  # degrees
+    [25, 59]
     """
     from softcath import design as design_pkg
     from softcath.analytic.pose import tip_pose
