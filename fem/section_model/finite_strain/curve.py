@@ -321,7 +321,7 @@ def section_curve(
         if bar is not None:
             bar.close()
     n_zero = p.size - positive.size
-    rows = [_rest_row(d, rest)] * n_zero + [_row(d, disc, wall, s, rest) for s in states]
+    rows = [_rest_row(rest)] * n_zero + [_row(disc, wall, s) for s in states]
     cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
     k_c = cols.get("curvature", np.zeros(0))
     length = float(d.tip.bending_length)
@@ -368,19 +368,19 @@ def _poisson(law) -> float:
     return float(lam / (2 * (lam + mu)))
 
 
-def _centroid(disc, u, g) -> np.ndarray:
+def _centroid(disc, u) -> np.ndarray:
     """Axial-stiffness-weighted centroid of the deformed section (small-strain E_z weights)."""
-    du, x = disc.element_fields(u)
+    _, x = disc.element_fields(u)
     w = disc.weights * disc.axial_modulus[:, None]
     return np.einsum("cq,cqa->a", w, x) / w.sum()
 
 
-def _row(d, disc, wall, state, rest) -> dict:
+def _row(disc, wall, state) -> dict:
     from softcath.fem.section_model.finite_strain.lumen import lumen_volume
 
     u, g = state.q[: disc.n_u], state.q[disc.n_u :]
     lam, k1, k2 = (float(v) for v in g)
-    xc = _centroid(disc, u, g)
+    xc = _centroid(disc, u)
     stretch = 1.0 + k1 * xc[0] + k2 * xc[1]
     lv = lumen_volume(wall, u, g)
     return {
@@ -396,7 +396,7 @@ def _row(d, disc, wall, state, rest) -> dict:
     }
 
 
-def _rest_row(d, rest) -> dict:
+def _rest_row(rest) -> dict:
     return {
         "curvature": 0.0, "lateral": 0.0, "rate": 0.0, "elongation": 0.0, "area": rest.area,
         "volume": rest.volume, "max_strain": 0.0, "iterations": 0, "residual": 0.0,
