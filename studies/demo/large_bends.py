@@ -50,7 +50,7 @@ def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
         "paper's formula (eq. 7, cap load)": lambda p: analytic.response(d, p, load="cap").bend_angle,
         "linear section model": lambda p: lin.response(p, "lumen").bend_angle,
     }
-    fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen")
+    fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen", linear_gain=False)
     tiers = {name: (fine, np.asarray(f(fine), float)) for name, f in linear_tiers.items()}
     tiers["finite-strain section model (uniform arc)"] = (fs.pressure, fs.bend_angle_rad)
     if fem_curve is not None:

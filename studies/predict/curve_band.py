@@ -113,12 +113,12 @@ def curve_bands(
     ):
         overrides, _ = split_overrides(row)
         try:
-            c = section_curve(builder.build(overrides), p, load=load)
+            c = section_curve(builder.build(overrides), p, load=load, linear_gain=False)
         except DesignError as exc:  # infeasible variant, or Newton stopped short (named pressure)
             errors.append(str(exc))
             continue
         kappa[i], angle[i] = c.curvature_per_mm, c.bend_angle_rad
-    nominal = section_curve(builder.build({}), p, load=load)
+    nominal = section_curve(builder.build({}), p, load=load, linear_gain=False)
     ok = np.all(np.isfinite(kappa), axis=1)
     if not ok.any():
         raise DesignError(

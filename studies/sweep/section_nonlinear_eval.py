@@ -46,7 +46,7 @@ def section_nonlinear_columns(
         t0 = time.perf_counter()
         cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
         if walk.size:
-            c = section_curve(design, walk, load=load, **opts)
+            c = section_curve(design, walk, load=load, linear_gain=False, **opts)
             idx = np.searchsorted(walk, p)
             ok = p >= 0
             for col, attr in SECTION_NONLINEAR_KEYS.items():

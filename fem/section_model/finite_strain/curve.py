@@ -87,7 +87,8 @@ class SectionCurve:
     residual
         Relative residual of each converged state.
     linear_curvature_per_mm_per_MPa
-        The small-load slope dkappa/dp (the linear section model's gain on the same laws).
+        The small-load slope dkappa/dp (the linear section model's gain on the same laws), or
+        None when not asked for (``linear_gain=False``).
     """
 
     design_name: str
@@ -105,7 +106,7 @@ class SectionCurve:
     max_strain: np.ndarray
     newton_iterations: np.ndarray
     residual: np.ndarray
-    linear_curvature_per_mm_per_MPa: float
+    linear_curvature_per_mm_per_MPa: float | None
     length_mm: float
     lumen_area_rest_mm2: float
     dofs: int
@@ -222,6 +223,7 @@ def section_curve(
     hoop_cap: float | None = None,
     laws: Mapping[int, object] | None = None,
     mesher: str = "template",
+    linear_gain: bool = True,
     progress: bool = False,
 ) -> SectionCurve:
     """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
@@ -243,6 +245,9 @@ def section_curve(
     laws
         Region label -> finite-strain law, overriding :func:`section_laws` (e.g. the 3-D
         FEM's ``catheter_laws`` for a comparison on equal materials).
+    linear_gain
+        Also solve the rest state's tangent for the small-load gain (one more factorisation,
+        ~8 % of a 7-pressure curve; sweeps and bands leave it out).
     progress
         Show a progress bar over the pressures.
 
@@ -303,7 +308,7 @@ def section_curve(
     q_rest = np.zeros(disc.ndofs)
     q_rest[disc.n_u] = 1.0
     rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
-    gain = _linear_gain(problem, q_rest, loading) / p_top
+    gain = _linear_gain(problem, q_rest, loading) / p_top if linear_gain else None
 
     bar = None
     if progress:
@@ -343,7 +348,7 @@ def section_curve(
         max_strain=cols.get("max_strain", np.zeros(0)),
         newton_iterations=cols.get("iterations", np.zeros(0, int)).astype(int),
         residual=cols.get("residual", np.zeros(0)),
-        linear_curvature_per_mm_per_MPa=float(gain),
+        linear_curvature_per_mm_per_MPa=None if gain is None else float(gain),
         length_mm=length,
         lumen_area_rest_mm2=float(rest.area),
         dofs=int(disc.ndofs),

@@ -44,3 +44,10 @@ def test_small_load_is_the_linear_section_model(load, index):
     assert curve.elongation[0] / p == pytest.approx(eps, rel=1e-3)
     area = lin.lumen_area_change_mm2_per_MPa[load]
     assert (curve.lumen_area_mm2[0] - curve.lumen_area_rest_mm2) / p == pytest.approx(area, rel=1e-3)
+
+
+def test_the_linear_gain_is_optional_and_leaves_the_curve_alone():
+    with_gain = section_curve("paper", [0.3])
+    without = section_curve("paper", [0.3], linear_gain=False)
+    assert without.linear_curvature_per_mm_per_MPa is None and with_gain.linear_curvature_per_mm_per_MPa > 0
+    assert without.curvature_per_mm[0] == with_gain.curvature_per_mm[0]
