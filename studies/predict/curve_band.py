@@ -99,8 +99,9 @@ def curve_bands(
         raise DesignError("pressures", p.tolist(), "need two or more increasing pressures > 0 MPa")
     t0 = time.perf_counter()
     table = base_table(design_ref)
-    ranges = [r for r in resolve_ranges(design_ref, vary, ranges_file) if not r.path.startswith("model.")]
-    skipped = [r.path for r in resolve_ranges(design_ref, vary, ranges_file) if r.path.startswith("model.")]
+    given = resolve_ranges(design_ref, vary, ranges_file)
+    ranges = [r for r in given if not r.path.startswith("model.")]
+    skipped = [r.path for r in given if r.path.startswith("model.")]
     values = sample_values(unit_sample(samples, len(ranges), seed), ranges) if ranges else [{}] * samples
     builder = VariantBuilder(table)
     kappa = np.full((samples, p.size), np.nan)

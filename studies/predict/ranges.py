@@ -27,7 +27,7 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 
-__all__ = ["MODEL_OPTIONS", "SCALES", "Range", "base_table", "check_ranges", "default_ranges", "load_ranges",
+__all__ = ["MODEL_OPTIONS", "SCALES", "Range", "base_table", "check_ranges", "chosen_ranges", "default_ranges", "load_ranges",
            "parse_vary"]  # fmt: skip
 
 #: Model options a range may set (path -> allowed levels).
@@ -233,3 +233,20 @@ def check_ranges(ranges: list[Range], table: dict) -> None:
                 build_variant(table, {r.path: value})
             except DesignError as exc:
                 raise DesignError(f"--vary {r.path} {end}", value, f"{exc.parameter}: {exc.bound}") from None
+
+
+def chosen_ranges(
+    design_ref, table: dict, vary=(), ranges_file: str | Path | None = None
+) -> list[Range] | None:
+    """The ranges to vary, checked against ``table``: each ``vary`` item, else the ranges file's
+    defaults (default file: the one shipped for ``design_ref``); None when there is neither."""
+    path = ranges_file if ranges_file is not None else default_ranges(str(design_ref))
+    known = load_ranges(path) if path is not None else {}
+    if vary:
+        ranges = [parse_vary(v, known) for v in vary]
+    elif known:
+        ranges = [r for r, default in known.values() if default]
+    else:
+        return None
+    check_ranges(ranges, dict(table))
+    return ranges

@@ -11,10 +11,7 @@ from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
 from softcath.studies.predict.ranges import (
     Range,
     base_table,
-    check_ranges,
-    default_ranges,
-    load_ranges,
-    parse_vary,
+    chosen_ranges,
 )
 from softcath.studies.predict.tier import TierPrediction, predict_tier
 
@@ -86,16 +83,9 @@ def resolve_ranges(
     design_ref, vary: Sequence[str] = (), ranges_file: str | Path | None = None
 ) -> list[Range]:
     """The ranges to vary: each ``--vary`` item, or (none given) the ranges file's defaults."""
-    table = base_table(design_ref)
-    path = ranges_file if ranges_file is not None else default_ranges(str(design_ref))
-    known = load_ranges(path) if path is not None else {}
-    if vary:
-        ranges = [parse_vary(v, known) for v in vary]
-    elif known:
-        ranges = [r for r, default in known.values() if default]
-    else:
+    ranges = chosen_ranges(design_ref, base_table(design_ref), vary, ranges_file)
+    if ranges is None:
         raise DesignError("--vary", [], f"no ranges file for design {design_ref!s}: give --vary or --ranges")
-    check_ranges(ranges, table)
     return ranges
 
 

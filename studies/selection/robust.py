@@ -32,17 +32,11 @@ def sweep_ranges(
     base: str, base_table: Mapping[str, Any], vary: Sequence[str] = (), ranges_file: str | Path | None = None
 ) -> list:
     """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's) defaults."""
-    from softcath.studies.predict.ranges import check_ranges, default_ranges, load_ranges, parse_vary
+    from softcath.studies.predict.ranges import chosen_ranges
 
-    path = ranges_file if ranges_file is not None else default_ranges(str(base))
-    known = load_ranges(path) if path is not None else {}
-    if vary:
-        ranges = [parse_vary(v, known) for v in vary]
-    elif known:
-        ranges = [r for r, default in known.values() if default]
-    else:
+    ranges = chosen_ranges(base, base_table, vary, ranges_file)
+    if ranges is None:
         raise DesignError("ranges", str(base), "the sweep's base design has no ranges file: give ranges")
-    check_ranges(ranges, dict(base_table))
     return ranges
 
 
