@@ -26,6 +26,7 @@ import warnings
 
 from softcath import __version__
 from softcath.design.errors import SoftcathError
+from softcath.interrupts import clear_stop, request_stop
 
 # (subcommand, module): a missing module simply means the subcommand has not landed yet.
 SUBCOMMANDS: tuple[tuple[str, str], ...] = (
@@ -145,7 +146,13 @@ def _one_line_warning(message, category, filename, lineno, line=None) -> str:
 
 
 def _on_sigterm(signum, frame) -> None:  # pragma: no cover - exercised by subprocess tests
+    request_stop(Terminated)
     raise Terminated()
+
+
+def _on_sigint(signum, frame) -> None:  # pragma: no cover - exercised by subprocess tests
+    request_stop(KeyboardInterrupt)
+    raise KeyboardInterrupt()
 
 
 def _describe(exc: BaseException) -> str:
@@ -179,12 +186,14 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # --help (0) or a refused argument (2, already said in one line)
         return exc.code if isinstance(exc.code, int) else EXIT_ERROR
     _configure_logging(verbose=args.verbose, debug=args.debug)
-    old_term = None
+    old_term = old_int = None
+    clear_stop()
     if hasattr(signal, "SIGTERM"):
         try:
             old_term = signal.signal(signal.SIGTERM, _on_sigterm)
+            old_int = signal.signal(signal.SIGINT, _on_sigint)
         except ValueError:  # not the main thread (an embedding program)
-            old_term = None
+            old_term = old_int = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
     _printable_streams()
     from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
@@ -225,6 +234,8 @@ def main(argv: list[str] | None = None) -> int:
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
+        if old_int is not None:
+            signal.signal(signal.SIGINT, old_int)
 
 
 def _printable_streams() -> None:

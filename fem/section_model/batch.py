@@ -28,6 +28,7 @@ from scipy import sparse
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.solve import LOADS
+from softcath.interrupts import raise_pending_stop
 
 __all__ = ["BatchItem", "CHUNK", "TIMERS", "section_models"]
 
@@ -436,6 +437,7 @@ def section_models(
             laws = laws_from_design(d, coil_modulus=coil_modulus)
             laws, extra = coil_terms(d, coil_bending, laws)
         except Exception as exc:  # reported per design by the caller
+            raise_pending_stop()
             results[i] = exc
             continue
         t0 = _tick("laws", t0)
@@ -445,6 +447,7 @@ def section_models(
             mesh = morph(template, g)
             _tick("morph", t0)
         except Exception as exc:  # refused or failed: solved below on a fresh gmsh mesh
+            raise_pending_stop()
             _tick("morph", t0)
             log_fallback(g, exc)
             alone[i] = "gmsh"
@@ -472,6 +475,7 @@ def section_models(
                             share + mesh.seconds + time.perf_counter() - t1)  # fmt: skip
                 results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
             except Exception as exc:
+                raise_pending_stop()
                 results[i] = exc
     for i, mesher in alone.items():
         try:
@@ -480,5 +484,6 @@ def section_models(
             strains = {ld: silicone_strain_range(r, ld) for ld in loads}
             results[i] = BatchItem(dataclasses.replace(r, fields=None), strains)
         except Exception as exc:
+            raise_pending_stop()
             results[i] = exc
     return results

@@ -45,6 +45,7 @@ from scipy.sparse.linalg import splu
 
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import TipGeometry
+from softcath.interrupts import raise_pending_stop
 
 __all__ = [
     "QUALITY_RATIO",
@@ -322,6 +323,7 @@ def templated(geometry: TipGeometry, *, mesh_size: float, segments: int):
         template = section_template(geometry, mesh_size=mesh_size, segments=segments)
         return template, morph(template, geometry)
     except Exception as exc:  # the caller's fallback is the template-free path: nothing is lost
+        raise_pending_stop()
         log_fallback(geometry, exc)
     return None
 

@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from softcath.interrupts import raise_pending_stop
 from softcath.studies.demo.context import DemoContext, SectionOutput
 from softcath.studies.report.html import esc, note, page
 
@@ -76,6 +77,7 @@ def run_sections(sections: Sequence[Section], out_dir: str | Path, *, design_ref
         try:
             res = fn(ctx)
         except Exception as exc:  # one section's failure must not lose the others
+            raise_pending_stop()
             log.error("demo section %s failed: %s: %s", key, type(exc).__name__, exc, exc_info=True)
             res = SectionOutput(note(f"<b>This section failed:</b> {esc(type(exc).__name__)}: {esc(exc)}"),
                                 status="failed")  # fmt: skip

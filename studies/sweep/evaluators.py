@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.interrupts import raise_pending_stop
 from softcath.studies.results import _FEM_RENAME, SECTION_NONLINEAR_COLUMNS
 from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns_many
 from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
@@ -283,6 +284,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
             try:
                 rows = _fem_rows(check, designs[i], tuple(pressures), loads, task.get("mesh_size"))
             except Exception as exc:  # a FEM failure is reported per design, never ends the sweep
+                raise_pending_stop()
                 log.warning("FEM failed for design %s: %s", ids[i], exc)
                 fem_reason[i] = f"fem failed: {type(exc).__name__}: {exc}"
                 continue
@@ -302,6 +304,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
                 try:
                     values = _nonlinear_columns(designs[i], pressures, load)
                 except Exception as exc:  # a failed Newton solve is reported per design, never ends the sweep
+                    raise_pending_stop()
                     log.warning("nonlinear FEM failed for design %s: %s", ids[i], exc)
                     fem_reason[i] = f"nonlinear failed ({load}): {type(exc).__name__}: {exc}"
                     continue
@@ -328,6 +331,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
             try:
                 values = section_nonlinear_columns(designs[i], pressures, loads, task.get("section"))
             except Exception as exc:  # a stalled Newton walk is reported per design, never ends the sweep
+                raise_pending_stop()
                 log.warning("finite-strain section model failed for design %s: %s", ids[i], exc)
                 why = f"section-nonlinear failed: {type(exc).__name__}: {exc}"
                 fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why

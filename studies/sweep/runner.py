@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from softcath.design.errors import DesignError
+from softcath.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
 from softcath.studies.sweep.sampling import expand
 from softcath.studies.sweep.spec import SweepSpec
@@ -122,6 +123,7 @@ def _failed_frame(task: dict, exc: BaseException):
     try:
         frame = evaluate_task(dict(task, evaluators=["analytic"]))
     except Exception:  # even the analytic path fails: rows with the reason and no values
+        raise_pending_stop()
         return evaluate_task(dict(task, fail_reason=reason))
     frame["status"] = "failed"
     frame["reason"] = [r or reason for r in frame["reason"]]
@@ -133,6 +135,7 @@ def _serial(tasks):
         try:
             yield task, evaluate_task(task)
         except Exception as exc:  # reported per task; the sweep goes on
+            raise_pending_stop()
             yield task, _failed_frame(task, exc)
 
 
@@ -174,6 +177,7 @@ def _pool(tasks, workers: int):
             try:
                 yield task, fut.result()
             except Exception as exc:
+                raise_pending_stop()
                 yield _outcome(task, exc)
     finally:
         # On Ctrl-C or an error, do not start the queued tasks: finished ones are on disk already.
@@ -191,6 +195,7 @@ def _dask(tasks, client):
         try:
             yield task, fut.result()
         except Exception as exc:
+            raise_pending_stop()
             yield _outcome(task, exc)
 
 

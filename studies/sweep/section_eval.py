@@ -14,6 +14,8 @@ import time
 
 import numpy as np
 
+from softcath.interrupts import raise_pending_stop
+
 __all__ = ["SECTION_KEYS", "SECTION_OPTIONS", "section_columns", "section_columns_many"]
 
 log = logging.getLogger(__name__)
@@ -86,6 +88,7 @@ def section_columns_many(
             try:
                 out.append(section_columns(d, pressures, loads, {**opts, "mesher": "gmsh"}))
             except Exception as exc:  # reported per design by the caller
+                raise_pending_stop()
                 out.append(exc)
         return out
     from softcath.fem.section_model.batch import section_models

@@ -117,6 +117,30 @@ def test_a_refused_or_failed_template_falls_back_to_gmsh_and_says_so(monkeypatch
     assert len(refusals) == 2 and {r.levelname for r in refusals} == {level}
 
 
+def test_a_stop_swallowed_by_ctypes_is_not_taken_for_a_template_failure(monkeypatch):
+    """A signal landing inside a gmsh (ctypes) call reaches Python as ``ctypes.ArgumentError``;
+    with a stop recorded, the fallback must stop instead of meshing on with gmsh."""
+    import ctypes
+
+    from softcath.fem.section_model import template
+    from softcath.interrupts import clear_stop, request_stop
+
+    class Stop(KeyboardInterrupt):
+        pass
+
+    def interrupted(*args, **kwargs):
+        request_stop(Stop)
+        raise ctypes.ArgumentError("argument 1: Stop: ")
+
+    g = geometry_from_design(random_designs(1, seed=31)[0])
+    monkeypatch.setattr(template, "section_template", interrupted)
+    try:
+        with pytest.raises(Stop):
+            catheter_section_mesh(g, mesher="template")
+    finally:
+        clear_stop()
+
+
 def test_as_built_sections_on_the_template_agree_with_fresh_gmsh():
     """Sliding interfaces split the morphed mesh as they split gmsh's (within the template's
     0.2 %); a coat filler, whose circle no template carries, is meshed by gmsh."""
