@@ -29,3 +29,8 @@ __all__ = [
     "section_arrays",
     "tip_pose",
 ]
+
+if __name__ != "softcath.analytic":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.analytic, not analytic: the top-level folders are rooms of the softcath package"
+    )

@@ -69,3 +69,9 @@ def resolve(spec: str | Path | TipDesign) -> TipDesign:
     raise DesignError(
         "design", spec_s, f"must be a preset ({', '.join(_presets.names())}) or a path to a .toml file"
     )
+
+
+if __name__ != "softcath.design":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.design, not design: the top-level folders are rooms of the softcath package"
+    )

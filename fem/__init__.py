@@ -15,3 +15,6 @@ from softcath.fem.api import FemCase, FemResult, check
 from softcath.fem.pipeline import LOADS
 
 __all__ = ["FemCase", "FemResult", "LOADS", "check"]
+
+if __name__ != "softcath.fem":  # the bare folder name would load a second copy of every module
+    raise ImportError("import softcath.fem, not fem: the top-level folders are rooms of the softcath package")

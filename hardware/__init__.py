@@ -7,3 +7,8 @@ with ``record_types`` and ``timebase`` (crash-safe 200 Hz CSV),
 (tip measurement from camera frames), ``filtering`` (the paper's IIR filter).
 Heavy imports (cv2, serial) happen inside functions.
 """
+
+if __name__ != "softcath.hardware":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.hardware, not hardware: the top-level folders are rooms of the softcath package"
+    )

@@ -6,3 +6,8 @@ series and over design sweeps), ``predict`` (prediction bands); modules:
 ``selection``, ``results``, ``coil_ranking``, ``atomic`` (whole-or-nothing
 outputs), ``validity`` (range warnings and refusals), ``plots``, ``demo``.
 """
+
+if __name__ != "softcath.studies":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.studies, not studies: the top-level folders are rooms of the softcath package"
+    )

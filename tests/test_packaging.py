@@ -25,16 +25,6 @@ import pytest
 import softcath
 
 ROOT = Path(__file__).resolve().parents[1]
-TOP = {
-    "softcath": "softcath",
-    "design": "softcath.design",
-    "analytic": "softcath.analytic",
-    "fem": "softcath.fem",
-    "hardware": "softcath.hardware",
-    "studies": "softcath.studies",
-    "virtualbench": "softcath.virtualbench",
-    "cli": "softcath.cli",
-}
 NOT_SOURCES = (
     ".venv",
     ".git",
@@ -53,21 +43,31 @@ def _pyproject() -> dict:
     return tomllib.loads((ROOT / "pyproject.toml").read_text())
 
 
-def test_package_list_matches_the_folders():
-    found = set()
-    for folder, name in TOP.items():
-        for init in (ROOT / folder).rglob("__init__.py"):
-            found.add(".".join((name, *init.parent.relative_to(ROOT / folder).parts)))
-    setup = _pyproject()["tool"]["setuptools"]
-    assert set(setup["packages"]) == found
-    assert setup["package-dir"] == {name: folder for folder, name in TOP.items()}
+def test_the_package_is_src_softcath_with_the_rooms_linked_in():
+    """``src/softcath`` is the package; each room is a link to its top-level folder."""
+    package = ROOT / "src" / "softcath"
+    assert _pyproject()["tool"]["setuptools"]["packages"]["find"] == {"where": ["src"]}
+    for room in OLD_TOP_LEVEL:
+        link = package / room
+        assert link.is_symlink() and link.resolve() == (ROOT / room).resolve(), room
+    assert not (ROOT / "softcath").exists()  # one package directory, not two
+
+
+@pytest.mark.parametrize("room", OLD_TOP_LEVEL)
+def test_a_bare_room_name_does_not_import_from_the_checkout(room):
+    """``import fem`` from the repository root would load a second copy of every module."""
+    run = subprocess.run(
+        [sys.executable, "-c", f"import {room}"], cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
+    assert run.returncode != 0
+    assert f"import softcath.{room}, not {room}" in run.stderr
 
 
 def test_no_module_imports_a_bare_top_level_name():
     # `import design` works only from a checkout; in a wheel only `softcath.` exists.
     bare = re.compile(rf"^\s*(?:from|import)\s+(?:{'|'.join(OLD_TOP_LEVEL)})(?:\.|\s|$)", re.M)
     offenders = []
-    for folder in (*TOP, "tests", "benchmarks", "examples"):
+    for folder in ("src", *OLD_TOP_LEVEL, "tests", "benchmarks", "examples"):
         for path in (ROOT / folder).rglob("*.py"):
             text = path.read_text()
             offenders += [f"{path.relative_to(ROOT)}: {m.group(0).strip()}" for m in bare.finditer(text)]
@@ -81,7 +81,9 @@ def test_version_is_one_number():
 def _pyproject_version() -> str:
     spec = _pyproject()["tool"]["setuptools"]["dynamic"]["version"]
     assert spec == {"attr": "softcath.__version__"}
-    return re.search(r'__version__ = "([^"]+)"', (ROOT / "softcath" / "__init__.py").read_text()).group(1)
+    return re.search(
+        r'__version__ = "([^"]+)"', (ROOT / "src" / "softcath" / "__init__.py").read_text()
+    ).group(1)
 
 
 def test_gmsh_is_a_core_dependency():
@@ -94,7 +96,7 @@ def wheel_venv(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wheel")
     # Build from a copy: setuptools writes build/ beside the sources, and the checkout stays untouched.
     src = tmp / "src"
-    shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(*NOT_SOURCES))
+    shutil.copytree(ROOT, src, symlinks=True, ignore=shutil.ignore_patterns(*NOT_SOURCES))
     subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "-w", str(tmp / "dist"), str(src)],
         check=True,

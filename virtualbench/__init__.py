@@ -11,3 +11,8 @@ exactly as a lab would drive real hardware:
 ``hidden_effects``   data sets with a hidden effect, for the missing-effect workflow
 ``hidden_protocols`` the excitation protocols those data sets use
 """
+
+if __name__ != "softcath.virtualbench":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.virtualbench, not virtualbench: the top-level folders are rooms of the softcath package"
+    )
