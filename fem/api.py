@@ -28,7 +28,7 @@ class FemCase:
     """FEM and analytic results for one load case at one pressure (``fem.json`` keys).
 
     Lengths mm, curvature 1/mm, pressure MPa, angles rad, strain and
-    elongation dimensionless. ``curvature_variation`` is (max - min)/|mean| of
+    elongation dimensionless. ``curvature_variation`` is ``(max - min)/|mean|`` of
     the local curvature along the middle of the tip. ``max_strain`` is the
     largest principal strain in the silicone outside the clamp zone.
     ``analytic`` holds the analytic model's ``curvature_per_mm`` and

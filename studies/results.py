@@ -19,8 +19,8 @@ One row per design × pressure × load. Columns (unit in the name or below):
   ``max_strain_fem``, ``curvature_variation_fem``, ``fem_residual``,
   ``fem_n_elements``, ``fem_dofs``;
 - ``rel_diff_curvature``, ``rel_diff_elongation``, ``rel_diff_bend_angle``:
-  (FEM − analytic)/|analytic| [-]; ``abs_rel_diff_curvature``;
-  ``rel_diff_fem_section_curvature``: (FEM − section)/|section| [-] (the section
+  ``(FEM − analytic)/|analytic|`` [-]; ``abs_rel_diff_curvature``;
+  ``rel_diff_fem_section_curvature``: ``(FEM − section)/|section|`` [-] (the section
   model's agreement with the 3-D FEM); ``fem_formula_ratio``: FEM κ over the
   paper's formula;
 - best estimate (FEM where it ran, else the section model, else analytic; ``source``

@@ -19,7 +19,7 @@ dead_zone      smooth threshold (softplus corner)         hard threshold
 viscoelastic   two Kelvin–Voigt units (retardation times  standard linear solid
                ``tau_s/2`` and ``2 tau_s``)               (one retardation time)
 offset         pre-curvature at zero pressure             pre-curvature
-nonlinear_gain exponential gain ``(exp(beta p) - 1)/beta`` quadratic ``p + beta p^2/2``
+nonlinear_gain exponential ``(exp(beta p) - 1)/beta``      quadratic ``p + beta p^2/2``
 ============== ========================================== ===========================
 
 Each effect knows its stage in the plant's signal chain (``stage``) and its

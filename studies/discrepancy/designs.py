@@ -23,7 +23,7 @@ ingredient. Each candidate is a switch of the section model
 Method (as the time-series workflow): split the designs into training and
 held-out sets (seeded); at each step fit every remaining candidate on the
 training designs, score it on the held-out ones by the gap, the median of
-|reference/model - 1|; name the best only if it shrinks the held-out gap by
+``|reference/model - 1|``; name the best only if it shrinks the held-out gap by
 more than the margin, add it, and iterate. Parameter-free physics is weighed first; the fitted
 ``end_effects`` only for what no physics candidate explains. Candidates within the margin of the
 named one are reported as ``ambiguous_with``.
@@ -146,7 +146,7 @@ def _slenderness(case: DesignCase) -> float:
 
 
 def _gap(cases: Sequence[DesignCase], models: _Models, active: frozenset, c_end: float) -> float:
-    """The reported gap: median |reference/model - 1|."""
+    """The reported gap: median ``|reference/model - 1|``."""
     r = [c.reference_gain / models.gain(c, active, c_end) - 1.0 for c in cases]
     return float(np.median(np.abs(r)))
 

@@ -21,7 +21,7 @@ def _clean(v: float) -> float | None:
 def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backend) -> list[dict]:
     """Per winner: the FEM's objectives and margins, and its curvature against the optimised model's.
 
-    ``curvature_rel_diff`` is the largest |(FEM − model)/model| of the
+    ``curvature_rel_diff`` is the largest ``|(FEM − model)/model|`` of the
     curvature over the positive pressures; ``feasible`` whether the FEM's
     values meet every constraint; ``status``/``reason`` report a FEM failure.
     """

@@ -35,7 +35,7 @@ MAX_SAMPLES = {"paper": 200_000, "section": 10_000, "fem": 256}
 MAX_WORK_SECONDS = 2 * 3600.0
 #: Largest seed numpy's generators take.
 MAX_SEED = 2**32 - 1
-#: Largest measured gain |κ/p| [1/(mm MPa)] accepted: 10³ bends a 0.1 mm radius tip a full turn
+#: Largest measured gain ``|κ/p|`` [1/(mm MPa)] accepted: 10³ bends a 0.1 mm radius tip a full turn
 #: per 0.06 MPa; the paper's tip reaches 0.2 and larger values are a unit error.
 MAX_GAIN = 1e3
 

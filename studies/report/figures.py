@@ -114,7 +114,7 @@ def tiers_parity_plot(df, path: Path) -> Path | None:
 
 
 def tier_agreement(df) -> list[tuple]:
-    """Per load: rows, median section/formula and FEM/formula ratios, median and max |FEM/section − 1|."""
+    """Per load: rows, median section/formula and FEM/formula ratios, median and max ``|FEM/section − 1|``."""
     ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
     if ok.empty:
         return []

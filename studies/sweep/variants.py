@@ -65,7 +65,7 @@ def check_path(base_table: Mapping[str, Any], path: str) -> None:
 
 
 def set_path(table: dict, path: str, value: Any) -> None:
-    """Set ``table[a][b]... = value`` for the dotted ``path`` (tables must exist)."""
+    """Set ``table[a][b]…`` to ``value`` for the dotted ``path`` (tables must exist)."""
     parts = path.split(".")
     node = table
     for part in parts[:-1]:
