@@ -110,7 +110,7 @@ def run_tip(
         Passed to :func:`softcath.fem.mesh.mesh_tip`.
     margin
         Length (mm) next to clamp and cap left out of the curvature fit;
-        default one outer diameter (notes/fem.md).
+        default one outer diameter (where the section is not yet free to warp).
     method
         Linear solver back-end (``softcath.fem.solver``).
     progress

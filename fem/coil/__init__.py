@@ -1,4 +1,4 @@
-"""Resolved-wire coil (issue 13): the helical wire as a 3-D frame, with contact between turns.
+"""Resolved-wire coil: the helical wire as a 3-D frame, with contact between turns.
 
 >>> from softcath import design
 >>> from softcath.fem.coil import resolved_coil_stiffness

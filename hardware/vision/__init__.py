@@ -10,7 +10,7 @@ Gaussian blur, binary threshold, Canny, horizontal slices of height
 ``kappa = 1/r``, the tip as the centroid of the HSV red mask and
 ``L = r |theta_t - theta_b|``. On synthetic renders it underestimates
 curvature badly and fails past about 90-120 degrees (slices cut the tube
-twice; shared/notes/vision-and-bench.md); it is kept for comparison.
+twice); it is kept for comparison.
 
 ``method="default"`` follows the tube's centre line: from the base, it
 steps along the body and, on a profile across it, finds both edges with

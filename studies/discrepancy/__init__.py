@@ -1,4 +1,4 @@
-"""The missing-effect workflow (issue 6): find, name and add what the model is missing.
+"""The missing-effect workflow: find, name and add what the model is missing.
 
 >>> from softcath.studies.discrepancy import run_workflow, write_report
 >>> result = run_workflow("bench.csv", "paper")          # doctest: +SKIP

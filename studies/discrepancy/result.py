@@ -37,7 +37,7 @@ from softcath.studies.discrepancy.workflow import name_effects
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference", "DEFAULT_MARGIN", "QUASI_STATIC_MARGIN"]
 
-#: held-out improvement an effect must bring to be named (time series: trap 3 of the notes)
+#: held-out improvement an effect must bring to be named (time series; with no margin, noise gets named)
 DEFAULT_MARGIN = 0.05
 #: the same on quasi-static points: ~40 points in 3 folds let a wrong extra parameter
 #: improve the held-out RMSE by chance: up to 9.6 % over 40 no-effect data sets of the
@@ -231,9 +231,10 @@ def run_workflow(
     Parameters
     ----------
     data
-        ``reference="measured"``: a measurement table or CSV path (ARCHITECTURE.md
-        columns). ``reference="fem"``: a table/CSV of quasi-static reference points
-        with ``pressure_MPa`` and ``curvature_per_mm`` (or None with ``fem``).
+        ``reference="measured"``: a measurement table or CSV path (the
+        measurement CSV's columns, ``softcath.design.measurement.schema``).
+        ``reference="fem"``: a table/CSV of quasi-static reference points with
+        ``pressure_MPa`` and ``curvature_per_mm`` (or None with ``fem``).
     design
         A ``TipDesign``, a preset name or a TOML path; needed for ``"fem"`` (the
         model's gain is then the design's, not calibrated) and used for the

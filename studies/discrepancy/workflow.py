@@ -7,12 +7,14 @@
    training folds and score it on held-out ones: leave-one-run-out when the
    data have several runs, contiguous blocks of cycles otherwise.
 3. Name the best candidate only if its held-out RMSE beats the current model's
-   by ``margin`` (trap 3: picking the best score with no margin names noise);
-   otherwise name nothing and stop. No BIC with n = samples (trap 1), no
-   whiteness test on 200 Hz residuals (trap 4).
+   by ``margin`` (picking the best score with no margin names noise);
+   otherwise name nothing and stop. No BIC with n = samples (the samples of
+   a low-passed series are not independent), no whiteness test on 200 Hz
+   residuals (they are correlated by the filter, whatever the model).
 4. Say when the data cannot tell effects apart: other candidates within the
    margin of the best; and with fewer than two distinct excitations,
-   hysteresis, lag, delay and creep are never separated (trap 5) and the
+   hysteresis, lag, delay and creep are never separated (each is a phase
+   shift at a single frequency) and the
    report names the experiment that would separate them.
 """
 
@@ -36,7 +38,7 @@ log = logging.getLogger(__name__)
 #: alternative when the other's held-out RMSE is within this factor of the best's
 LAG_DELAY_CLOSE = 1.25
 
-#: effects one excitation frequency cannot tell apart (notes, trap 5)
+#: effects one excitation frequency cannot tell apart (each is a phase shift there)
 RATE_FAMILY = ("hysteresis", "lag", "delay", "viscoelastic")
 
 #: pairs tried together when no single candidate clears the margin: a threshold bends

@@ -18,7 +18,7 @@ def _sine(f=0.1, cycles=3, amp=1.0):
     return t, amp / 2 * (1 - np.cos(2 * np.pi * f * t))
 
 
-def test_registry_lists_every_issue_effect_and_rejects_unknown():
+def test_registry_lists_every_effect_and_rejects_unknown():
     assert set(effects.names()) == {
         "hysteresis",
         "lag",

@@ -125,7 +125,7 @@ def test_two_hidden_effects_are_both_named(pair):
     assert r.nrmse_before / r.nrmse_after >= 2.0
 
 
-# ------------------------------------------------------------------ harder cases (issue 12 §4)
+# ------------------------------------------------------------------ harder cases
 # the full-size numbers (confusion matrices, every pair, false-alarm bounds) come from
 # benchmarks/bench_effects.py; these are small seeded versions
 
@@ -140,7 +140,7 @@ def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect)
     r = run_workflow(case.table)
     assert {x["kind"] for x in r.runs} == {"quasi-static"}
     assert r.named == (effect,)
-    if effect == "dead_zone":  # the threshold pressure, within the notes' 30 %
+    if effect == "dead_zone":  # the threshold pressure, within 30 %
         est = r.steps[0]["params"]["threshold_MPa"]
         assert est == pytest.approx(case.truth_params["dead_zone"]["threshold_MPa"], rel=0.3)
 
@@ -297,7 +297,7 @@ def _sine_csv(path, *, header="time_s,pressure_MPa,curvature_per_mm", extra="", 
     ],
 )
 def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
-    # issue 15: two curvature columns used silently, 1e300 pressures, constant data
+    # each once accepted silently: two curvature columns, 1e300 pressures, constant data
     from softcath.cli.main import main
 
     if kind == "duplicate":
