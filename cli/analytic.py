@@ -23,11 +23,6 @@ from softcath.cli.options import (
 HELP = "curvature, elongation, tip pose over a pressure range"
 
 
-def parse_range(text: str):
-    """START:STOP:N → numpy array (N ≥ 2 points, inclusive); see :func:`.options.parse_pressure_range`."""
-    return parse_pressure_range(text)
-
-
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_design(p)
     add_pressure_range(p, default="0:3:31")

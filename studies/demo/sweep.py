@@ -17,12 +17,12 @@ __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 DEMO_SELECT_PRESSURE_MPA = 0.5
 
 
-def demo_sweep_spec(*, fem: bool = False) -> str:
+def demo_sweep_spec() -> str:
     """The demo's sweep around the paper design: lumen offsets h × lumen widths a_int, 20 designs.
 
     Evaluated by the paper's formula and the section model (3-D-FEM-grade, a
     fraction of a second per design); the 3-D FEM checks only the chosen design
-    afterwards (``fem`` is kept for callers and does not change the spec).
+    afterwards.
     """
     return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int, paper's formula and section model.
 [sweep]
