@@ -43,9 +43,9 @@ max_strain = {DEMO_MAX_STRAIN}
 
 def section_sweep(ctx: DemoContext) -> SectionOutput:
     from softcath.studies.report import write_report
-    from softcath.studies.results import read_results
     from softcath.studies.selection import select, write_selection
     from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
+    from softcath.studies.sweep.results import read_results
 
     check = fem_check_function() if ctx.fem else None
     from softcath.studies.atomic import prepare_out_dir, write_text

@@ -72,7 +72,7 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     import pandas as pd
 
     from softcath import analytic
-    from softcath.studies.results import read_results
+    from softcath.studies.sweep.results import read_results
     from softcath.studies.sweep.variants import build_variant
 
     if reference != "fem":

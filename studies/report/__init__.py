@@ -139,7 +139,7 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     Image links are ``prefix + file name`` so the same sections can be placed
     in another page (the demo) whose HTML sits elsewhere.
     """
-    from softcath.studies.results import read_results
+    from softcath.studies.sweep.results import read_results
 
     sweep_dir, fig_dir = Path(sweep_dir), Path(fig_dir)
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -332,7 +332,7 @@ def write_report(
 def _explore_link(sweep_dir: Path, stage: Path) -> str:
     """Write the interactive ``explore.html`` beside the page; the link to it."""
     from softcath.studies.report.explore import write_explore
-    from softcath.studies.results import read_results
+    from softcath.studies.sweep.results import read_results
 
     params = [p["path"] for p in _manifest(sweep_dir)["spec"]["parameters"]]
     write_explore(sweep_dir, stage, read_results(sweep_dir), params)

@@ -243,7 +243,7 @@ def run_sweep(
     import pandas as pd
     from tqdm import tqdm
 
-    from softcath.studies.results import add_derived_columns, write_results
+    from softcath.studies.sweep.results import add_derived_columns, write_results
 
     _check_options(workers, dask_local, scheduler)
     t0 = time.perf_counter()
