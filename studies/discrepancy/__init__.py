@@ -5,7 +5,7 @@
 >>> result.named, result.nrmse_before, result.nrmse_after  # doctest: +SKIP
 >>> write_report(result, "out/discrepancy")               # doctest: +SKIP
 
-See :mod:`softcath.studies.discrepancy.workflow` for the method and
+See :mod:`softcath.studies.discrepancy.naming` for the method and
 ``docs/effects.md`` for what a user gets.
 """
 

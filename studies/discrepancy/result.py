@@ -1,7 +1,7 @@
 """``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult.
 
 The steps: check the decision rule, prepare the reference (measured data, or FEM
-points with the design's gain fixed), name effects (:func:`~softcath.studies.discrepancy.workflow.name_effects`),
+points with the design's gain fixed), name effects (:func:`~softcath.studies.discrepancy.naming.name_effects`),
 then the records (:mod:`softcath.studies.discrepancy.records`).
 """
 
@@ -21,6 +21,7 @@ from softcath.analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from softcath.analytic.effects.fit import ChainFit
 from softcath.design.errors import DataError, DesignError
 from softcath.design.measurement import Measurement, read_measurement_csv
+from softcath.studies.discrepancy.naming import name_effects
 from softcath.studies.discrepancy.prepare import Prepared, prepare, prepare_static
 from softcath.studies.discrepancy.quasi_static import candidates_for
 from softcath.studies.discrepancy.records import (
@@ -33,7 +34,6 @@ from softcath.studies.discrepancy.records import (
     separability_notes,
     step_records,
 )
-from softcath.studies.discrepancy.workflow import name_effects
 
 __all__ = ["DiscrepancyResult", "run_workflow", "fem_reference", "DEFAULT_MARGIN", "QUASI_STATIC_MARGIN"]
 
@@ -247,7 +247,7 @@ def run_workflow(
     pressures_MPa
         Pressures for the ``fem`` callable (default 12 points over 0..2 MPa).
     margin, min_share, max_effects
-        Decision rule, see :func:`softcath.studies.discrepancy.workflow.name_effects`.
+        Decision rule, see :func:`softcath.studies.discrepancy.naming.name_effects`.
         ``margin`` defaults to 0.05, and to 0.12 on quasi-static measured points
         (:data:`QUASI_STATIC_MARGIN`).
     candidates

@@ -18,8 +18,8 @@ from softcath import design
 from softcath.design.errors import DataError
 from softcath.design.measurement import read_measurement_csv
 from softcath.studies.discrepancy import run_workflow
+from softcath.studies.discrepancy.naming import _experiment
 from softcath.studies.discrepancy.prepare import prepare
-from softcath.studies.discrepancy.workflow import _experiment
 
 ROOT = Path(__file__).resolve().parents[3]
 REAL = ROOT.parent / "shared" / "realdata"

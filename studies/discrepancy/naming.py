@@ -1,4 +1,4 @@
-"""The missing-effect workflow: calibrate, locate, fit candidates, name, iterate.
+"""Naming the missing effects, one step at a time: calibrate, locate, fit candidates, name, iterate.
 
 1. Calibrate the model's own parameters: the explicit gain (least squares on the
    filtered series) is fitted inside every model, baseline included, so a pure
