@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     from softcath.design.errors import DataError, DesignError
     from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
     from softcath.studies.discrepancy import run_workflow, write_report
-    from softcath.studies.discrepancy.result import fem_reference
+    from softcath.studies.discrepancy.workflow import fem_reference
 
     out = prepare_out_dir(args.out)
     if args.margin is not None and not (math.isfinite(args.margin) and 0 <= args.margin < 1):

@@ -11,7 +11,7 @@ See :mod:`softcath.studies.discrepancy.naming` for the method and
 
 from __future__ import annotations
 
-from softcath.studies.discrepancy.result import DiscrepancyResult, run_workflow
+from softcath.studies.discrepancy.workflow import DiscrepancyResult, run_workflow
 
 
 def write_report(result: DiscrepancyResult, out_dir):

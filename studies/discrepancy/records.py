@@ -1,6 +1,6 @@
 """The records of a workflow run: per named step, the calibration, the filter, the runs, the notes.
 
-Plain dicts and tuples for :class:`~softcath.studies.discrepancy.result.DiscrepancyResult`
+Plain dicts and tuples for :class:`~softcath.studies.discrepancy.workflow.DiscrepancyResult`
 (and so for ``discrepancy.json``).
 """
 

@@ -338,7 +338,7 @@ def test_write_report_from_api(tmp_path):
 
 @pytest.mark.slow
 def test_fem_reference_through_fem_check_when_available(tmp_path):
-    from softcath.studies.discrepancy.result import fem_reference
+    from softcath.studies.discrepancy.workflow import fem_reference
 
     fn = fem_reference()
     if fn is None:
