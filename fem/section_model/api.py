@@ -162,8 +162,8 @@ def section_model(
     from softcath import design as design_pkg
     from softcath.analytic import gains
     from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.assembly import assemble
     from softcath.fem.section_model.coil_models import coil_terms
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve

@@ -112,7 +112,7 @@ def coil_section_stiffness(
     """
     from softcath import design as design_pkg
     from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 

@@ -1,4 +1,4 @@
-r"""Generalised plane strain of a prismatic section with three beam strains.
+r"""The section model's element and its assembly: generalised plane strain with three beam strains.
 
 The Saint-Venant solution of a long prismatic tip under an axial force,
 bending moments and a lumen pressure uniform along z is
