@@ -66,7 +66,7 @@ def _split(mesh):
 
 def _projection(sk, basis, labels, assembly, length: float, cap: float):
     """T (3N x n_hat) and the interface pairs; base nodes (z = 0) are left untied."""
-    from softcath.fem.section_model.assembly_options import interface_kind
+    from softcath.fem.section_model.as_built import interface_kind
 
     N = basis.N
     node_label = np.zeros(N, dtype=np.int64)

@@ -9,7 +9,7 @@ import pytest
 
 from softcath.design.assembly import Assembly
 from softcath.fem.geometry import COIL, TUBE, VOID
-from softcath.fem.section_model.assembly_options import (
+from softcath.fem.section_model.as_built import (
     AxialPlan,
     as_built_operator,
     axial_plan,
