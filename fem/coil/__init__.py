@@ -14,6 +14,6 @@ models for comparison), ``picture``.
 
 from __future__ import annotations
 
-from softcath.fem.coil.api import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
+from softcath.fem.coil.stiffness import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
 
 __all__ = ["CoilStiffnessResult", "bending_curve", "coil_wire", "resolved_coil_stiffness"]

@@ -26,7 +26,7 @@ and the base pose is taken from a free geometric fit.
 
 from __future__ import annotations
 
-from softcath.hardware.vision.api import measure
+from softcath.hardware.vision.dispatch import measure
 from softcath.hardware.vision.overlay import draw_overlay
 from softcath.hardware.vision.redtip import find_red_tip
 from softcath.hardware.vision.tracker import track_centre_line
