@@ -20,15 +20,15 @@ _MODULES = (
     "viscoelastic",
     "offset",
     "nonlinear_gain",
-    "lumen_poisson",
+    "lumen_wall",
 )
 
 _REGISTRY: dict[str, Candidate] = {}
 
 #: candidates tried against measured data (time series): all but the FEM-only lumen-wall term
-MEASURED_CANDIDATES: tuple[str, ...] = tuple(m for m in _MODULES if m != "lumen_poisson")
+MEASURED_CANDIDATES: tuple[str, ...] = tuple(m for m in _MODULES if m != "lumen_wall")
 #: candidates tried against a quasi-static FEM reference (no time, gain not calibrated)
-FEM_CANDIDATES: tuple[str, ...] = ("lumen_poisson", "nonlinear_gain", "offset", "dead_zone")
+FEM_CANDIDATES: tuple[str, ...] = ("lumen_wall", "nonlinear_gain", "offset", "dead_zone")
 
 
 def register(candidate: Candidate) -> None:

@@ -14,8 +14,8 @@ ingredient. Each candidate is a switch of the section model
 ``confinement``
     The lumen-wall pressure acting on the near-incompressible silicone that the
     coil's hoop boxes in (lumen-load rows only; it brings the real nu along).
-    This replaces the retired ``lumen_poisson`` candidate, whose one-material
-    (1 - 2 nu) form has the wrong sign inside a coil.
+    The one-material (1 - 2 nu) form of this load has the wrong sign inside a
+    coil, so the ingredient takes it from the section model.
 ``end_effects``
     What the 3-D tip has and a section does not (clamp and cap zones): a
     correction (1 + c D/L) with c fitted on the training designs.

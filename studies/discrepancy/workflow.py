@@ -391,7 +391,7 @@ def _fem_reference_points(data, d, fem, pressures_MPa, candidates):
 def _lumen_wall_gains(d) -> tuple[float, float]:
     """(lumen, cap) curvature per MPa of the section model at the 3-D FEM's nu cap.
 
-    The ``lumen_poisson`` candidate's regressor is their difference: the lumen-wall
+    The ``lumen_wall`` candidate's regressor is their difference: the lumen-wall
     load on the coil-confined silicone. The one-material (1 - 2 nu) closed form it
     used before has the wrong sign inside a coil (docs/section.md).
     """

@@ -207,13 +207,13 @@ def test_fem_reference_names_the_lumen_term():
     # a "FEM" with the section model's lumen-wall term on top of the formula: the cap model misses it
     lumen_fem = pd.DataFrame({"pressure_MPa": p, "curvature_per_mm": g_lum * p})
     r = run_workflow(lumen_fem, d, reference="fem")
-    assert r.named == ("lumen_poisson",)
+    assert r.named == ("lumen_wall",)
     # exact linear data: the coefficient is 1 to rounding
     assert r.steps[0]["coefficient"] == pytest.approx(1.0, rel=1e-9)
     cap_fem = pd.DataFrame({"pressure_MPa": p, "curvature_per_mm": g_cap * p})
     assert run_workflow(cap_fem, d, reference="fem").named == ()
     r2 = run_workflow(None, d, reference="fem", fem=lambda dd, pp: g_lum * np.asarray(pp))
-    assert r2.named == ("lumen_poisson",)
+    assert r2.named == ("lumen_wall",)
 
 
 def test_bad_arguments_name_the_parameter():
@@ -345,4 +345,4 @@ def test_fem_reference_through_fem_check_when_available(tmp_path):
         pytest.skip("fem.check is not available in this checkout")
     r = run_workflow(None, "paper", reference="fem", fem=fn, pressures_MPa=np.linspace(0, 1, 7))
     # the FEM's real load is lumen + cap; the analytic cap model misses the lumen term
-    assert r.named[:1] == ("lumen_poisson",)
+    assert r.named[:1] == ("lumen_wall",)
