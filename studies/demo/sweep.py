@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DEMO_PRESSURES_MPA, DemoContext, SectionOutput
-from softcath.studies.report.html import esc, fmt, note, table
+from softcath.studies.report.html_blocks import esc, fmt, note, table
 
 __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 
