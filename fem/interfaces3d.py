@@ -30,6 +30,7 @@ import numpy as np
 from scipy import sparse
 
 from softcath.design.errors import DesignError
+from softcath.fem.lumen_load import pressure_facets
 
 __all__ = ["run_tip_as_built"]
 
@@ -186,8 +187,7 @@ def run_tip_as_built(
     ybar = _neutral_axis(mesh, laws)
     out = {}
     for ld in loads:
-        facets = tags["cap"] if ld == "cap" else np.concatenate([tags["cap"], tags["lumen"]])
-        f = T.T @ problem.pressure_load(facets)
+        f = T.T @ problem.pressure_load(pressure_facets(tags, ld))
         u_hat = np.zeros(K.shape[0])
         u_hat[free], _ = fac.solve(f[free])
         u = (T @ u_hat).reshape(-1, 3)
