@@ -44,8 +44,8 @@ def run(args: argparse.Namespace) -> int:
 
     from softcath import analytic, design
     from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.model_validity import check_finite_columns, warn_linear_range
     from softcath.studies.plots import analytic_plot
-    from softcath.studies.validity import check_finite_columns, warn_linear_range
 
     p = parse_pressure_range(args.pressure)  # checked before the output folder is made
     d = resolve_design(args)

@@ -4,5 +4,5 @@ Sub-packages: ``sweep`` (specs, runner, evaluators, store, the merged results
 table), ``report`` (the sweep's HTML report), ``discrepancy`` (the missing-effect
 workflow over time series and over design sweeps), ``predict`` (prediction
 bands); modules: ``selection``, ``coil_ranking``, ``atomic`` (whole-or-nothing
-outputs), ``validity`` (range warnings and refusals), ``plots``, ``demo``.
+outputs), ``model_validity`` (range warnings and refusals), ``plots``, ``demo``.
 """
