@@ -12,7 +12,7 @@ indistinguishable from a gain error (calibration absorbs it); against the FEM,
 where the gain is not calibrated, it is a named effect with a free coefficient
 ``scale``: 1 when the reference behaves as the section model's lumen load.
 Over design sweeps the same physics is the ``confinement`` ingredient of
-``softcath.studies.discrepancy.designs``.
+``softcath.studies.discrepancy.design_workflow``.
 """
 
 from __future__ import annotations

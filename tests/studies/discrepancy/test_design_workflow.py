@@ -9,7 +9,7 @@ import pytest
 
 from softcath import analytic, design
 from softcath.fem.section_model import section_model
-from softcath.studies.discrepancy.designs import DesignCase, run_design_workflow
+from softcath.studies.discrepancy.design_workflow import DesignCase, run_design_workflow
 
 
 def _cases(designs, reference, seed, noise):
