@@ -1,4 +1,4 @@
-"""Analytic model and calibration speed (issue 2 §5).
+"""Analytic model and calibration speed.
 
 1. Analytic evaluations per second over 1e6 (design, pressure) pairs, vectorised, against the
    per-point scalar loop a script would write (``analytic.response`` on one design and pressure).

@@ -1,4 +1,4 @@
-"""Benchmark of the FEM bending check (issue 3 section 8), printed as ratios.
+"""Benchmark of the FEM bending check, printed as ratios.
 
 In one run, on the paper design:
 

@@ -110,8 +110,8 @@ n = {N_BIG}
 
 
 def bench_fem(tmp: Path) -> None:
-    from softcath.studies.results import read_results
     from softcath.studies.sweep import SweepStore, fem_check_function, load_spec, run_sweep
+    from softcath.studies.sweep.results import read_results
 
     if fem_check_function() is None:
         print("FEM throughput: skipped (fem.check is not importable in this build)")

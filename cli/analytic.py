@@ -23,11 +23,6 @@ from softcath.cli.options import (
 HELP = "curvature, elongation, tip pose over a pressure range"
 
 
-def parse_range(text: str):
-    """START:STOP:N → numpy array (N ≥ 2 points, inclusive); see :func:`.options.parse_pressure_range`."""
-    return parse_pressure_range(text)
-
-
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_design(p)
     add_pressure_range(p, default="0:3:31")
@@ -49,8 +44,8 @@ def run(args: argparse.Namespace) -> int:
 
     from softcath import analytic, design
     from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.model_validity import check_finite_columns, warn_linear_range
     from softcath.studies.plots import analytic_plot
-    from softcath.studies.validity import check_finite_columns, warn_linear_range
 
     p = parse_pressure_range(args.pressure)  # checked before the output folder is made
     d = resolve_design(args)

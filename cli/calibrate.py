@@ -63,8 +63,8 @@ def run(args: argparse.Namespace) -> int:
     from softcath.analytic.calibration import calibrate
     from softcath.design.measurement import Measurement, read_measurement_csv
     from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
+    from softcath.studies.model_validity import check_pressure
     from softcath.studies.plots import calibration_plot
-    from softcath.studies.validity import check_pressure
 
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
     grid_max = _grid_max(len(free))

@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     from softcath.design.errors import DataError, DesignError
     from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
     from softcath.studies.discrepancy import run_workflow, write_report
-    from softcath.studies.discrepancy.result import fem_reference
+    from softcath.studies.discrepancy.workflow import fem_reference
 
     out = prepare_out_dir(args.out)
     if args.margin is not None and not (math.isfinite(args.margin) and 0 <= args.margin < 1):
@@ -179,8 +179,8 @@ def _run_prototype(args: argparse.Namespace, out: Path) -> int:
 
 
 def _run_designs(args: argparse.Namespace) -> int:
-    from softcath.studies.discrepancy.designs import load_sweep_cases, run_design_workflow
-    from softcath.studies.discrepancy.designs_report import write_design_report
+    from softcath.studies.discrepancy.design_workflow import load_sweep_cases, run_design_workflow
+    from softcath.studies.discrepancy.design_workflow_report import write_design_report
 
     cases = load_sweep_cases(args.measured, reference="fem")  # a sweep holds no measurement
     margin = 0.05 if args.margin is None else args.margin

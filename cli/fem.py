@@ -174,7 +174,7 @@ def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
 def run(args: argparse.Namespace) -> int:
     from softcath.fem.limits import check_fem_budget
     from softcath.studies.atomic import Outputs, prepare_out_dir
-    from softcath.studies.validity import check_pressure, warn_linear_range
+    from softcath.studies.model_validity import check_pressure, warn_linear_range
 
     out = prepare_out_dir(args.out)
     if args.pressure is not None:

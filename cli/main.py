@@ -28,7 +28,8 @@ from softcath import __version__
 from softcath.design.errors import SoftcathError
 from softcath.interrupts import clear_stop, request_stop
 
-# (subcommand, module): a missing module simply means the subcommand has not landed yet.
+#: (subcommand, module): every module is imported when the parser is built; one that fails
+#: to import fails the command line (a broken install must not lose a subcommand silently).
 SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("demo", "softcath.cli.demo"),
     ("design", "softcath.cli.design"),
@@ -92,7 +93,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """Build the argument parser with every subcommand that is installed."""
+    """Build the argument parser with every subcommand of :data:`SUBCOMMANDS`.
+
+    Raises
+    ------
+    ImportError
+        If a subcommand's module does not import.
+    """
     parser = _Parser(
         prog="softcath",
         description="Design, check and measure a hydraulically actuated soft micro-catheter tip. "
@@ -105,12 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, module_name in SUBCOMMANDS:
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as exc:
-            if exc.name == module_name:
-                continue
-            raise
+        module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)

@@ -59,7 +59,7 @@ def parse_pressure_range(text: str, *, param: str = "--pressure"):
     import numpy as np
 
     from softcath.design.errors import DesignError
-    from softcath.studies.validity import check_pressure
+    from softcath.studies.model_validity import check_pressure
 
     parts = text.split(":")
     try:
@@ -81,7 +81,7 @@ def parse_pressure_range(text: str, *, param: str = "--pressure"):
 def parse_pressure_list(text: str, *, param: str = "--pressures", increasing: bool = False):
     """``P,P,...`` -> checked list of pressures in MPa (finite, within ±100 MPa; before any work)."""
     from softcath.design.errors import DesignError
-    from softcath.studies.validity import check_pressure
+    from softcath.studies.model_validity import check_pressure
 
     try:
         values = [float(v) for v in text.split(",") if v.strip()]

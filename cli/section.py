@@ -201,7 +201,7 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     from softcath.fem.section_model import section_model
     from softcath.fem.section_model.picture import section_picture
     from softcath.studies.atomic import Outputs
-    from softcath.studies.validity import check_finite_columns, warn_linear_range
+    from softcath.studies.model_validity import check_finite_columns, warn_linear_range
 
     r = section_model(
         d, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,

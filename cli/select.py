@@ -66,8 +66,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.results import read_results
     from softcath.studies.selection import MODEL_NAMES, SelectionError, select, write_selection
+    from softcath.studies.sweep.results import read_results
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
@@ -142,8 +142,8 @@ def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:
 
 def _recheck(args: argparse.Namespace, sel, df):
     """Re-check with the finite-strain section model a bend constraint beyond a linear model's validity."""
-    from softcath.studies.results import model_columns
     from softcath.studies.selection import large_bend_constraints, recheck_large_bends
+    from softcath.studies.sweep.results import model_columns
 
     if sel.model not in ("paper", "section", "fem"):
         return sel

@@ -38,16 +38,10 @@ __all__ = [
     "load",
     "loads",
     "preset",
-    "preset_names",
     "resolve",
     "save",
     "to_dict",
 ]
-
-
-def preset_names() -> list[str]:
-    """Names accepted by :func:`preset`."""
-    return _presets.names()
 
 
 def preset(name: str = "paper") -> TipDesign:

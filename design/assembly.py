@@ -29,8 +29,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from softcath.design._checks import positive
 from softcath.design.errors import DesignError
+from softcath.design.validation import positive
 
 __all__ = ["Assembly", "INTERFACES", "INTERFACE_KINDS", "FILLERS", "PROXIMAL"]
 

@@ -1,8 +1,7 @@
 """Homogenised stiffness of a close-wound helical coil.
 
 A coil is modelled as an annulus (OD, ID) with direction-dependent moduli.
-Formulas (``shared/notes/fem.md``; Wahl, *Mechanical Springs*, 1963;
-Timoshenko & Gere):
+Formulas (Wahl, *Mechanical Springs*, 1963; Timoshenko & Gere):
 
 - bending: EI_coil = p·E·I_w / (π·R·(2 + ν)), I_w = π d⁴/64, p the pitch,
   R the mean helix radius (Wahl's bending of a helical spring, small helix angle);

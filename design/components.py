@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from softcath.design import _checks
+from softcath.design import validation
 from softcath.design.errors import DesignError
 from softcath.design.materials import Material
 
@@ -52,14 +52,14 @@ class Coil:
     initial_tension: float = 0.0
 
     def __post_init__(self) -> None:
-        od = _checks.positive("outer_diameter", self.outer_diameter)
-        _checks.at_most(
-            "outer_diameter", od, _checks.MAX_COIL_DIAMETER_MM, "mm: 36 Fr, no catheter is larger"
+        od = validation.positive("outer_diameter", self.outer_diameter)
+        validation.at_most(
+            "outer_diameter", od, validation.MAX_COIL_DIAMETER_MM, "mm: 36 Fr, no catheter is larger"
         )
-        idia = _checks.positive("inner_diameter", self.inner_diameter)
-        _checks.less_than("inner_diameter", idia, "outer_diameter", od)
+        idia = validation.positive("inner_diameter", self.inner_diameter)
+        validation.less_than("inner_diameter", idia, "outer_diameter", od)
         wire = (od - idia) / 2 if self.wire_diameter is None else self.wire_diameter
-        wire = _checks.positive("wire_diameter", wire)
+        wire = validation.positive("wire_diameter", wire)
         if abs(wire - (od - idia) / 2) > 1e-9 * od:
             raise DesignError(
                 "wire_diameter",
@@ -68,12 +68,12 @@ class Coil:
                 "for a single-layer coil",
             )
         index = (od + idia) / 2 / wire
-        if index > _checks.MAX_SPRING_INDEX:
+        if index > validation.MAX_SPRING_INDEX:
             raise DesignError(
                 "wire_diameter", wire, f"gives a spring index D/d = {index:.4g}, must be <= "
-                f"{_checks.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)"
+                f"{validation.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)"
             )  # fmt: skip
-        pitch = wire if self.pitch is None else _checks.positive("pitch", self.pitch)
+        pitch = wire if self.pitch is None else validation.positive("pitch", self.pitch)
         mean_d = (od + idia) / 2
         if pitch > math.pi * mean_d:  # helix angle > 45 deg: a twisted wire, not a coil
             raise DesignError(
@@ -86,7 +86,7 @@ class Coil:
         object.__setattr__(self, "inner_diameter", idia)
         object.__setattr__(self, "wire_diameter", wire)
         object.__setattr__(self, "pitch", pitch)
-        tension = _checks.nonnegative("initial_tension", self.initial_tension)
+        tension = validation.nonnegative("initial_tension", self.initial_tension)
         if tension > 0 and pitch > wire * (1 + 1e-9):
             raise DesignError(
                 "initial_tension",
@@ -98,13 +98,13 @@ class Coil:
         _material("material", self.material)
         # The wound-in tension twists the wire: 8 F0 D / (pi d^3) beyond its shear strength is no coil.
         f_max = (
-            _checks.MAX_INITIAL_STRESS_OVER_E * self.material.youngs_modulus * math.pi * wire**3
+            validation.MAX_INITIAL_STRESS_OVER_E * self.material.youngs_modulus * math.pi * wire**3
             / (8 * (od + idia) / 2)
         )  # fmt: skip
         if tension > f_max:
             raise DesignError(
                 "initial_tension", tension, f"must be <= {f_max:.4g} N: beyond it the wound-in torsional "
-                f"stress 8 F0 D/(pi d^3) exceeds {_checks.MAX_INITIAL_STRESS_OVER_E:g} E of the wire "
+                f"stress 8 F0 D/(pi d^3) exceeds {validation.MAX_INITIAL_STRESS_OVER_E:g} E of the wire "
                 "(its shear strength)",
             )  # fmt: skip
 
@@ -152,13 +152,13 @@ class Tube:
     min_wall: float = 0.02
 
     def __post_init__(self) -> None:
-        od = _checks.positive("catalogue_outer_diameter", self.catalogue_outer_diameter)
-        idia = _checks.positive("catalogue_inner_diameter", self.catalogue_inner_diameter)
-        _checks.less_than("catalogue_inner_diameter", idia, "catalogue_outer_diameter", od)
+        od = validation.positive("catalogue_outer_diameter", self.catalogue_outer_diameter)
+        idia = validation.positive("catalogue_inner_diameter", self.catalogue_inner_diameter)
+        validation.less_than("catalogue_inner_diameter", idia, "catalogue_outer_diameter", od)
         object.__setattr__(self, "catalogue_outer_diameter", od)
         object.__setattr__(self, "catalogue_inner_diameter", idia)
         _material("material", self.material)
-        object.__setattr__(self, "min_wall", _checks.positive("min_wall", self.min_wall))
+        object.__setattr__(self, "min_wall", validation.positive("min_wall", self.min_wall))
         shape = {k: getattr(self, k) for k in ("a", "a_int", "b_int", "h")}
         given = [k for k, v in shape.items() if v is not None]
         if given and len(given) != 4:
@@ -166,8 +166,8 @@ class Tube:
             raise DesignError(missing[0], None, "give all of a, a_int, b_int, h or none of them")
         if given:
             for k in ("a", "a_int", "b_int"):
-                object.__setattr__(self, k, _checks.positive(k, shape[k]))
-            object.__setattr__(self, "h", _checks.finite("h", shape["h"]))
+                object.__setattr__(self, k, validation.positive(k, shape[k]))
+            object.__setattr__(self, "h", validation.finite("h", shape["h"]))
 
     @property
     def has_explicit_shape(self) -> bool:
@@ -190,11 +190,11 @@ class Tip:
     cap_thickness: float
 
     def __post_init__(self) -> None:
-        length = _checks.positive("bending_length", self.bending_length)
-        _checks.at_most(
-            "bending_length", length, _checks.MAX_BENDING_LENGTH_MM, "mm: catheter tips bend over 5-100 mm"
+        length = validation.positive("bending_length", self.bending_length)
+        validation.at_most(
+            "bending_length", length, validation.MAX_BENDING_LENGTH_MM, "mm: catheter tips bend over 5-100 mm"
         )
-        cap = _checks.positive("cap_thickness", self.cap_thickness)
-        _checks.less_than("cap_thickness", cap, "bending_length / 2", length / 2)
+        cap = validation.positive("cap_thickness", self.cap_thickness)
+        validation.less_than("cap_thickness", cap, "bending_length / 2", length / 2)
         object.__setattr__(self, "bending_length", length)
         object.__setattr__(self, "cap_thickness", cap)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from softcath.design import _checks
+from softcath.design import validation
 from softcath.design.errors import DesignError
 
 __all__ = ["Material"]
@@ -38,16 +38,16 @@ class Material:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise DesignError("name", self.name, "must be a non-empty string")
-        object.__setattr__(self, "youngs_modulus", _checks.positive("youngs_modulus", self.youngs_modulus))
+        object.__setattr__(self, "youngs_modulus", validation.positive("youngs_modulus", self.youngs_modulus))
         object.__setattr__(
             self,
             "poisson_ratio",
-            _checks.in_open_interval("poisson_ratio", self.poisson_ratio, -1.0, 0.5),
+            validation.in_open_interval("poisson_ratio", self.poisson_ratio, -1.0, 0.5),
         )
         if self.yeoh is not None:
             if not isinstance(self.yeoh, (tuple, list)) or len(self.yeoh) != 3:
                 raise DesignError("yeoh", self.yeoh, "must be three coefficients (C1, C2, C3) in MPa")
-            c = tuple(_checks.finite(f"yeoh[{i}]", v) for i, v in enumerate(self.yeoh))
+            c = tuple(validation.finite(f"yeoh[{i}]", v) for i, v in enumerate(self.yeoh))
             if c[0] <= 0:
                 raise DesignError("yeoh[0]", c[0], "C1 must be > 0")
             object.__setattr__(self, "yeoh", c)

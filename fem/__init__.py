@@ -1,4 +1,4 @@
-"""softcath FEM bending check (issue 3): meshes of the as-assembled tip, linear
+"""softcath FEM bending check: meshes of the as-assembled tip, linear
 P2 elasticity with homogenised coils, verified against closed forms.
 
 >>> from softcath import fem

@@ -40,7 +40,7 @@ __all__ = [
 ]
 
 COIL_MODULI = ("tension", "bending")
-#: Largest Poisson ratio the displacement-only P2 elements take without locking (notes/fem.md).
+#: Largest Poisson ratio the displacement-only P2 elements take without locking.
 NU_CAP = 0.49
 
 
@@ -84,7 +84,7 @@ def coil_law(coil, coil_modulus: str) -> TransverselyIsotropic:
 def laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dict[int, object]:
     """Region label -> elastic law for ``design``.
 
-    Poisson ratios are capped at 0.49 (displacement-only P2, notes/fem.md).
+    Poisson ratios are capped at 0.49 (displacement-only P2 locks above).
     """
     if coil_modulus not in COIL_MODULI:
         raise DesignError("coil_modulus", coil_modulus, f"must be one of {COIL_MODULI}")

@@ -89,7 +89,7 @@ class FemResult:
         raise DesignError("case", (load, pressure_MPa), "not computed in this result")
 
     def to_json(self, load: str, pressure_MPa: float) -> dict:
-        """The ``fem.json`` document for one case (all keys of issue 3 section 6)."""
+        """The ``fem.json`` document for one case: every field of the case and of the run."""
         from dataclasses import fields
 
         c = asdict(self.case(load, pressure_MPa))

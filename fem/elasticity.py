@@ -88,7 +88,7 @@ class ElasticProblem:
         self.mesh = mesh
         self.element = ElementTetP2()
         # intorder 2 is exact for P2 stiffness with constant material on straight
-        # tets (notes/fem.md); curved (isoparametric) tets get order 4 (the
+        # tets; curved (isoparametric) tets get order 4 (the
         # order-3 rule has a negative weight).
         self.intorder = 2 if mesh.affine else 4
         self.basis = CellBasis(self.mesh, self.element, intorder=self.intorder)

@@ -1,6 +1,6 @@
 """The as-assembled tip geometry the FEM meshes, and its region rules.
 
-The section frame is the project's (ARCHITECTURE / brief): x horizontal, y
+The section frame is the project's: x horizontal, y
 vertical, coil centre at the origin, hollow channel at the bottom, silicone
 tube above it; the tip runs along z from the clamped base (z = 0) to z = L.
 

@@ -30,6 +30,7 @@ import numpy as np
 from scipy import sparse
 
 from softcath.design.errors import DesignError
+from softcath.fem.lumen_load import pressure_facets
 
 __all__ = ["run_tip_as_built"]
 
@@ -66,7 +67,7 @@ def _split(mesh):
 
 def _projection(sk, basis, labels, assembly, length: float, cap: float):
     """T (3N x n_hat) and the interface pairs; base nodes (z = 0) are left untied."""
-    from softcath.fem.section_model.assembly_options import interface_kind
+    from softcath.fem.section_model.as_built import interface_kind
 
     N = basis.N
     node_label = np.zeros(N, dtype=np.int64)
@@ -186,8 +187,7 @@ def run_tip_as_built(
     ybar = _neutral_axis(mesh, laws)
     out = {}
     for ld in loads:
-        facets = tags["cap"] if ld == "cap" else np.concatenate([tags["cap"], tags["lumen"]])
-        f = T.T @ problem.pressure_load(facets)
+        f = T.T @ problem.pressure_load(pressure_facets(tags, ld))
         u_hat = np.zeros(K.shape[0])
         u_hat[free], _ = fac.solve(f[free])
         u = (T @ u_hat).reshape(-1, 3)

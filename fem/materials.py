@@ -37,7 +37,7 @@ class Isotropic:
     youngs_modulus
         E in MPa (> 0).
     poisson_ratio
-        nu, -1 < nu <= 0.49 (displacement-only P2 locks above, notes/fem.md).
+        nu, -1 < nu <= 0.49 (displacement-only P2 locks above).
     """
 
     youngs_modulus: float

@@ -18,6 +18,7 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.fem.elasticity import ElasticProblem
 from softcath.fem.geometry import FILLER, REGIONS, TUBE, TipGeometry
+from softcath.fem.lumen_load import pressure_facets
 from softcath.fem.mesh import TipMesh, mesh_tip
 from softcath.fem.post import BendingFit, bending_fit, principal_strain_max
 from softcath.fem.tags import tag_facets
@@ -27,7 +28,7 @@ __all__ = ["LOADS", "TipSolution", "run_tip", "axial_modulus"]
 log = logging.getLogger(__name__)
 
 #: ``cap``: pressure on the cap's inner face only (the paper's end-cap force);
-#: ``lumen``: pressure on the lumen wall and the cap (the real load).
+#: ``lumen``: pressure on the lumen wall and the cap (the real load; :mod:`softcath.fem.lumen_load`).
 LOADS = ("cap", "lumen")
 SILICONE = (TUBE, FILLER)
 
@@ -110,7 +111,7 @@ def run_tip(
         Passed to :func:`softcath.fem.mesh.mesh_tip`.
     margin
         Length (mm) next to clamp and cap left out of the curvature fit;
-        default one outer diameter (notes/fem.md).
+        default one outer diameter (where the section is not yet free to warp).
     method
         Linear solver back-end (``softcath.fem.solver``).
     progress
@@ -151,8 +152,7 @@ def run_tip(
         problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
     rhs = {}
     for ld in loads:
-        facets = tags["cap"] if ld == "cap" else np.concatenate([tags["cap"], tags["lumen"]])
-        rhs[ld] = problem.pressure_load(facets)
+        rhs[ld] = problem.pressure_load(pressure_facets(tags, ld))
     assemble_seconds = time.perf_counter() - t1
     say("solving")
     t2 = time.perf_counter()

@@ -65,7 +65,7 @@ def bending_fit(
         Tip length L (mm).
     margin
         Length (mm) excluded next to the clamp and next to the cap, where the
-        section is not free to warp (notes/fem.md: about one diameter).
+        section is not free to warp (Saint-Venant: about one diameter).
     end_z
         z of the end face (= L).
     neutral_axis_y

@@ -5,7 +5,7 @@ the tube's sealed cap, z = L - cap, inside the lumen), ``lumen`` (the tube's
 lumen wall), ``channel`` (the open channel's lumen wall) and ``outer``
 (everything else). The lumen test uses a generous margin (half the thinnest
 lumen wall): a tight band misses facets whose vertices a mesher moved
-(notes/fem.md: 18 of ~4,600 caught), and no other boundary comes that close.
+(it missed 18 of ~4,600 lumen facets), and no other boundary comes that close.
 """
 
 from __future__ import annotations

@@ -1,12 +1,12 @@
 """Circle fits for measuring curvature from points on a short arc.
 
 Kasa's algebraic fit is biased on short arcs (too-small circles: +41 % in
-curvature on a 20 degree arc at 1 px noise, shared/notes/vision-and-bench.md);
+curvature on a 20 degree arc at 1 px noise);
 the Hyper fit of Al-Sharadqah & Chernov (Electron. J. Stat. 3 (2009) 886-911)
 is essentially unbiased and is the initial guess of the geometric
 (orthogonal-distance) fits here. :func:`fit_with_base` uses the known clamp
 position and direction, leaving curvature as the only unknown, which cut the
-bending-angle scatter several-fold in the notes' experiments.
+bending-angle scatter several-fold on synthetic arcs.
 
 All functions take points as an ``(n, 2)`` array in any consistent length
 unit and are valid for a straight line (curvature 0) as well.

@@ -7,7 +7,7 @@ default: it meets the specification at the minimum order (5; cutoff
 0.572 Hz from :func:`scipy.signal.buttord`) with a monotonic passband, so
 the same filter applied to model and data never amplifies a ripple band.
 The elliptic design (order 3, what :func:`scipy.signal.iirdesign` returns by
-default) is available as ``family="ellip"``. See ``shared/notes/vision-and-bench.md``.
+default) is available as ``family="ellip"``.
 
 Offline filtering is zero-phase (``sosfiltfilt``) with about two seconds of
 padding: the default 18-sample padding left edge errors six times larger on

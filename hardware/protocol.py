@@ -8,8 +8,7 @@ Framed mode (default), one sample per line::
 ``value`` a decimal number in the device's raw unit, and ``CS`` two
 upper-case hex digits: the XOR of every byte between ``$`` and ``*``
 (NMEA-style). The sequence number lets the reader report gaps; the checksum
-lets it drop a line corrupted on the wire instead of recording a wrong value
-(shared/notes/vision-and-bench.md, "Serial devices without hardware").
+lets it drop a line corrupted on the wire instead of recording a wrong value.
 
 Plain mode is for simple sensors that print one number per line
 (``<value>\\n``): no gap or corruption detection beyond "is it a number".

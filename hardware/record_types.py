@@ -1,6 +1,7 @@
 """The recorder's settings and reports: configuration, live status, and the summary of a recording.
 
-Units: s, Hz; the CSV columns are those of the measurement CSV (shared/ARCHITECTURE.md).
+Units: s, Hz; the CSV columns are those of the measurement CSV
+(``softcath.design.measurement.schema``).
 """
 
 from __future__ import annotations

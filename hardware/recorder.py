@@ -1,6 +1,6 @@
 """The crash-safe recorder: serial sensors and camera measurements on the paper's 200 Hz base.
 
-Rows of the measurement CSV (shared/ARCHITECTURE.md) are produced on a
+Rows of the measurement CSV (``softcath.design.measurement.schema``) are produced on a
 uniform time base (``fs_hz``, 200 Hz as in the paper) by linear
 interpolation of each source between its samples, so camera data arrive
 already resampled. Rows are appended with one ``os.write`` of whole lines

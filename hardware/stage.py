@@ -2,8 +2,8 @@
 
 The paper sets the pressure by moving a syringe plunger with a Zaber
 X-LRQ150BL-E01 stage driven from the Zaber console (section II.A). This
-driver implements the subset of the Zaber ASCII protocol the bench needs
-(shared/notes/vision-and-bench.md): commands ``/<dev> <axis> <cmd> [data][:CC]\\n``
+driver implements the subset of the Zaber ASCII protocol the bench needs:
+commands ``/<dev> <axis> <cmd> [data][:CC]\\n``
 and replies ``@<dev> <axis> <OK|RJ> <IDLE|BUSY> <warning> <data>[:CC]``. The
 optional checksum is Zaber's LRC: the two's complement of the byte sum
 (mod 256) of everything after ``/`` or ``@`` up to ``:``.

@@ -1,4 +1,4 @@
-"""How much a design ranking depends on the coil model (issue 13 §3).
+"""How much a design ranking depends on the coil model.
 
 Users sweep coil dimensions and pick the design that bends most per MPa. The
 coil model is uncertain (docs/coil.md): the 3-D FEM's annulus, the resolved

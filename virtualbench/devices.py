@@ -208,11 +208,6 @@ class VirtualStage:
         """The port a driver opens."""
         return self.pty.path
 
-    def position_steps(self, t_s: float | None = None) -> float:
-        """Position in microsteps at virtual time ``t_s`` (now if None)."""
-        with self._lock:
-            return self.motion.position(self.clock.now() if t_s is None else t_s)
-
     def trajectory_steps(self, t_s) -> np.ndarray:
         """Position in microsteps at the times ``t_s`` from the recorded motion history.
 

@@ -96,9 +96,6 @@ class Plant:
             effects=tuple(effects),
         )
 
-    def effect_names(self) -> tuple[str, ...]:
-        return tuple(e.name for e in self.effects)
-
     def simulate(self, t_s: np.ndarray, pressure_MPa: np.ndarray) -> PlantResponse:
         """Noise-free response to a pressure history.
 

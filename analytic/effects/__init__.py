@@ -2,8 +2,9 @@
 
 Each effect is one small module exposing ``CANDIDATE`` (a
 :class:`~analytic.effects.base.Candidate`): bounded parameters with units and
-an operator. :func:`fit_chain` fits the model plus any chain of them to data.
-Adding an effect is one module plus one line in ``_MODULES``.
+an operator. :mod:`~softcath.analytic.effects.registry` names them (adding an
+effect is one module plus one line there); :func:`fit_chain` fits the model
+plus any chain of them to data.
 
 >>> from softcath.analytic import effects
 >>> effects.names()[:3]
@@ -15,6 +16,7 @@ from __future__ import annotations
 import importlib
 
 from softcath.analytic.effects.base import STAGE_ORDER, Candidate, Param, Scales
+from softcath.analytic.effects.registry import FEM_CANDIDATES, MEASURED_CANDIDATES, get, names, register
 
 __all__ = [
     "Candidate",
@@ -27,58 +29,6 @@ __all__ = [
     "MEASURED_CANDIDATES",
     "FEM_CANDIDATES",
 ]
-
-_MODULES = (
-    "hysteresis",
-    "lag",
-    "delay",
-    "dead_zone",
-    "viscoelastic",
-    "offset",
-    "nonlinear_gain",
-    "lumen_poisson",
-)
-
-_REGISTRY: dict[str, Candidate] = {}
-
-#: candidates tried against measured data (time series): all but the FEM-only lumen-wall term
-MEASURED_CANDIDATES: tuple[str, ...] = tuple(m for m in _MODULES if m != "lumen_poisson")
-#: candidates tried against a quasi-static FEM reference (no time, gain not calibrated)
-FEM_CANDIDATES: tuple[str, ...] = ("lumen_poisson", "nonlinear_gain", "offset", "dead_zone")
-
-
-def register(candidate: Candidate) -> None:
-    """Add a candidate to the registry (its ``name`` must be in ``STAGE_ORDER``)."""
-    from softcath.design.errors import DesignError
-
-    if candidate.name not in STAGE_ORDER:
-        raise DesignError("effect", candidate.name, f"must be one of {STAGE_ORDER}")
-    _REGISTRY[candidate.name] = candidate
-
-
-for _m in _MODULES:
-    register(importlib.import_module(f"softcath.analytic.effects.{_m}").CANDIDATE)
-
-
-def names() -> tuple[str, ...]:
-    """Registered candidate names."""
-    return tuple(_REGISTRY)
-
-
-def get(name: str) -> Candidate:
-    """The candidate called ``name``.
-
-    Raises
-    ------
-    DesignError
-        If no candidate has that name.
-    """
-    from softcath.design.errors import DesignError
-
-    try:
-        return _REGISTRY[name]
-    except KeyError:
-        raise DesignError("effect", name, f"must be one of {', '.join(_REGISTRY)}") from None
 
 
 def __getattr__(attr: str):  # lazy: the fitting module pulls in scipy.optimize

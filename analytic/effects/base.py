@@ -31,7 +31,7 @@ STAGE_ORDER: tuple[str, ...] = (
     "hysteresis",
     "viscoelastic",
     "offset",
-    "lumen_poisson",
+    "lumen_wall",
     "delay",
 )
 

@@ -2,9 +2,8 @@
 
 The model curvature is ``gain * chain(p)`` plus linear terms of ``column``
 effects, shifted by ``output`` effects and then passed through the SAME
-low-pass filter as the data (``output_filter``; trap 2 in
-``shared/notes/missing-effects.md``: an unfiltered model against filtered data
-makes the filter's delay look like a missing delay). The gain and other linear
+low-pass filter as the data (``output_filter``: an unfiltered model against
+filtered data makes the filter's delay look like a missing delay). The gain and other linear
 coefficients are solved exactly for every trial of the nonlinear parameters
 (variable projection), the nonlinear ones by bounded least squares from a few
 starts.

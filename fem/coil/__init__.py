@@ -1,4 +1,4 @@
-"""Resolved-wire coil (issue 13): the helical wire as a 3-D frame, with contact between turns.
+"""Resolved-wire coil: the helical wire as a 3-D frame, with contact between turns.
 
 >>> from softcath import design
 >>> from softcath.fem.coil import resolved_coil_stiffness
@@ -14,6 +14,6 @@ models for comparison), ``picture``.
 
 from __future__ import annotations
 
-from softcath.fem.coil.api import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
+from softcath.fem.coil.stiffness import CoilStiffnessResult, bending_curve, coil_wire, resolved_coil_stiffness
 
 __all__ = ["CoilStiffnessResult", "bending_curve", "coil_wire", "resolved_coil_stiffness"]

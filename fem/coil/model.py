@@ -147,10 +147,6 @@ class CoilModel:
         d = state.displacement[k + m] - state.displacement[k]
         return float(d[:, 2].mean()), d[:, 3:].mean(axis=0)
 
-    def cut_force(self, state: LoadState) -> float:
-        """Total contact force across one horizontal cut through the middle (one turn of pairs) [N]."""
-        return float(state.contact_force[self.middle_pairs[: self.mesh.elements_per_turn]].sum())
-
 
 def _rigid_plate(nodes: np.ndarray, tied: np.ndarray, free: np.ndarray, centre: np.ndarray) -> sp.csr_matrix:
     """T with full DOFs = T q, q = (free nodes' 6 DOFs, plate's 6 DOFs); clamped nodes get zero rows."""

@@ -21,7 +21,7 @@ def _bent(coil: Coil, turns: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, f
     and the rotation per turn. Turn j adds the increment: u(k + j m) = u(k) +
     j Δc + Δθ × (j x_k + j(j − 1)/2 · p e_z), θ(k + j m) = θ(k) + j Δθ.
     """
-    from softcath.fem.coil.api import REFERENCE_CURVATURE, assemble_coil
+    from softcath.fem.coil.stiffness import REFERENCE_CURVATURE, assemble_coil
 
     model, base, mode = assemble_coil(coil, elements_per_turn=PICTURE_ELEMENTS_PER_TURN)
     free = model.solve(np.array([0, 0, 0, 1.0, 0, 0]), mode="free")

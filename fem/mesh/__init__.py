@@ -15,7 +15,7 @@ Two back-ends:
     pytetwild (the design card's mesher) on the closed boundary surfaces of
     every region, embedded in one surface so the tets conform to the material
     interfaces; labels are assigned per tet by centroid. Slow (tens of
-    seconds to minutes on thin walls, notes/fem.md), so it runs in a
+    seconds to minutes on thin walls), so it runs in a
     temporary directory (it writes a stray file) and its result is cached.
 
 Both return a :class:`TipMesh` whose region volumes are checked against the

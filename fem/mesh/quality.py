@@ -14,7 +14,7 @@ from softcath.fem.errors import MeshError
 from softcath.fem.geometry import REGIONS, TipGeometry
 from softcath.fem.mesh.model import MeshQuality, TipMesh, curved_volumes, skfem_mesh
 
-#: Region volumes must match the exact geometry within this (issue 3 §2).
+#: Region volumes must match the exact geometry within this (a relative tolerance).
 VOLUME_TOL = 0.01
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["LEVI_CIVITA", "det", "cofactor", "inv_transpose", "dcofactor"]
+__all__ = ["LEVI_CIVITA", "det", "cofactor", "dcofactor"]
 
 LEVI_CIVITA = np.zeros((3, 3, 3))
 LEVI_CIVITA[0, 1, 2] = LEVI_CIVITA[1, 2, 0] = LEVI_CIVITA[2, 0, 1] = 1.0
@@ -37,12 +37,6 @@ def cofactor(f: np.ndarray) -> np.ndarray:
     c[..., 2, 1] = f[..., 0, 2] * f[..., 1, 0] - f[..., 0, 0] * f[..., 1, 2]
     c[..., 2, 2] = f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0]
     return c
-
-
-def inv_transpose(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(F⁻ᵀ, J)."""
-    j = det(f)
-    return cofactor(f) / j[..., None, None], j
 
 
 def dcofactor(f: np.ndarray, cof: np.ndarray | None = None) -> np.ndarray:

@@ -8,7 +8,7 @@ transversely isotropic coils) in a fraction of a second, locking-free up to
 nu = 0.49999.
 
 Modules: ``mesh`` (labelled section meshes), ``laws`` (region laws in
-generalised plane strain), ``assembly`` (the operator, element pair),
+generalised plane strain), ``element`` (the element pair and the assembled operator),
 ``solve`` (condensation and loads), ``api`` (:func:`section_model`),
 ``template`` (one gmsh mesh per section topology and size class, morphed to
 each design), ``batch`` (many designs per template: one vectorised kernel, the

@@ -139,7 +139,7 @@ def section_model(
     design
         A :class:`design.TipDesign`, a preset name or a TOML path. Its ``assembly``
         (sliding interfaces, the filler as built, the base) is honoured
-        (``softcath.fem.section_model.assembly_options``); the default bonded tip takes
+        (``softcath.fem.section_model.as_built``); the default bonded tip takes
         the original path unchanged.
     loads
         Subset of ``("cap", "lumen")``.
@@ -162,8 +162,8 @@ def section_model(
     from softcath import design as design_pkg
     from softcath.analytic import gains
     from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.assembly import assemble
     from softcath.fem.section_model.coil_models import coil_terms
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve
@@ -188,8 +188,8 @@ def section_model(
         ei, ei_lat = float(K[2, 2] - K[0, 2] ** 2 / K[0, 0]), float(K[1, 1] - K[0, 1] ** 2 / K[0, 0])
         kappa = {ld: float(s.strains[2]) for ld, s in sol.loads.items()}
         eps = {ld: float(s.strains[0] + s.strains[2] * op.axial_centroid_y) for ld, s in sol.loads.items()}
-    else:  # the tip as built (softcath.fem.section_model.assembly_options)
-        from softcath.fem.section_model.assembly_options import as_built_operator, summary
+    else:  # the tip as built (softcath.fem.section_model.as_built)
+        from softcath.fem.section_model.as_built import as_built_operator, summary
 
         mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=sum(extra.values()))
         sm = summary(op, sol)

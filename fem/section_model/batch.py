@@ -73,7 +73,7 @@ class _Kernel:
     def __init__(self, template) -> None:
         from skfem import CellBasis, ElementTriCCR, ElementVector
 
-        from softcath.fem.section_model.assembly import _rigid_pins
+        from softcath.fem.section_model.element import _rigid_pins
 
         m = template.mesh
         mesh = m.skfem_mesh()
@@ -182,7 +182,7 @@ class _Kernel:
         return np.stack(out)
 
     def assemble(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray, ez: np.ndarray) -> dict:
-        """The condensed operators of ``m`` designs (``assembly.assemble``'s algebra, batched).
+        """The condensed operators of ``m`` designs (``element.assemble``'s algebra, batched).
 
         ``x6`` (m, nel, 6, 2) node positions; ``D`` (m, nel, 4, 4), ``lam`` and ``ez`` (m, nel)
         the region laws per triangle.

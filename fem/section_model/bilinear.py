@@ -154,8 +154,8 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
     """
     from softcath.design import coil_stiffness
     from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.assembly import assemble
     from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve

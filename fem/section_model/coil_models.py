@@ -63,8 +63,8 @@ def model_options(coil_model: str) -> dict[str, str]:
 
 def helix_stiffness(coil) -> tuple[float, float]:
     """(EA [N], EI [N mm^2]) per unit length of the open coil from the exact helix energies."""
-    from softcath.fem.coil.api import coil_wire
     from softcath.fem.coil.closed_forms import helix_axial_energy, helix_bending_energy
+    from softcath.fem.coil.stiffness import coil_wire
 
     wire = coil_wire(coil)
     r, p = coil.mean_radius, coil.pitch
@@ -112,7 +112,7 @@ def coil_section_stiffness(
     """
     from softcath import design as design_pkg
     from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import laws_from_design
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 

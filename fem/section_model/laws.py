@@ -4,7 +4,7 @@ A region's law is reduced to what the section sees: the 4x4 stiffness over the
 strains (eps_xx, eps_yy, eps_zz, gamma_xy) — out-of-plane shears vanish for the
 axial force and bending moments of a pressurised tip — plus, for isotropic
 regions, the Lamé modulus lambda that the assembly treats by projection (the
-locking-free mixed part, ``softcath.fem.section_model.assembly``).
+locking-free mixed part, ``softcath.fem.section_model.element``).
 
 Unlike the 3-D FEM (displacement-only P2, nu <= 0.49), the section model takes
 silicone Poisson ratios up to 0.49999: the volumetric term is projected onto

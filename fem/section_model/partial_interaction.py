@@ -6,7 +6,7 @@ sliding: slip modulus :math:`k`, N/mm² of shear flow per mm of slip) is a
 1-D problem along the tip (Newmark, Siess & Viest 1951). With the section's
 stiffness :math:`K` over :math:`g = (\varepsilon_{0,1}, \varepsilon_{0,2},
 k_1, k_2)` (two axial groups, from
-:mod:`softcath.fem.section_model.assembly_options`), the group forces are
+:mod:`softcath.fem.section_model.as_built`), the group forces are
 :math:`N_1 = F_1 + \Delta N(z)`, :math:`N_2 = F_2 - \Delta N(z)`, the moments
 are fixed by the tip load, and the slip :math:`s = w_2 - w_1` obeys
 

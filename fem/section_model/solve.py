@@ -13,7 +13,7 @@ import numpy as np
 from scipy.sparse.linalg import splu
 
 from softcath.design.errors import DesignError
-from softcath.fem.section_model.assembly import SectionOperator
+from softcath.fem.section_model.element import SectionOperator
 
 __all__ = ["LOADS", "LoadSolution", "SectionSolution", "solve"]
 

@@ -48,7 +48,7 @@ def principal_strain_range(op, load_solution, elements: np.ndarray) -> tuple[flo
     Parameters
     ----------
     op
-        The :class:`~fem.section_model.assembly.SectionOperator`.
+        The :class:`~softcath.fem.section_model.element.SectionOperator`.
     load_solution
         One load's solution (in-plane field ``U`` and global ``strains``).
     elements

@@ -10,7 +10,7 @@ Gaussian blur, binary threshold, Canny, horizontal slices of height
 ``kappa = 1/r``, the tip as the centroid of the HSV red mask and
 ``L = r |theta_t - theta_b|``. On synthetic renders it underestimates
 curvature badly and fails past about 90-120 degrees (slices cut the tube
-twice; shared/notes/vision-and-bench.md); it is kept for comparison.
+twice); it is kept for comparison.
 
 ``method="default"`` follows the tube's centre line: from the base, it
 steps along the body and, on a profile across it, finds both edges with
@@ -26,7 +26,7 @@ and the base pose is taken from a free geometric fit.
 
 from __future__ import annotations
 
-from softcath.hardware.vision.api import measure
+from softcath.hardware.vision.dispatch import measure
 from softcath.hardware.vision.overlay import draw_overlay
 from softcath.hardware.vision.redtip import find_red_tip
 from softcath.hardware.vision.tracker import track_centre_line

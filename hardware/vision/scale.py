@@ -1,6 +1,6 @@
 """Pixel-to-millimetre scale from a chessboard or two points a known distance apart.
 
-Usual practice (shared/notes/vision-and-bench.md): calibrate the lens with
+Usual practice: calibrate the lens with
 OpenCV (>= 10 chessboard views, :func:`camera_intrinsics`), undistort, then
 take the scale from a target lying in the bending plane. The bending angle
 does not depend on the scale; curvature and arc length do.

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.studies.demo.context import DemoContext, SectionOutput, unavailable
-from softcath.studies.report.html import esc, figure, fmt, table
+from softcath.studies.report.html_blocks import esc, figure, fmt, table
 
 __all__ = ["section_calibration"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from softcath.studies.report.html import esc, note
+from softcath.studies.report.html_blocks import esc, note
 
 __all__ = ["DemoContext", "SectionOutput", "unavailable", "DEMO_PRESSURES_MPA", "DEMO_MAX_STRAIN"]
 

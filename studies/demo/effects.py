@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from softcath.studies.demo.context import DemoContext, SectionOutput, unavailable
-from softcath.studies.report.html import Markup, esc, fmt, table
+from softcath.studies.report.html_blocks import Markup, esc, fmt, table
 
 __all__ = ["section_effects"]
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput, unavailable
-from softcath.studies.report.html import figure, fmt, table
+from softcath.studies.report.html_blocks import figure, fmt, table
 
 __all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SECTION_CURVE_PRESSURES_MPA", "section_large_bends"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.studies.demo.context import DEMO_PRESSURES_MPA, DemoContext, SectionOutput
-from softcath.studies.report.html import esc, figure, fmt, table
+from softcath.studies.report.html_blocks import esc, figure, fmt, table
 
 __all__ = ["section_model"]
 
@@ -28,9 +28,7 @@ def section_model(ctx: DemoContext) -> SectionOutput:
         "tube's end cap pulls with force p·A_p at the lumen centre y_p, off the composite neutral axis ȳ, "
         "so the tip stretches (ε = p A_p/ΣEA) and bends (κ = p A_p (y_p − ȳ)/ΣEI) into a circular arc.</p>"
         f"<p><b>Geometry as assembled.</b> {esc(d.fit_report()).replace(chr(10), '<br>')}</p>"
-        + figure(
-            f2.name if False else f1.name, "As-assembled cross-section, neutral axis and pressure centre."
-        )
+        + figure(f1.name, "As-assembled cross-section, neutral axis and pressure centre.")
         + table(["part", "EA [N]", "EI about ȳ [N mm²]", "centroid y [mm]"], parts, left=1)
         + f"<p>Composite: ΣEA = {fmt(cs.EA)} N, ΣEI = {fmt(cs.EI)} N mm², ȳ = {fmt(cs.neutral_axis_y)} mm, "
         f"A_p = {fmt(cs.pressure_area)} mm², y_p = {fmt(cs.pressure_centre_y)} mm.</p>"

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from softcath.interrupts import raise_pending_stop
 from softcath.studies.demo.context import DemoContext, SectionOutput
-from softcath.studies.report.html import esc, note, page
+from softcath.studies.report.html_blocks import esc, note, page
 
 __all__ = ["DemoResult", "default_data", "run_sections"]
 

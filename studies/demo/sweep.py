@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DEMO_PRESSURES_MPA, DemoContext, SectionOutput
-from softcath.studies.report.html import esc, fmt, note, table
+from softcath.studies.report.html_blocks import esc, fmt, note, table
 
 __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 
@@ -17,12 +17,12 @@ __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 DEMO_SELECT_PRESSURE_MPA = 0.5
 
 
-def demo_sweep_spec(*, fem: bool = False) -> str:
+def demo_sweep_spec() -> str:
     """The demo's sweep around the paper design: lumen offsets h × lumen widths a_int, 20 designs.
 
     Evaluated by the paper's formula and the section model (3-D-FEM-grade, a
     fraction of a second per design); the 3-D FEM checks only the chosen design
-    afterwards (``fem`` is kept for callers and does not change the spec).
+    afterwards.
     """
     return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int, paper's formula and section model.
 [sweep]
@@ -43,9 +43,9 @@ max_strain = {DEMO_MAX_STRAIN}
 
 def section_sweep(ctx: DemoContext) -> SectionOutput:
     from softcath.studies.report import write_report
-    from softcath.studies.results import read_results
     from softcath.studies.selection import select, write_selection
     from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
+    from softcath.studies.sweep.results import read_results
 
     check = fem_check_function() if ctx.fem else None
     from softcath.studies.atomic import prepare_out_dir, write_text

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.studies.report.html import figure, fmt, note, table
+from softcath.studies.report.html_blocks import figure, fmt, note, table
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput, unavailable
-from softcath.studies.report.html import esc, fmt
+from softcath.studies.report.html_blocks import esc, fmt
 
 __all__ = ["section_verdict"]
 

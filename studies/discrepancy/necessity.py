@@ -31,7 +31,7 @@ def drop_unneeded(
     The returned list keeps the needed naming steps and ends with a stop step whose
     baseline is the reduced model and whose ``extra["not_needed"]`` lists the dropped effects.
     """
-    from softcath.studies.discrepancy.workflow import Step, cross_validate
+    from softcath.studies.discrepancy.naming import Step, cross_validate
 
     named = [s.named for s in steps if s.named]
     if len(named) < 2:

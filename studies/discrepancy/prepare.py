@@ -14,7 +14,8 @@ Steps, per run (``run`` column; one run if absent):
    decimate to 40x the passband, and apply the data low-pass to the curvature
    (the target). The model input is the anti-aliased pressure; the model
    output gets the same data low-pass (``softcath.analytic.effects.fit``), so data and
-   model see identical linear filtering (trap 2);
+   model see identical linear filtering (else the filter's delay looks like a
+   missing delay);
 5. estimate the noise floor: the raw curvature noise s.d. from what the
    anti-alias filter removes, propagated through both filters.
 

@@ -17,8 +17,8 @@ Each ingredient is a switch of the model:
     The paper's edge pipeline reads curvature 18-40 % low: the band is
     multiplied by [0.60, 0.82].
 ``finite_strain``
-    The lead's finite-strain section model, when importable; otherwise skipped
-    and the reason recorded.
+    The finite-strain section model. The hypotheses here are not scored
+    with it, so it is always skipped and the reason recorded.
 
 A *hypothesis* is a set of ingredients (at most one per family: Poisson, coil
 law, assembly, vision). Its band at pressure p is
@@ -118,13 +118,9 @@ def load_prototype_csv(path: str | Path) -> dict[str, np.ndarray]:
     return out
 
 
-def _finite_strain_available() -> str | None:
-    """None if the finite-strain section model is importable, else why it is skipped."""
-    try:
-        import softcath.fem.section_model.nonlinear  # noqa: F401
-    except ImportError:
-        return "the finite-strain section model (softcath.fem.section_model.nonlinear) is not installed"
-    return "the finite-strain section model is installed but has no band hook yet"
+#: Why the ``finite_strain`` ingredient is skipped: the hypotheses' bands come from the linear
+#: section model only.
+_FINITE_STRAIN_SKIP = "the hypotheses' bands come from the linear section model only"
 
 
 def _variant(design, ingredients: Sequence[str], e_tube: float, e_fill: float):
@@ -199,11 +195,10 @@ def explain_prototype(
     p = np.asarray(measured["pressure_MPa"], float)
     k = np.asarray(measured["curvature_per_mm"], float)
     notes = []
-    skip = _finite_strain_available()
     cands = [c for c in (candidates or INGREDIENTS) if c in INGREDIENTS]
     if "finite_strain" in cands:
         cands.remove("finite_strain")
-        notes.append(f"finite_strain skipped: {skip}")
+        notes.append(f"finite_strain skipped: {_FINITE_STRAIN_SKIP}")
     g_free = float(p @ k / (p @ p))
     resid = k - g_free * p
     sigma = max(float(np.sqrt(resid @ resid / max(p.size - 1, 1))), 1e-3 * float(np.abs(k).max()))

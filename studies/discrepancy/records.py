@@ -1,6 +1,6 @@
 """The records of a workflow run: per named step, the calibration, the filter, the runs, the notes.
 
-Plain dicts and tuples for :class:`~softcath.studies.discrepancy.result.DiscrepancyResult`
+Plain dicts and tuples for :class:`~softcath.studies.discrepancy.workflow.DiscrepancyResult`
 (and so for ``discrepancy.json``).
 """
 
@@ -13,8 +13,8 @@ import numpy as np
 
 from softcath.analytic.effects import get
 from softcath.analytic.effects.fit import ChainFit
+from softcath.studies.discrepancy.naming import RATE_FAMILY, Step
 from softcath.studies.discrepancy.prepare import Prepared
-from softcath.studies.discrepancy.workflow import RATE_FAMILY, Step
 
 __all__ = [
     "excess",

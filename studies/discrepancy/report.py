@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.studies.discrepancy.maps import Residuals, binned, residuals
-from softcath.studies.discrepancy.result import DiscrepancyResult
+from softcath.studies.discrepancy.workflow import DiscrepancyResult
 
 __all__ = ["write_report"]
 

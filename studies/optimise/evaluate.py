@@ -181,7 +181,7 @@ def run_variants(problem: Problem, variants: list[dict], backend: Backend, evalu
     """
     import pandas as pd
 
-    from softcath.studies.results import add_derived_columns, model_columns
+    from softcath.studies.sweep.results import add_derived_columns, model_columns
 
     evaluators = evaluators or sorted({"analytic", problem.evaluator})
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))

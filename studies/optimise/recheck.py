@@ -31,7 +31,7 @@ def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backe
     df = run_variants(problem, [dict(p) for p in params], backend, evaluators=evaluators, model="fem")
     ids = list(range(len(params)))
     objs, margins, ok = score_table(df, ids, problem.objectives, problem.constraints)
-    from softcath.studies.results import MODEL_COLUMNS
+    from softcath.studies.sweep.results import MODEL_COLUMNS
 
     own = MODEL_COLUMNS.get(problem.model, {}).get("curvature_per_mm", "curvature_analytic_per_mm")
     out = []

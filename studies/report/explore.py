@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.studies.report import interactive as ia
-from softcath.studies.report.html import esc, fmt, note, page
+from softcath.studies.report.html_blocks import esc, fmt, note, page
 
 __all__ = ["write_explore"]
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.studies.report.html import esc
+from softcath.studies.report.html_blocks import esc
 
 __all__ = ["PLOTLY_JS", "write_plotly_js", "script_tag", "chart", "parity", "parallel", "pareto"]
 

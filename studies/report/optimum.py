@@ -16,7 +16,7 @@ import numpy as np
 
 from softcath.design.errors import DataError
 from softcath.studies.report import interactive as ia
-from softcath.studies.report.html import Markup, esc, figure, fmt, note, page, table
+from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
 
 __all__ = ["write_optimum_report"]
 

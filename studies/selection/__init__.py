@@ -25,7 +25,7 @@ sweep) are skipped; a design with no defined row fails the constraint.
 
 Model and load: the best-estimate columns ``curvature_per_mm``,
 ``elongation``, ``bend_angle_deg``, ``max_strain`` and ``bend_per_MPa_deg``
-resolve to one model's columns (:func:`softcath.studies.results.model_columns`). By
+resolve to one model's columns (:func:`softcath.studies.sweep.results.model_columns`). By
 default that is the finite-strain section model when the sweep ran it (valid
 at every bend), else the section model under the lumen load (the real load)
 when the sweep has section-model columns, else the paper's formula (analytic

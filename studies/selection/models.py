@@ -20,7 +20,7 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     See the module docstring for the defaults; ``note`` says what was chosen
     for the user when it was not asked for.
     """
-    from softcath.studies.results import has_model, model_columns
+    from softcath.studies.sweep.results import has_model, model_columns
 
     loads = sorted(set(df["load"]))
     notes = []

@@ -119,7 +119,7 @@ def select(
     Parameters
     ----------
     df
-        The results table (:func:`softcath.studies.results.read_results`).
+        The results table (:func:`softcath.studies.sweep.results.read_results`).
     constraints, objectives
         Expression strings.
     load

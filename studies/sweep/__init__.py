@@ -1,5 +1,9 @@
 """Design sweeps: specification, sampling, evaluation, runners and the resumable result store.
 
+Modules: ``spec``, ``sampling`` and ``variants`` (the designs), ``evaluators`` (one
+task), ``runner`` (local processes), ``dask_scale_out`` (the Dask path), ``store``
+(one file per finished task) and ``results`` (the merged results table).
+
 >>> from softcath.studies.sweep import load_spec, run_sweep          # doctest: +SKIP
 >>> summary = run_sweep(load_spec("examples/sweeps/quick_analytic.toml"), "out/quick")  # doctest: +SKIP
 """

@@ -2,7 +2,7 @@
 
 A task is a plain dict (picklable, so the same function runs in a local
 process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
-with one row per design × pressure × load (columns in :mod:`softcath.studies.results`).
+with one row per design × pressure × load (columns in :mod:`softcath.studies.sweep.results`).
 A design that cannot be built is reported with status ``failed`` and the
 :class:`~design.errors.DesignError` reason; it never stops the task.
 """
@@ -19,7 +19,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.interrupts import raise_pending_stop
-from softcath.studies.results import _FEM_RENAME, SECTION_NONLINEAR_COLUMNS
+from softcath.studies.sweep.results import _FEM_RENAME, SECTION_NONLINEAR_COLUMNS
 from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns_many
 from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
 

@@ -6,9 +6,9 @@ Backends
 - ``workers=N``: a :class:`concurrent.futures.ProcessPoolExecutor` of N processes;
 - ``dask_local=N``: a :class:`distributed.LocalCluster` of N single-threaded worker
   processes on loopback;
-- ``scheduler="tcp://host:port"``: an existing Dask scheduler (a cluster). The
-  workers need softcath installed; results come back to this process, which
-  alone writes ``DIR`` — the workers need no shared file system.
+- ``scheduler="tcp://host:port"``: an existing Dask scheduler (a cluster).
+
+The two Dask backends are :mod:`softcath.studies.sweep.dask_scale_out`.
 
 Every task's rows are written atomically as the task completes; a sweep
 started again with the same spec and ``--out`` evaluates only the tasks that
@@ -184,21 +184,6 @@ def _pool(tasks, workers: int):
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _dask(tasks, client):
-    from distributed import as_completed
-
-    futures = {
-        client.submit(evaluate_task, t, pure=False, key=f"softcath-task-{uuid.uuid4().hex}"): t for t in tasks
-    }
-    for fut in as_completed(list(futures)):
-        task = futures[fut]
-        try:
-            yield task, fut.result()
-        except Exception as exc:
-            raise_pending_stop()
-            yield _outcome(task, exc)
-
-
 def _check_options(workers, dask_local, scheduler) -> None:
     chosen = [
         n for n, v in (("--workers", workers), ("--dask-local", dask_local), ("--scheduler", scheduler)) if v
@@ -243,7 +228,7 @@ def run_sweep(
     import pandas as pd
     from tqdm import tqdm
 
-    from softcath.studies.results import add_derived_columns, write_results
+    from softcath.studies.sweep.results import add_derived_columns, write_results
 
     _check_options(workers, dask_local, scheduler)
     t0 = time.perf_counter()
@@ -266,33 +251,10 @@ def run_sweep(
 
     client = cluster = None
     if scheduler or dask_local:
-        from distributed import Client, LocalCluster
+        from softcath.studies.sweep.dask_scale_out import connect, run_on_dask
 
-        if scheduler:
-            try:
-                client = Client(scheduler, timeout="15s")
-            except (OSError, TimeoutError) as exc:
-                raise DesignError("scheduler", scheduler, f"cannot be reached: {exc}") from None
-            backend = f"dask({scheduler})"
-        else:
-            import dask
-
-            # The workers' statistical profiler samples every thread every 10 ms: about 10 % more CPU
-            # per FEM design measured here, for a profile nobody reads in a batch sweep. The nanny's
-            # MALLOC_TRIM_THRESHOLD_ costs ~30 % more CPU per FEM design (evaluators.restore_malloc_thresholds);
-            # the workers keep glibc's dynamic thresholds and one BLAS thread each.
-            environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()
-                       if k != "MALLOC_TRIM_THRESHOLD_"}  # fmt: skip
-            with dask.config.set(
-                {"distributed.worker.profile.enabled": False, "distributed.nanny.pre-spawn-environ": environ}
-            ):
-                cluster = LocalCluster(
-                    n_workers=dask_local, threads_per_worker=1, processes=True,
-                    host="127.0.0.1", dashboard_address=None,
-                )  # fmt: skip
-            # (its worker processes die with this one by themselves: Dask's parent-alive pipe)
-            client, backend = Client(cluster), f"dask-local({dask_local})"
-        results = _dask(pending, client)
+        client, cluster, backend = connect(scheduler, dask_local)
+        results = run_on_dask(pending, client)
     else:
         n = workers or os.cpu_count() or 1
         n = min(n, max(len(pending), 1))

@@ -90,7 +90,7 @@ class SweepStore:
         import pyarrow as pa
         import pyarrow.parquet as pq
 
-        from softcath.studies.results import _stringify_objects
+        from softcath.studies.sweep.results import _stringify_objects
 
         tmp = self.tasks_dir / f".t{task_id:06d}.{uuid.uuid4().hex}.tmp"
         pq.write_table(pa.Table.from_pandas(_stringify_objects(frame), preserve_index=False), tmp)

@@ -73,7 +73,7 @@ def set_path(table: dict, path: str, value: Any) -> None:
     node[parts[-1]] = value
 
 
-def _coil_rule(kw: Mapping[str, Any], base_od: float, base_id: float) -> dict[str, Any]:
+def _coil_rule(kw: Mapping[str, Any], base_od: float) -> dict[str, Any]:
     """Updates that keep a coil a close-wound single layer (``None``: use the default)."""
     swept = set(kw)
     out: dict[str, Any] = {}
@@ -101,7 +101,7 @@ def variant_table(base_table: Mapping[str, Any], overrides: Mapping[str, Any]) -
     table = {k: (copy.deepcopy(v) if k in touched else v) for k, v in base_table.items()}
     for part in ("coil", "channel"):
         kw = {p.split(".", 1)[1]: _plain(v) for p, v in overrides.items() if p.split(".", 1)[0] == part}
-        for k, v in _coil_rule(kw, table[part]["outer_diameter"], table[part]["inner_diameter"]).items():
+        for k, v in _coil_rule(kw, table[part]["outer_diameter"]).items():
             if v is None:
                 table[part].pop(k, None)
             else:
@@ -201,7 +201,7 @@ class VariantBuilder:
                 if mkey in new_materials:
                     kw["material"] = new_materials[mkey]
             if part in ("coil", "channel"):
-                kw.update(_coil_rule(kw, comp.outer_diameter, comp.inner_diameter))
+                kw.update(_coil_rule(kw, comp.outer_diameter))
             if part == "tube" and any(k in kw for k in _SHAPE) and not comp.has_explicit_shape:
                 for k in _SHAPE:
                     kw.setdefault(k, self._nominal_shape[k])

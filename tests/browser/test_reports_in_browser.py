@@ -323,7 +323,7 @@ def check_click(opened: Opened, div: str, expect: str, image: bool = True) -> No
 def test_interactive_charts_respond_offline(browser, tmp_path):
     """The chart helpers alone (no softcath run): render, hover, brush, click; no network."""
     from softcath.studies.report import interactive as ia
-    from softcath.studies.report.html import page
+    from softcath.studies.report.html_blocks import page
 
     ia.write_plotly_js(tmp_path)
     x = np.linspace(0.1, 1.0, 12)

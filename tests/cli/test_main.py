@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import softcath.cli.analytic
-from softcath.cli.main import main
+from softcath.cli.main import SUBCOMMANDS, main
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
@@ -123,3 +123,20 @@ def test_main_returns_the_status_and_restores_signal_handlers(cli):
     assert cli("design", "validate", "paper").status == 0
     assert signal.getsignal(signal.SIGTERM) is before
     assert main(["design", "validate", "nonexistent.toml"]) == 2
+
+
+@pytest.mark.parametrize("name, module_name", SUBCOMMANDS)
+def test_every_listed_subcommand_module_imports(name, module_name):
+    import importlib
+
+    module = importlib.import_module(module_name)
+    assert module.HELP and callable(module.add_arguments) and callable(module.run), name
+
+
+def test_a_subcommand_module_that_does_not_import_fails_the_parser(monkeypatch):
+    import importlib
+
+    cli_main = importlib.import_module("softcath.cli.main")  # the package's ``main`` is the function
+    monkeypatch.setattr(cli_main, "SUBCOMMANDS", (*cli_main.SUBCOMMANDS, ("ghost", "softcath.cli.ghost")))
+    with pytest.raises(ImportError):
+        cli_main.build_parser()

@@ -1,4 +1,4 @@
-"""The reproduced failures of issue 15, each a clean refusal (or a correct answer) now."""
+"""Inputs the command line once mishandled, each a clean refusal (or a correct answer)."""
 
 from __future__ import annotations
 

@@ -29,7 +29,7 @@ def test_cad_volumes_step_and_stl(tmp_path):
     d = design.preset("paper")
     cad = solid_volumes(d)
     mesh = mesh_tip(geometry_from_design(d), mesh_size=0.15, cache=tmp_path)
-    # Issue 3 section 2: region volumes of the mesh within 1 % of the CAD solids.
+    # Region volumes of the mesh within 1 % of the CAD solids.
     for name, v in cad.items():
         assert mesh.region_volumes[name] == pytest.approx(v, rel=0.01), name
     step = export_step(d, tmp_path / "tip.step")

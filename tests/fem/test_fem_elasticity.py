@@ -114,7 +114,7 @@ def test_bad_material_names_parameter_and_bound():
 
 
 def test_cantilever_end_shear_between_euler_bernoulli_and_timoshenko():
-    length, h, force = 2.0, 0.2, 1e-3  # L/h = 10 (notes/fem.md)
+    length, h, force = 2.0, 0.2, 1e-3  # L/h = 10
     m = MeshTet.init_tensor(np.linspace(0, h, 3), np.linspace(0, h, 3), np.linspace(0, length, 21))
     pb = ElasticProblem(
         m,
@@ -131,7 +131,7 @@ def test_cantilever_end_shear_between_euler_bernoulli_and_timoshenko():
     shear_k = 10 * (1 + NU) / (12 + 11 * NU)  # Cowper, rectangle
     timo = eb + force * length / (shear_k * E / (2 * (1 + NU)) * h**2)
     # A 3-D clamp is stiffer than Timoshenko's (no warping at the wall) but softer
-    # than Euler-Bernoulli; P2 should land between them within 1 % (notes/fem.md).
+    # than Euler-Bernoulli; P2 should land between them within 1 %.
     assert 0.99 * eb <= deflection <= 1.01 * timo
     assert sol.residual < 1e-12
 

@@ -49,12 +49,12 @@ def test_homogeneous_eccentric_tube_cap_and_lumen(geometry):
     k_eb = al * (geometry.lumen_y - ybar) / (1.0 * inertia)  # per MPa
     e_eb = al / (1.0 * area)
     cap, lumen = sol.fits["cap"], sol.fits["lumen"]
-    # 3 %: issue 3's bound for EB vs a 3-D solid with a clamp and a cap (L/D = 6);
+    # 3 %: the bound for EB vs a 3-D solid with a clamp and a cap (L/D = 6);
     # measured 0.9996 for the cap and 0.992 for the lumen at this mesh.
     assert cap.curvature_per_mm == pytest.approx(k_eb, rel=0.03)
     assert cap.elongation == pytest.approx(e_eb, rel=0.03)
-    # Lumen wall + cap, one Poisson ratio: both scaled by (1 - 2 nu) (notes/fem.md,
-    # generalised plane strain: the wall pressure gives N = -2 nu p A_L at y_L).
+    # Lumen wall + cap, one Poisson ratio: both scaled by (1 - 2 nu) (generalised
+    # plane strain: the wall pressure gives N = -2 nu p A_L at y_L).
     assert lumen.curvature_per_mm == pytest.approx((1 - 2 * NU) * k_eb, rel=0.03)
     assert lumen.elongation == pytest.approx((1 - 2 * NU) * e_eb, rel=0.03)
     assert cap.neutral_axis_y == pytest.approx(ybar, abs=1e-3)
@@ -84,7 +84,7 @@ def composite_gains(g, laws):
 def test_catheter_cap_load_vs_composite_beam(geometry, paper):
     laws = laws_from_design(paper)
     # Without confinement (coil hoop modulus lowered to its axial one) the 3-D
-    # section bends as the composite beam: within 5 % (issue 3 section 7). The
+    # section bends as the composite beam: within 5 %. The
     # residual (measured 3.3 %) is the Poisson mismatch between bonded regions
     # (nu 0.49 silicone next to nu 0.29 coils), which a beam model has no term for.
     soft = {
@@ -114,7 +114,7 @@ def test_paper_check_cap_and_lumen(paper):
     k_beam, e_beam = composite_gains(geometry_from_design(paper), laws_from_design(paper))
     assert cap2.curvature_per_mm < 0.9 * 0.1 * k_beam
     assert cap2.elongation < 0.9 * 0.1 * e_beam
-    # Issue 3 section 5: the (1 - 2 nu) closed form predicts that the wall load
+    # The (1 - 2 nu) closed form predicts that the wall load
     # cancels 98 % of the cap's bending (nu = 0.49). Confined, the opposite: the
     # squeezed silicone pushes axially and the lumen case bends *more* than the cap.
     lum = r.case("lumen", 0.1)

@@ -22,7 +22,7 @@ def test_exact_points_recover_the_circle(fit):
 
 def test_hyper_and_geometric_avoid_kasa_short_arc_bias():
     rng = np.random.default_rng(5)
-    r = 100.0 / np.deg2rad(20)  # 100 px arc of 20 degrees, as in the notes
+    r = 100.0 / np.deg2rad(20)  # 100 px arc of 20 degrees
     ks, kh, kg = [], [], []
     for _ in range(200):
         p = _arc(r, 20, n=20) + rng.normal(0, 1.0, (20, 2))
@@ -31,7 +31,7 @@ def test_hyper_and_geometric_avoid_kasa_short_arc_bias():
         kh.append(1 / h.radius)
         kg.append(1 / geometric_fit(p, h).radius)
     bias = lambda k: np.mean(k) * r - 1  # noqa: E731
-    # notes: Kasa +41 %, Hyper/LM about -1 % (s.d. 16 %, so 200 trials give a 1.1 % s.e.)
+    # expected: Kasa +41 %, Hyper/LM about -1 % (s.d. 16 %, so 200 trials give a 1.1 % s.e.)
     assert bias(ks) > 0.25
     assert abs(bias(kh)) < 0.05 and abs(bias(kg)) < 0.05
 

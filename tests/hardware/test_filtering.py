@@ -37,7 +37,7 @@ def test_filter_meets_the_paper_specification(family):
 
 def test_default_family_is_butterworth_of_order_five():
     sos = design_sos(PAPER_FILTER)
-    # buttord gives order 5 for these specs (notes: cutoff 0.572 Hz); 3 biquads hold 5 poles
+    # buttord gives order 5 for these specs (cutoff 0.572 Hz); 3 biquads hold 5 poles
     z, p, k = signal.sos2zpk(sos)
     assert np.count_nonzero(np.abs(p) > 0) == 5
     assert _gain_db(sos, 0.0)[0] == pytest.approx(0.0, abs=1e-9)
@@ -52,7 +52,7 @@ def test_filtfilt_is_zero_phase_and_padding_keeps_the_edges():
     mid = slice(len(t) // 4, 3 * len(t) // 4)
     np.testing.assert_allclose(y[mid], g * x[mid], atol=2e-3)
     # edges (first second): with 2 s of padding the error is measured at 0.005, with scipy's
-    # default 18-sample padding at 0.068 (notes: 0.08 vs 0.50 on their sine); demand 5x
+    # default 18-sample padding at 0.068; demand 5x
     edge_2s = np.max(np.abs(y[:200] - g * x[:200]))
     edge_default = np.max(np.abs(signal.sosfiltfilt(design_sos(), x)[:200] - g * x[:200]))
     assert edge_2s < 0.01 and edge_default > 5 * edge_2s
@@ -68,7 +68,7 @@ def test_causal_filter_lags_by_the_group_delay():
     late = t > 30
     expect = np.abs(h[0]) * np.sin(2 * np.pi * 0.1 * (t - delay))
     np.testing.assert_allclose(y[late], expect[late], atol=1e-3)
-    assert 0.5 < delay < 1.2  # notes: ~0.9 s for the Butterworth design
+    assert 0.5 < delay < 1.2  # ~0.9 s for the Butterworth design
 
 
 def test_resample_uniform_onto_200_hz_skips_nan_frames():

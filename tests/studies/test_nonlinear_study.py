@@ -1,4 +1,4 @@
-"""The finite-strain evaluator in a sweep (issue 7 §5): bend curves next to linear FEM and analytic."""
+"""The finite-strain evaluator in a sweep: bend curves next to linear FEM and analytic."""
 
 from __future__ import annotations
 

@@ -111,7 +111,7 @@ def discretise(section, laws: Mapping[int, object]) -> Discretisation:
     """
     from skfem import CellBasis, ElementTriCCR, ElementVector
 
-    from softcath.fem.section_model.assembly import _rigid_pins
+    from softcath.fem.section_model.element import _rigid_pins
 
     labels = np.asarray(section.labels)
     missing = sorted(set(np.unique(labels).tolist()) - set(laws))

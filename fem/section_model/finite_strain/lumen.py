@@ -61,7 +61,7 @@ class LumenWall:
 def lumen_wall(section, disc) -> LumenWall:
     """The lumen wall of ``section`` on the discretisation ``disc``."""
     mesh, basis = disc.mesh, disc.basis
-    from softcath.fem.section_model.assembly import lumen_edge_elements
+    from softcath.fem.section_model.element import lumen_edge_elements
 
     t = mesh.t
     elems, which = lumen_edge_elements(section, mesh)

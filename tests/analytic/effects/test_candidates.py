@@ -18,7 +18,7 @@ def _sine(f=0.1, cycles=3, amp=1.0):
     return t, amp / 2 * (1 - np.cos(2 * np.pi * f * t))
 
 
-def test_registry_lists_every_issue_effect_and_rejects_unknown():
+def test_registry_lists_every_effect_and_rejects_unknown():
     assert set(effects.names()) == {
         "hysteresis",
         "lag",
@@ -27,7 +27,7 @@ def test_registry_lists_every_issue_effect_and_rejects_unknown():
         "viscoelastic",
         "offset",
         "nonlinear_gain",
-        "lumen_poisson",
+        "lumen_wall",
     }
     for name in effects.names():
         c = get(name)
@@ -148,13 +148,13 @@ def test_fit_recovers_gain_lag_and_offset_of_noise_free_data():
 
 
 def test_fixed_gain_and_lumen_column():
-    lum = get("lumen_poisson")
+    lum = get("lumen_wall")
     ident = lambda x: np.asarray(x, float)  # noqa: E731
     ctx = {"lumen_minus_cap_gain_per_mm_MPa": -0.05}
     truth = lambda p: 0.07 * p + 0.8 * lum.column(DT, p, **ctx)  # noqa: E731
     segs = _segments(truth, ident)
     fit = fit_chain(
-        ["lumen_poisson"],
+        ["lumen_wall"],
         segs,
         output_filter=ident,
         fixed_gain=0.07,
@@ -163,7 +163,7 @@ def test_fixed_gain_and_lumen_column():
     )
     assert fit.gain == 0.07 and fit.fixed_gain
     # linear least squares on exact data: exact to rounding
-    assert fit.coefficients["lumen_poisson"] == pytest.approx(0.8, rel=1e-10)
+    assert fit.coefficients["lumen_wall"] == pytest.approx(0.8, rel=1e-10)
 
 
 def test_fit_rejects_duplicate_effects():

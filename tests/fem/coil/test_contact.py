@@ -1,4 +1,4 @@
-"""Contact between turns of the resolved-wire coil: coil-bound compression, pivoting, initial tension (issue 13)."""
+"""Contact between turns of the resolved-wire coil: coil-bound compression, pivoting, initial tension."""
 
 from __future__ import annotations
 

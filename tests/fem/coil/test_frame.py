@@ -1,4 +1,4 @@
-"""The resolved-wire coil's frame element and open-coil stiffness against closed forms (issue 13)."""
+"""The resolved-wire coil's frame element and open-coil stiffness against closed forms."""
 
 from __future__ import annotations
 

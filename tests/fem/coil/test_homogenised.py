@@ -1,4 +1,4 @@
-"""Homogenised coil models used as the resolved wire's comparison (issue 13)."""
+"""Homogenised coil models used as the resolved wire's comparison."""
 
 from __future__ import annotations
 

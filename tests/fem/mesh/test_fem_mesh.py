@@ -22,7 +22,7 @@ def paper_geometry():
 def test_gmsh_mesh_regions_and_volumes(paper_geometry, tmp_path):
     m = mesh_tip(paper_geometry, mesh_size=0.15, cache=tmp_path)
     assert set(np.unique(m.labels)) == {COIL, TUBE, CHANNEL, FILLER}
-    # Issue 3 section 2: every region within 1 % of the exact geometry. With the
+    # Every region within 1 % of the exact geometry. With the
     # midside nodes on the exact curves the error is far smaller (<0.1 %).
     for name, err in m.volume_errors().items():
         assert abs(err) < 0.01, name

@@ -153,7 +153,7 @@ def test_pressurised_closed_cylinder_matches_finite_strain_neo_hookean():
     assert a_ex > 1.2  # a finite-strain case: the bore opens by more than 20 %
     r = closed_cylinder(poisson_ratio=0.4999, mixed=True)
     # near-incompressible (kappa/mu = 5000) against the incompressible closed form: O(mu/kappa) = 2e-4,
-    # plus bore faceting at 48 segments per circle ~0.2 % (notes/fem.md): 0.5 % bound
+    # plus bore faceting at 48 segments per circle ~0.2 %: 0.5 % bound
     assert r.inner_radius == pytest.approx(a_ex, rel=5e-3)
     assert r.axial_force == pytest.approx(n_ex, rel=5e-3)
 

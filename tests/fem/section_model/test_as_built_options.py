@@ -12,7 +12,7 @@ from softcath.design.assembly import Assembly
 from softcath.fem.adapter import geometry_from_design
 from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE, VOID
 from softcath.fem.section_model import section_model
-from softcath.fem.section_model.assembly_options import axial_plan
+from softcath.fem.section_model.as_built import axial_plan
 
 LABELS = (COIL, TUBE, CHANNEL, FILLER)
 

@@ -13,9 +13,9 @@ from softcath.fem.coil import bending_curve
 from softcath.fem.coil.homogenised import bimodular_annulus_bending
 from softcath.fem.geometry import COIL
 from softcath.fem.section_model import section_model
-from softcath.fem.section_model.assembly import assemble
 from softcath.fem.section_model.bilinear import annulus_fibres, bend_curve
 from softcath.fem.section_model.coil_models import helix_stiffness
+from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
 from softcath.fem.section_model.laws import laws_from_design
 from softcath.fem.section_model.mesh import disk_section_mesh

@@ -1,4 +1,4 @@
-"""Coil homogenisations of the section model against the resolved wire (issue 13 §2)."""
+"""Coil homogenisations of the section model against the resolved wire."""
 
 from __future__ import annotations
 

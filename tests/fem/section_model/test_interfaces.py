@@ -9,14 +9,14 @@ import pytest
 
 from softcath.design.assembly import Assembly
 from softcath.fem.geometry import COIL, TUBE, VOID
-from softcath.fem.section_model.assembly import assemble
-from softcath.fem.section_model.assembly_options import (
+from softcath.fem.section_model.as_built import (
     AxialPlan,
     as_built_operator,
     axial_plan,
     solve_as_built,
     summary,
 )
+from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.interfaces import split_interfaces, tie_projection
 from softcath.fem.section_model.laws import isotropic
 from softcath.fem.section_model.mesh import SectionMesh, disk_section_mesh

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from softcath.fem.section_model.assembly import assemble
+from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.laws import isotropic
 from softcath.fem.section_model.mesh import disk_section_mesh
 from softcath.fem.section_model.solve import solve

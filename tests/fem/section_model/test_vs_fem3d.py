@@ -89,7 +89,7 @@ def test_finite_strain_mixed_fem_at_small_load(nu):
     from softcath.fem.mesh import mesh_tip
     from softcath.fem.nonlinear import bend_curve
     from softcath.fem.nonlinear.catheter import from_tip_mesh
-    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.laws import from_tensor, laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve

@@ -49,7 +49,7 @@ def test_default_method_finds_the_base_itself(bend_deg):
     # the base found from the image: within 1.5 px and 1.5 degrees of the truth
     assert m.base_px == pytest.approx((260.0, 400.0), abs=1.5)
     assert m.base_angle_deg == pytest.approx(70.0, abs=1.5)
-    # an estimated base pose costs accuracy (notes: the constraint helps only with a
+    # an estimated base pose costs accuracy (the constraint helps only with a
     # pose known to well under 1 px / 1 degree): allow 3 %
     assert m.curvature_per_mm == pytest.approx(k, rel=0.03)
 
@@ -61,8 +61,8 @@ def test_paper_method_error_is_measured_and_reported():
         m = measure(f, CAL, method="paper")
         errs[deg] = (m.curvature_per_mm / k - 1) * 100 if m.ok else float("nan")
     print("paper method curvature error, % by bend angle:", {d: round(e, 1) for d, e in errs.items()})
-    # the notes measured -23 % to -50 % for 10-105 degrees on such renders; our renders
-    # reproduce a large underestimate: it is what the paper's pipeline does, not a bug here
+    # the paper's pipeline underestimates curvature on such renders (by tens of per cent);
+    # the test asks for a large underestimate: it is what the paper's pipeline does, not a bug here
     assert all(abs(errs[d]) > 5 for d in (30, 60, 90))
     default = [abs(measure(_frame(d)[1], CAL).curvature_per_mm / _frame(d)[0] - 1) for d in ANGLES]
     assert max(default) < min(abs(errs[d]) for d in (30, 60, 90))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from softcath.design.measurement import Measurement
-from softcath.studies.discrepancy import necessity, workflow
+from softcath.studies.discrepancy import naming, necessity
 from softcath.studies.discrepancy.prepare import prepare
 from softcath.virtualbench.hidden_effects import make_case
 
@@ -13,7 +13,7 @@ def test_a_small_hysteresis_keeps_only_hysteresis(monkeypatch):
     prep = prepare(Measurement.from_table(case.table))
     # Forward naming with no margin and no share rule over-names (noise and form error).
     monkeypatch.setattr(necessity, "drop_unneeded", lambda prep, steps, **kw: list(steps))
-    steps = workflow.name_effects(prep, margin=0.0, min_share=0.0, max_effects=3)
+    steps = naming.name_effects(prep, margin=0.0, min_share=0.0, max_effects=3)
     monkeypatch.undo()
     over = [s.named for s in steps if s.named]
     assert over[0] == "hysteresis" and len(over) > 1

@@ -18,8 +18,8 @@ from softcath import design
 from softcath.design.errors import DataError
 from softcath.design.measurement import read_measurement_csv
 from softcath.studies.discrepancy import run_workflow
+from softcath.studies.discrepancy.naming import _experiment
 from softcath.studies.discrepancy.prepare import prepare
-from softcath.studies.discrepancy.workflow import _experiment
 
 ROOT = Path(__file__).resolve().parents[3]
 REAL = ROOT.parent / "shared" / "realdata"
@@ -145,7 +145,7 @@ def test_pneumatic_layout_names_the_threshold(synthetic):
     r = run_workflow(files["ijpelaar"][0], out / "ijpelaar_two_chamber.toml", max_effects=1)
     assert r.named == ("dead_zone",)
     est = r.steps[0]["params"]["threshold_MPa"]
-    assert est == pytest.approx(THRESHOLD, rel=0.3)  # the notes' parameter-recovery bar
+    assert est == pytest.approx(THRESHOLD, rel=0.3)  # the parameter-recovery bar
     assert r.nrmse_after < 0.5 * r.nrmse_before
 
 

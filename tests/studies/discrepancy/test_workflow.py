@@ -125,7 +125,7 @@ def test_two_hidden_effects_are_both_named(pair):
     assert r.nrmse_before / r.nrmse_after >= 2.0
 
 
-# ------------------------------------------------------------------ harder cases (issue 12 §4)
+# ------------------------------------------------------------------ harder cases
 # the full-size numbers (confusion matrices, every pair, false-alarm bounds) come from
 # benchmarks/bench_effects.py; these are small seeded versions
 
@@ -140,7 +140,7 @@ def test_quasi_static_points_at_effect_to_noise_1_name_the_static_effect(effect)
     r = run_workflow(case.table)
     assert {x["kind"] for x in r.runs} == {"quasi-static"}
     assert r.named == (effect,)
-    if effect == "dead_zone":  # the threshold pressure, within the notes' 30 %
+    if effect == "dead_zone":  # the threshold pressure, within 30 %
         est = r.steps[0]["params"]["threshold_MPa"]
         assert est == pytest.approx(case.truth_params["dead_zone"]["threshold_MPa"], rel=0.3)
 
@@ -207,13 +207,13 @@ def test_fem_reference_names_the_lumen_term():
     # a "FEM" with the section model's lumen-wall term on top of the formula: the cap model misses it
     lumen_fem = pd.DataFrame({"pressure_MPa": p, "curvature_per_mm": g_lum * p})
     r = run_workflow(lumen_fem, d, reference="fem")
-    assert r.named == ("lumen_poisson",)
+    assert r.named == ("lumen_wall",)
     # exact linear data: the coefficient is 1 to rounding
     assert r.steps[0]["coefficient"] == pytest.approx(1.0, rel=1e-9)
     cap_fem = pd.DataFrame({"pressure_MPa": p, "curvature_per_mm": g_cap * p})
     assert run_workflow(cap_fem, d, reference="fem").named == ()
     r2 = run_workflow(None, d, reference="fem", fem=lambda dd, pp: g_lum * np.asarray(pp))
-    assert r2.named == ("lumen_poisson",)
+    assert r2.named == ("lumen_wall",)
 
 
 def test_bad_arguments_name_the_parameter():
@@ -297,7 +297,7 @@ def _sine_csv(path, *, header="time_s,pressure_MPa,curvature_per_mm", extra="", 
     ],
 )
 def test_cli_refuses_bad_lab_files_in_one_line(tmp_path, capsys, kind, message):
-    # issue 15: two curvature columns used silently, 1e300 pressures, constant data
+    # each once accepted silently: two curvature columns, 1e300 pressures, constant data
     from softcath.cli.main import main
 
     if kind == "duplicate":
@@ -338,11 +338,11 @@ def test_write_report_from_api(tmp_path):
 
 @pytest.mark.slow
 def test_fem_reference_through_fem_check_when_available(tmp_path):
-    from softcath.studies.discrepancy.result import fem_reference
+    from softcath.studies.discrepancy.workflow import fem_reference
 
     fn = fem_reference()
     if fn is None:
         pytest.skip("fem.check is not available in this checkout")
     r = run_workflow(None, "paper", reference="fem", fem=fn, pressures_MPa=np.linspace(0, 1, 7))
     # the FEM's real load is lumen + cap; the analytic cap model misses the lumen term
-    assert r.named[:1] == ("lumen_poisson",)
+    assert r.named[:1] == ("lumen_wall",)

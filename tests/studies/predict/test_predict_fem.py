@@ -16,7 +16,7 @@ TABLE = tomllib.loads(presets.text("paper"))
 @pytest.mark.slow
 def test_fem_tier_agrees_with_the_section_tier_variant_by_variant():
     # Same seed, same single range -> the same two variants in both tiers. The section model reproduces
-    # the 3-D FEM's lumen gain of the paper design to 0.3 % (docs/fem.md, notes/prototype.md); 1 % allows
+    # the 3-D FEM's lumen gain of the paper design to 0.3 % (docs/fem.md); 1 % allows
     # for the FEM's default 0.16 mm mesh at other tube moduli. nu stays 0.49, where both tiers agree.
     ranges = [Range("materials.medical_silicone_tubing.youngs_modulus", low=1.648, high=4.43)]
     fem = predict_tier(TABLE, "fem", ranges, load="lumen", samples=2, seed=9)

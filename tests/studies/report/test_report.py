@@ -18,7 +18,7 @@ def _images(html: str) -> list[str]:
 def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
-    from softcath.studies.report import _selection_html
+    from softcath.studies.report.html_report import _selection_html
 
     assert "No selection yet" in _selection_html(out)
     select = [

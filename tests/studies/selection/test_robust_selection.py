@@ -14,9 +14,9 @@ from softcath import analytic
 from softcath.cli.main import main
 from softcath.studies.predict.ranges import Range
 from softcath.studies.predict.sampling import sample_values, unit_sample
-from softcath.studies.results import read_results
 from softcath.studies.selection import robust_select, select
 from softcath.studies.sweep import load_spec, run_sweep
+from softcath.studies.sweep.results import read_results
 from softcath.studies.sweep.variants import build_variant
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -9,8 +9,8 @@ import pytest
 
 from softcath.cli.main import main
 from softcath.studies.report import design_of
-from softcath.studies.results import read_results
 from softcath.studies.sweep import load_spec, run_sweep
+from softcath.studies.sweep.results import read_results
 
 SPEC = """
 [sweep]

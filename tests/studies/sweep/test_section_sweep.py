@@ -9,8 +9,8 @@ import pytest
 
 from softcath.design.errors import DesignError
 from softcath.studies.report import design_of
-from softcath.studies.results import model_columns, read_results
 from softcath.studies.sweep import load_spec, run_sweep
+from softcath.studies.sweep.results import model_columns, read_results
 from softcath.studies.sweep.spec import SECTION_CHUNK, parse_spec
 
 SPEC = """

@@ -210,7 +210,7 @@ def test_fem_result_forms_are_read_the_same():
 
 @pytest.mark.parametrize("part", ["coil", "channel"])
 def test_coil_dimensions_pitch_and_initial_tension_are_sweepable(part):
-    """Issue 13: wire diameter, pitch, initial tension, OD and ID of both coils are sweep paths."""
+    """Wire diameter, pitch, initial tension, OD and ID of both coils are sweep paths."""
     base = getattr(design.resolve("paper"), part)
     od, idia, wire, pitch = base.outer_diameter, base.inner_diameter, base.wire_diameter, base.pitch
     cases = [

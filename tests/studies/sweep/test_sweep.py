@@ -13,7 +13,6 @@ import pytest
 from softcath import analytic, design
 from softcath.cli.main import main
 from softcath.design.errors import DataError
-from softcath.studies.results import add_derived_columns
 from softcath.studies.sweep import (
     FEM_UNAVAILABLE,
     SweepStore,
@@ -25,6 +24,7 @@ from softcath.studies.sweep import (
     run_sweep,
     variant_table,
 )
+from softcath.studies.sweep.results import add_derived_columns
 
 # Columns that legitimately differ between two runs of the same sweep.
 _RUN_DEPENDENT = ["analytic_seconds", "cpu_seconds", "task_id", "fem_mesh_seconds", "fem_solve_seconds"]

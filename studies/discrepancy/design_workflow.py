@@ -14,8 +14,8 @@ ingredient. Each candidate is a switch of the section model
 ``confinement``
     The lumen-wall pressure acting on the near-incompressible silicone that the
     coil's hoop boxes in (lumen-load rows only; it brings the real nu along).
-    This replaces the retired ``lumen_poisson`` candidate, whose one-material
-    (1 - 2 nu) form has the wrong sign inside a coil.
+    The one-material (1 - 2 nu) form of this load has the wrong sign inside a
+    coil, so the ingredient takes it from the section model.
 ``end_effects``
     What the 3-D tip has and a section does not (clamp and cap zones): a
     correction (1 + c D/L) with c fitted on the training designs.
@@ -72,7 +72,7 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     import pandas as pd
 
     from softcath import analytic
-    from softcath.studies.results import read_results
+    from softcath.studies.sweep.results import read_results
     from softcath.studies.sweep.variants import build_variant
 
     if reference != "fem":

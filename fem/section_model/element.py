@@ -1,4 +1,4 @@
-r"""Generalised plane strain of a prismatic section with three beam strains.
+r"""The section model's element and its assembly: generalised plane strain with three beam strains.
 
 The Saint-Venant solution of a long prismatic tip under an axial force,
 bending moments and a lumen pressure uniform along z is
@@ -67,7 +67,7 @@ class SectionOperator:
         Per-triangle axial group (``None``: one group). With G groups the global
         strains are (eps_0 of each group, k_1, k_2): parts free to slip axially
         against each other stretch separately and share the curvatures
-        (``softcath.fem.section_model.assembly_options``).
+        (``softcath.fem.section_model.as_built``).
     """
 
     mesh: object

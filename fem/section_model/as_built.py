@@ -244,7 +244,7 @@ def as_built_operator(section, laws, assembly: Assembly, loads=LOADS, *, extra_b
     ``slip_modulus`` None takes 1e-9 of the softest region's axial modulus per mm
     (only to remove free spins; see the module docstring).
     """
-    from softcath.fem.section_model.assembly import assemble
+    from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.interfaces import tie_projection
 
     split, tie = bodies_and_ties(section, assembly)

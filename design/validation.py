@@ -1,4 +1,4 @@
-"""Input checks shared by the design dataclasses (raise DesignError naming the bound)."""
+"""Design validation: the input checks every design dataclass runs (raise DesignError naming the bound)."""
 
 from __future__ import annotations
 

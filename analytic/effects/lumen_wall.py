@@ -1,10 +1,10 @@
-"""Candidate ``lumen_poisson``: the lumen-wall pressure term (reference = FEM).
+"""Candidate ``lumen_wall``: the pressure on the lumen wall (reference = FEM).
 
 The cap-load model lets pressure act only on the sealed cap. Pressure on the
-lumen wall also loads the section through Poisson coupling. Re-expressed: the
-one-material closed form, (1 - 2 nu), has the wrong sign inside a coil (the
-coil's hoop confines the near-incompressible silicone and the wall load bends
-the tip ~2.4x *more*, docs/section.md), so the regressor is now the section
+lumen wall also loads the section, and inside a coil it does so with the
+opposite sign to the one-material closed form (1 - 2 nu): the coil's hoop
+confines the near-incompressible silicone and the wall load bends the tip
+~2.4x *more* (docs/section.md). The regressor is therefore the section
 model's lumen-minus-cap curvature per MPa, ``lumen_minus_cap_gain_per_mm_MPa``
 times p, which the studies layer supplies (analytic does not import fem). Its
 curvature is linear in pressure, so against measured data it is
@@ -12,7 +12,7 @@ indistinguishable from a gain error (calibration absorbs it); against the FEM,
 where the gain is not calibrated, it is a named effect with a free coefficient
 ``scale``: 1 when the reference behaves as the section model's lumen load.
 Over design sweeps the same physics is the ``confinement`` ingredient of
-``softcath.studies.discrepancy.designs``.
+``softcath.studies.discrepancy.design_workflow``.
 """
 
 from __future__ import annotations
@@ -22,8 +22,8 @@ import numpy as np
 from softcath.analytic.effects.base import Candidate
 
 
-class LumenPoisson(Candidate):
-    name = "lumen_poisson"
+class LumenWallLoad(Candidate):
+    name = "lumen_wall"
     kind = "column"
     meaning = "pressure on the coil-confined lumen wall (section model; FEM reference only)"
     coefficient = "scale"
@@ -33,4 +33,4 @@ class LumenPoisson(Candidate):
         return g * p
 
 
-CANDIDATE = LumenPoisson()
+CANDIDATE = LumenWallLoad()

@@ -1,0 +1,345 @@
+"""The sweep's HTML report: ``DIR/report/index.html``, a static page with its PNGs beside it (opens offline).
+
+Sections: overview, parity (analytic vs FEM curvature, both loads), the three
+tiers side by side (the paper's formula, the section model, the 3-D FEM), relative
+error against each swept parameter, heat maps for 2-D grids, sensitivity
+(standardised regression; RBD-FAST for Latin-hypercube samples), renders of
+the best- and worst-agreeing designs, the failed designs with reasons, and
+the selection (``DIR/selection.json``) when present.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from softcath.design.errors import DataError
+from softcath.studies.report import figures
+from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
+
+__all__ = ["write_report", "sweep_sections", "design_of"]
+
+log = logging.getLogger(__name__)
+
+
+def _manifest(sweep_dir: Path) -> dict:
+    path = sweep_dir / "sweep.json"
+    if not path.is_file():
+        raise DataError(f"{sweep_dir}: no sweep.json (is this a `softcath sweep` output directory?)")
+    fix = "rerun the sweep into a new --out folder"
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: unreadable sweep manifest ({exc}); {fix}") from None
+    spec = doc.get("spec") if isinstance(doc, dict) else None
+    params = spec.get("parameters") if isinstance(spec, dict) else None
+    if not (
+        isinstance(params, list)
+        and all(isinstance(p, dict) and {"path", "kind"} <= set(p) for p in params)
+        and isinstance(doc.get("base_table"), dict)
+    ):
+        raise DataError(f"{path}: not a sweep manifest (no spec.parameters or base_table); {fix}")
+    return doc
+
+
+def design_of(sweep_dir: str | Path, design_id: int):
+    """Rebuild design ``design_id`` of a sweep (base design + its swept values)."""
+    import pandas as pd
+
+    from softcath.studies.sweep.variants import VariantBuilder
+
+    sweep_dir = Path(sweep_dir)
+    manifest = _manifest(sweep_dir)
+    path = sweep_dir / "designs.csv"
+    try:
+        designs = pd.read_csv(path)
+        row = designs[designs.design_id == design_id].iloc[0]
+    except Exception as exc:  # pandas raises several types for a damaged table
+        raise DataError(
+            f"{path}: cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]}); "
+            "rerun the sweep into a new --out folder"
+        ) from None
+    variant = {k: v.item() if hasattr(v, "item") else v for k, v in row.items() if k != "design_id"}
+    return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
+
+
+_MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
+
+
+def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
+    path = sweep_dir / "selection.json"
+    if not path.is_file():
+        return note(
+            "No selection yet: run <code>softcath select DIR --constraint ... --objective ...</code> "
+            "and then this report again."
+        )
+    try:
+        sel = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: unreadable ({exc}); run `softcath select` again to rewrite it") from None
+    try:
+        return _selection_body(sel, fig_dir, prefix)
+    except (KeyError, TypeError, AttributeError, IndexError, ValueError) as exc:
+        raise DataError(
+            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite it"
+        ) from None
+
+
+def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
+    items = "".join(f"<li><code>{esc(c)}</code></li>" for c in sel["constraints"]) or "<li>none</li>"
+    objs = "".join(f"<li><code>{esc(o)}</code></li>" for o in sel["objectives"])
+    rej = ", ".join(f"{esc(k)}: {v}" for k, v in sel["rejected"].items() if v) or "none"
+    out = (
+        "<p>"
+        + (
+            f"Model <b>{esc(_MODEL_NAMES.get(sel['model'], 'the table as given'))}</b>, l"
+            if "model" in sel
+            else "L"
+        )
+        + f"oad case <b>{esc(sel['load'])}</b>."
+        + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
+        + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
+        f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
+        f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+    )
+    rb = sel.get("robust")
+    if rb:
+        out += (
+            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked designs "
+            f"meet every constraint with probability ≥ {fmt(rb['P'])} over {rb['samples']} samples of "
+            + ", ".join(f"<code>{esc(r['path'])}</code>" for r in rb["ranges"])
+            + "; the ranking below is on the objectives' p50.</p>"
+        )
+    if fig_dir is not None:
+        ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
+        if ppath:
+            out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
+    if sel["ranked"]:
+        params = list(sel["ranked"][0]["parameters"])
+        header = ["rank", "design", "Pareto", *sel["objectives"], *params]
+        rows = [
+            [r["rank"], r["design_id"], r["pareto"], *r["objectives"].values(), *r["parameters"].values()]
+            for r in sel["ranked"][:15]
+        ]
+        out += table(header, rows)
+        best = sel["ranked"][0]
+        out += (
+            f"<p><b>Build design {best['design_id']}</b>"
+            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())}).</p>"
+        )
+    return out
+
+
+def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = "") -> list[tuple[str, str]]:
+    """The report's sections as ``(title, html)``; figures are written into ``fig_dir``.
+
+    Image links are ``prefix + file name`` so the same sections can be placed
+    in another page (the demo) whose HTML sits elsewhere.
+    """
+    from softcath.studies.sweep.results import read_results
+
+    sweep_dir, fig_dir = Path(sweep_dir), Path(fig_dir)
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    manifest = _manifest(sweep_dir)
+    spec = manifest["spec"]
+    df = read_results(sweep_dir)
+    params = [p["path"] for p in spec["parameters"]]
+    factorial = [p["path"] for p in spec["parameters"] if p["kind"] != "lhs"]
+    lhs = any(p["kind"] == "lhs" for p in spec["parameters"])
+    fem = figures.has_fem(df)
+    per = df.drop_duplicates("design_id")
+    n_ok = int((per.status == "ok").sum())
+    sections: list[tuple[str, str]] = []
+
+    kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
+    overview = (
+        f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
+        f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
+        f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
+        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.</p>"
+        "<p>Loads: <b>cap</b> is the paper's model (end-cap force only); <b>lumen</b> adds the pressure on "
+        "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
+        "unconfined tube.</p>"
+    )
+    sections.append(("Overview", overview))
+
+    ppath = figures.parity_plot(df, fig_dir / "parity.png")
+    if ppath:
+        ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
+        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
+                 for load, g in ok.groupby("load")]  # fmt: skip
+        body = figure(
+            prefix + ppath.name,
+            "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
+            "the same load (left) and against the paper's formula, the analytic cap load (right).",
+        )
+        body += table(
+            ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
+        )
+    else:
+        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
+                    "no parity plot.")  # fmt: skip
+    if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
+        sections.append(("Analytic vs FEM", body))
+
+    sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
+
+    bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
+    if bpath:
+        sections.append(
+            ("Large bends",
+             figure(prefix + bpath.name,
+                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic (dotted). "
+                    "Where they part, the small-rotation models stop being trustworthy."))
+        )  # fmt: skip
+
+    epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
+    sections.append(
+        ("Against each swept parameter",
+         figure(prefix + epath.name, f"{esc(label)} against each swept parameter.") if epath
+         else note("No valid design with a numeric swept parameter."))
+    )  # fmt: skip
+
+    hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
+    if hpath:
+        sections.append(("Heat maps", figure(prefix + hpath.name, esc(caption))))
+
+    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
+    if spath:
+        body = figure(
+            prefix + spath.name,
+            f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+            "at p_max to each parameter: "
+            "standardised regression coefficients"
+            + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+        )
+        body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
+        sections.append(("Sensitivity", body))
+
+    sections.append(("Renders", _renders(df, sweep_dir, fig_dir, prefix, fem)))
+
+    fails = figures.failed_summary(df)
+    if fails:
+        body = table(["reason", "designs", "design ids"], fails, left=1)
+    else:
+        body = "<p class='ok'>No failed designs.</p>"
+    sections.append(("Failed designs", body))
+    sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
+    return sections
+
+
+def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
+    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula)."""
+    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
+    if tpath is None or not (figures.has_section(df) or figures.has_fem(df)):
+        return note(
+            'Only the paper\'s formula ran in this sweep: add <code>"section"</code> (2-D section model, '
+            '3-D-FEM-grade curvature in a fraction of a second per design) or <code>"fem"</code> to the '
+            "sweep's evaluators to compare."
+        )
+    body = figure(
+        prefix + tpath.name,
+        "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
+        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section model "
+        "(their agreement), where each ran.",
+    )
+    body += table(
+        ["load", "rows", "median section / formula", "median FEM / formula", "median |FEM / section − 1|",
+         "max |FEM / section − 1|"],
+        figures.tier_agreement(df),
+        left=1,
+    )  # fmt: skip
+    return body
+
+
+def _renders(df, sweep_dir: Path, fig_dir: Path, prefix: str, fem: bool) -> str:
+    ok = df[(df.status == "ok") & df.at_p_max]
+    if ok.empty:
+        return note("No valid design to render.")
+    if fem:
+        # Agreement under the cap load, where the analytic model claims validity (the lumen-load
+        # ratios are orders of magnitude larger and would decide alone).
+        base = ok[ok.load == "cap"] if (ok.load == "cap").any() else ok
+        score = base.groupby("design_id").abs_rel_diff_curvature.mean().dropna()
+        picks = [
+            ("best-agreeing", int(score.idxmin()), score.min()),
+            ("worst-agreeing", int(score.idxmax()), score.max()),
+        ]
+        what = (
+            "|FEM − analytic|/|analytic| of curvature, cap load"
+            if (ok.load == "cap").any()
+            else "mean |rel. diff.| of curvature"
+        )
+    else:
+        score = ok[ok.load == ok.load.iloc[0]].groupby("design_id").bend_per_MPa_deg.mean()
+        picks = [
+            ("most bending", int(score.idxmax()), score.max()),
+            ("least bending", int(score.idxmin()), score.min()),
+        ]
+        what = "bend per MPa [deg/MPa] (best estimate: " + ", ".join(sorted(set(ok.source))) + ")"
+    out = ""
+    for label, did, value in picks:
+        d = design_of(sweep_dir, did)
+        rows = ok[ok.design_id == did]
+        curv = {}
+        for _, r in rows.iterrows():
+            curv[f"analytic, {r.load}"] = float(r.curvature_analytic_per_mm)
+            if np.isfinite(r.get("curvature_section_per_mm", np.nan)):
+                curv[f"section, {r.load}"] = float(r.curvature_section_per_mm)
+            if np.isfinite(r.curvature_fem_per_mm):
+                curv[f"FEM, {r.load}"] = float(r.curvature_fem_per_mm)
+        path = figures.render_design(
+            d, fig_dir / f"render_{did}.png", title=f"{label}: design {did}", curvatures=curv
+        )
+        out += figure(prefix + path.name, f"{esc(label)} design {did} ({what} = {fmt(value)}) at p_max.")
+    return out
+
+
+def write_report(
+    sweep_dir: str | Path, *, prefix: str = "", out: str | Path | None = None
+) -> tuple[Path, list[tuple[str, str]]]:
+    """Write ``DIR/report/index.html`` (and its PNGs) for the sweep in ``DIR``; ``out`` moves the folder.
+
+    Returns the page's path and its sections ``(title, html)`` with image links
+    prefixed by ``prefix``, for embedding the report in another page.
+    """
+    from softcath.studies.atomic import staged_dir
+
+    sweep_dir = Path(sweep_dir)
+    out = sweep_dir / "report" if out is None else Path(out)
+    with staged_dir(out) as stage:  # the page and its figures replace the old ones only as a whole
+        sections = sweep_sections(sweep_dir, stage, prefix=prefix)
+        mark = '<img src="' + prefix
+        body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
+        if prefix:
+            body = body.replace(mark, '<img src="')  # the page itself sits beside its figures
+        body = _explore_link(sweep_dir, stage) + body
+        (stage / "index.html").write_text(
+            page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
+            encoding="utf-8",
+        )
+        drawn = {p.name for p in stage.glob("*.png")}
+    for stale in out.glob("*.png"):  # figures of an earlier report that this one did not redraw
+        if stale.name not in drawn:
+            stale.unlink()
+    path = out / "index.html"
+    return path, sections
+
+
+def _explore_link(sweep_dir: Path, stage: Path) -> str:
+    """Write the interactive ``explore.html`` beside the page; the link to it."""
+    from softcath.studies.report.explore import write_explore
+    from softcath.studies.sweep.results import read_results
+
+    params = [p["path"] for p in _manifest(sweep_dir)["spec"]["parameters"]]
+    write_explore(sweep_dir, stage, read_results(sweep_dir), params)
+    return (
+        "<p><b><a href='explore.html'>Explore interactively</a></b>: hover for a design's parameters, "
+        "brush ranges in parallel coordinates, click a Pareto design for its section and tip.</p>"
+    )
+
+
+_ = Markup  # re-exported for callers building tables with HTML cells
