@@ -387,30 +387,18 @@ def _newton(
             du = lin(k, -rf)
             if not np.all(np.isfinite(du)):
                 return False, it, res
-            u0 = u[free].copy()
-            g0 = float(du @ rf)
-            alpha, a_prev, g_prev = 1.0, 0.0, g0
-            for tries in range(_LS_TRIES):
-                u[free] = u0 + alpha * du
-                r, data, ref = residual(u, lam)
-                if tries == 0 and not line_search and np.all(np.isfinite(r[free])):
-                    rel_full = float(np.linalg.norm(r[free]) / ref)
-                    if it == 1 or rel_full <= _LS_GROWTH * res[-1]:
-                        break  # the full Newton step is accepted unless it makes the residual grow
-                g = float(du @ r[free])
-                if first_with_bc or not np.isfinite(g):
-                    if np.isfinite(g) or alpha < 1e-3:
-                        break
-                    alpha *= 0.5  # inverted elements: halve
-                    continue
-                if abs(g) <= 0.5 * abs(g0) or g0 >= 0:
-                    break
-                # secant toward g = 0 between the last two points, kept inside (0.05, 1]
-                a_new = alpha - g * (alpha - a_prev) / (g - g_prev) if g != g_prev else alpha
-                a_prev, g_prev = alpha, g
-                alpha = float(np.clip(a_new, 0.05, 1.0))
-                if alpha == a_prev:
-                    break
+            r, data, ref, alpha = _line_search(
+                u,
+                du,
+                rf,
+                lam,
+                free,
+                residual,
+                line_search=line_search,
+                first_iter=it == 1,
+                last_rel=res[-1] if res else None,
+                first_with_bc=first_with_bc,
+            )
             if (
                 it > 1
                 and res[-1] <= 1e-5
@@ -424,3 +412,32 @@ def _newton(
         rel = float(np.linalg.norm(r[free]) / ref)
         res.append(rel)
         return rel <= rtol, max_iter, res
+
+
+def _line_search(u, du, rf, lam, free, residual, *, line_search, first_iter, last_rel, first_with_bc):
+    """Step ``u[free]`` along ``du``, searching on g(α) = Δu · R; returns (R, data, ref, α)."""
+    u0 = u[free].copy()
+    g0 = float(du @ rf)
+    alpha, a_prev, g_prev = 1.0, 0.0, g0
+    for tries in range(_LS_TRIES):
+        u[free] = u0 + alpha * du
+        r, data, ref = residual(u, lam)
+        if tries == 0 and not line_search and np.all(np.isfinite(r[free])):
+            rel_full = float(np.linalg.norm(r[free]) / ref)
+            if first_iter or rel_full <= _LS_GROWTH * last_rel:
+                break  # the full Newton step is accepted unless it makes the residual grow
+        g = float(du @ r[free])
+        if first_with_bc or not np.isfinite(g):
+            if np.isfinite(g) or alpha < 1e-3:
+                break
+            alpha *= 0.5  # inverted elements: halve
+            continue
+        if abs(g) <= 0.5 * abs(g0) or g0 >= 0:
+            break
+        # secant toward g = 0 between the last two points, kept inside (0.05, 1]
+        a_new = alpha - g * (alpha - a_prev) / (g - g_prev) if g != g_prev else alpha
+        a_prev, g_prev = alpha, g
+        alpha = float(np.clip(a_new, 0.05, 1.0))
+        if alpha == a_prev:
+            break
+    return r, data, ref, alpha
