@@ -61,33 +61,14 @@ def _grid_max(n_free: int) -> int:
 def run(args: argparse.Namespace) -> int:
     from softcath import analytic, design
     from softcath.analytic.calibration import calibrate
-    from softcath.design.measurement import Measurement, read_measurement_csv
     from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
     from softcath.studies.model_validity import check_pressure
     from softcath.studies.plots import calibration_plot
 
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
-    grid_max = _grid_max(len(free))
-    if not 1 <= args.grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
-        raise design.DesignError(
-            "--grid", args.grid, f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
-            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)"
-        )  # fmt: skip
+    _check_grid(args.grid, free)
     d = design.resolve(args.design)
-    m = read_measurement_csv(args.measured)
-    check_pressure(m.pressure_MPa, param=f"{args.measured}: pressure_MPa")
-    if args.filter:
-        from softcath.hardware.filtering import filtfilt
-
-        opt = {k: filtfilt(v) for k, v in m.optional.items()}
-        m = Measurement.from_arrays(
-            time_s=m.time_s,
-            pressure_MPa=filtfilt(m.pressure_MPa),
-            curvature_per_mm=filtfilt(m.curvature_per_mm),
-            run=m.run,
-            source=m.source,
-            **opt,
-        )
+    m = _read_measurement(args.measured, args.filter)
     out = prepare_out_dir(args.out)  # after every input is read and checked
     load = args.load or ("lumen" if args.model == "section" else "cap")
     if args.model == "section":
@@ -147,3 +128,37 @@ def run(args: argparse.Namespace) -> int:
     print(res.message)
     print(f"wrote {out}/calibration.json, calibration.png, calibrated_design.toml")
     return 0
+
+
+def _check_grid(grid: int, free: tuple[str, ...]) -> None:
+    """Refuse a ``--grid`` beyond the multistart budget of ``free``."""
+    from softcath import design
+
+    grid_max = _grid_max(len(free))
+    if not 1 <= grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
+        raise design.DesignError(
+            "--grid", grid, f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
+            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)"
+        )  # fmt: skip
+
+
+def _read_measurement(path: Path, low_pass: bool):
+    """Read and check the measurement CSV; with ``low_pass`` filter every series."""
+    from softcath.design.measurement import Measurement, read_measurement_csv
+    from softcath.studies.validity import check_pressure
+
+    m = read_measurement_csv(path)
+    check_pressure(m.pressure_MPa, param=f"{path}: pressure_MPa")
+    if low_pass:
+        from softcath.hardware.filtering import filtfilt
+
+        opt = {k: filtfilt(v) for k, v in m.optional.items()}
+        m = Measurement.from_arrays(
+            time_s=m.time_s,
+            pressure_MPa=filtfilt(m.pressure_MPa),
+            curvature_per_mm=filtfilt(m.curvature_per_mm),
+            run=m.run,
+            source=m.source,
+            **opt,
+        )
+    return m

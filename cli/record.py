@@ -81,21 +81,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``softcath record``."""
 
-    import math
-
     from softcath.cli.measure import calibration_from_args
-    from softcath.design.errors import DataError, DesignError
+    from softcath.design.errors import DataError
     from softcath.hardware.recorder import Recorder, RecorderConfig
     from softcath.hardware.sensors import SerialSensor
     from softcath.studies.atomic import prepare_out_dir, write_text
 
-    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
-        raise DesignError("--duration", args.duration, "must be a finite time > 0 s")
-    for flag, value in (("--pressure-scale", args.pressure_scale), ("--encoder-scale", args.encoder_scale)):
-        if not (math.isfinite(value) and value != 0):
-            raise DesignError(flag, value, "must be a finite, non-zero number")
-    if not (math.isfinite(args.device_rate) and args.device_rate > 0):
-        raise DesignError("--device-rate", args.device_rate, "must be a finite rate > 0 Hz")
+    _check_args(args)
     out = prepare_out_dir(args.out)
     framed = not args.plain
     pressure = SerialSensor(
@@ -147,6 +139,27 @@ def run(args: argparse.Namespace) -> int:
             + (f" within {args.duration:g} s" if args.duration else "")
             + f" ({heard}); check the ports, the baud rate and --plain; summary in {out / 'record.json'}"
         )
+    _print_summary(summary)
+    return 0
+
+
+def _check_args(args: argparse.Namespace) -> None:
+    """Refuse a bad duration, scale or device rate."""
+    import math
+
+    from softcath.design.errors import DesignError
+
+    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
+        raise DesignError("--duration", args.duration, "must be a finite time > 0 s")
+    for flag, value in (("--pressure-scale", args.pressure_scale), ("--encoder-scale", args.encoder_scale)):
+        if not (math.isfinite(value) and value != 0):
+            raise DesignError(flag, value, "must be a finite, non-zero number")
+    if not (math.isfinite(args.device_rate) and args.device_rate > 0):
+        raise DesignError("--device-rate", args.device_rate, "must be a finite rate > 0 Hz")
+
+
+def _print_summary(summary) -> None:
+    """Print the rows recorded and each device's line counts."""
     print(
         f"recorded {summary.rows} rows ({summary.duration_s:.2f} s) -> {summary.csv_path}; "
         f"stop: {summary.stop_reason}"
@@ -158,4 +171,3 @@ def run(args: argparse.Namespace) -> int:
         )
     if summary.camera_frames:
         print(f"  camera: {summary.camera_frames} frames, {summary.camera_misses} without a tip")
-    return 0

@@ -79,17 +79,7 @@ def _projection(sk, basis, labels, assembly, length: float, cap: float):
     _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     inv = inv.ravel()
     shared = counts[inv] > 1
-    # Area-weighted outward normals of boundary facets, onto their P2 nodes.
-    bf = sk.boundary_facets()
-    p = np.asarray(sk.p)
-    f = sk.facets[:, bf]
-    nrm = 0.5 * np.cross((p[:, f[1]] - p[:, f[0]]).T, (p[:, f[2]] - p[:, f[0]]).T)
-    cen = p[:, sk.t[:, sk.f2t[0, bf]]].mean(axis=1).T
-    flip = np.sign(np.einsum("ij,ij->i", nrm, p[:, f].mean(axis=1).T - cen))
-    nrm *= flip[:, None]
-    fnodes = np.vstack([basis.nodal_dofs[0, f], basis.edge_dofs[0, sk.f2e[:, bf]]])  # (6, nbf)
-    nsum = np.zeros((N, 3))
-    np.add.at(nsum, fnodes.ravel(), np.repeat(nrm[None], 6, axis=0).reshape(-1, 3))
+    nsum = _node_normals(sk, basis)
     groups: dict[int, list[int]] = {}
     for node in np.flatnonzero(shared):
         groups.setdefault(int(inv[node]), []).append(int(node))
@@ -146,6 +136,22 @@ def _projection(sk, basis, labels, assembly, length: float, cap: float):
     if min(cols) < 0:
         raise RuntimeError("interface tie chain: a master node is itself a slave")
     return sparse.csr_matrix((vals, (rows, cols)), shape=(3 * N, ncol)), col
+
+
+def _node_normals(sk, basis) -> np.ndarray:
+    """(N, 3) sums of the area-weighted outward normals of the boundary facets at their P2 nodes."""
+    # Area-weighted outward normals of boundary facets, onto their P2 nodes.
+    bf = sk.boundary_facets()
+    p = np.asarray(sk.p)
+    f = sk.facets[:, bf]
+    nrm = 0.5 * np.cross((p[:, f[1]] - p[:, f[0]]).T, (p[:, f[2]] - p[:, f[0]]).T)
+    cen = p[:, sk.t[:, sk.f2t[0, bf]]].mean(axis=1).T
+    flip = np.sign(np.einsum("ij,ij->i", nrm, p[:, f].mean(axis=1).T - cen))
+    nrm *= flip[:, None]
+    fnodes = np.vstack([basis.nodal_dofs[0, f], basis.edge_dofs[0, sk.f2e[:, bf]]])  # (6, nbf)
+    nsum = np.zeros((basis.N, 3))
+    np.add.at(nsum, fnodes.ravel(), np.repeat(nrm[None], 6, axis=0).reshape(-1, 3))
+    return nsum
 
 
 def run_tip_as_built(

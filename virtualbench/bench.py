@@ -249,78 +249,158 @@ def run_bench(
     try:
         with ZaberStage(stage_dev.url, microstep_mm=DEFAULT_MICROSTEP_MM) as stage:
             _drive_stage(cfg, stage, clock)
-        steps = stage_dev.trajectory_steps(t)
-        x_mm = steps * DEFAULT_MICROSTEP_MM
-        p_true = np.asarray(cfg.syringe.pressure_MPa(x_mm), float)
-        resp = plant.simulate(t, p_true)
-        kappa = np.asarray(resp.curvature_per_mm, float)
-        arc = np.asarray(resp.arc_length_mm, float)
-        sensor_kpa = (p_true + rng.normal(0.0, 0.002 * cfg.noise, n)) * 1e3
-        # frames cover every row: the last frame is at or after the last row
-        t_frames = np.arange(int(math.ceil(t[-1] * cfg.fps - 1e-9)) + 1) / cfg.fps
-        k_frames = np.interp(t_frames, t, kappa)
-        arc_frames = np.interp(t_frames, t, arc)
+        sig = _plant_signals(cfg, plant, stage_dev, t, rng)
 
         # 2. record through the real recorder and measurement pipeline
-        cal = Calibration(px_per_mm=scene.px_per_mm, base_px=scene.base, base_angle_deg=scene.base_angle_deg)
-        counts = {"frames": 0}
-        writer = VideoWriter(out / "frames.avi", fps=cfg.fps, size=(scene.width_px, scene.height_px))
-        cam_rng = np.random.default_rng([cfg.seed, 1])
-        camera = _camera(
-            replace(cfg, scene=scene), t_frames, k_frames, arc_frames, writer, cal, cam_rng, counts
-        )
-        pressure = SerialSensor(press_dev.url, name="pressure sensor", scale=1e-3).open()
-        encoder = SerialSensor(enc_dev.url, name="encoder", scale=DEFAULT_MICROSTEP_MM).open()
-        labels = [(0.0, cfg.segments()[0][2])] + [(t0 - cfg.rest_s, lab) for t0, _, lab in cfg.segments()[1:]]
-        rec = Recorder(
-            out / "run.csv",
-            pressure=pressure,
-            encoder=encoder,
-            camera=camera,
-            config=RecorderConfig(clock="device", device_rate_hz=FS_HZ, reconnect_timeout_s=0.5),
-            segments=labels,
-            on_status=(lambda s: progress(s.rows, n)) if progress else None,
-        )
-        result: dict = {}
-
-        def record() -> None:
-            try:
-                result["s"] = rec.run(duration_s=t[-1])
-            except BaseException as exc:  # noqa: BLE001 - re-raised in the caller's thread
-                result["error"] = exc
-
-        th = threading.Thread(target=record, name="bench-recorder")
-        th.start()
-        try:
-            for k in range(n):
-                press_dev.emit(sensor_kpa[k])
-                enc_dev.emit(float(np.round(steps[k])))
-        except OSError:
-            pass  # the recorder stopped reading (it failed): its error is raised below
-        th.join()
-        writer.close()
-        if "error" in result:
-            raise result["error"]
-        summary: RecordSummary = result["s"]
+        summary, frames = _record(out, cfg, scene, t, sig, press_dev, enc_dev, progress)
     finally:
         stage_dev.close()
         press_dev.close()
         enc_dev.close()
 
     # 3. truth and headline numbers
-    data = read_recording(out / "run.csv")
+    rms = _curvature_rms(out / "run.csv", t, sig.kappa)
+    _write_truth_csv(out / "truth.csv", t, sig.p_true, sig.x_mm, sig.resp)
+    truth = _truth(design, design_label, load, plant, cfg, scene, stage_dev.commands, summary, rms, sig.kappa)
+    (out / "truth.json").write_text(json.dumps(truth, indent=2, default=_json_default))
+    return BenchResult(
+        run_csv=str(out / "run.csv"),
+        frames_avi=str(out / "frames.avi"),
+        truth_json=str(out / "truth.json"),
+        rows=summary.rows,
+        frames=frames,
+        frames_without_tip=summary.camera_misses,
+        curvature_rms_error_per_mm=rms,
+        curvature_peak_per_mm=float(sig.kappa.max()),
+        record=summary,
+    )
+
+
+@dataclass(frozen=True)
+class _Signals:
+    """The plant's signals on the 200 Hz rows and at the camera frames."""
+
+    steps: np.ndarray
+    x_mm: np.ndarray
+    p_true: np.ndarray
+    resp: object
+    kappa: np.ndarray
+    arc: np.ndarray
+    sensor_kpa: np.ndarray
+    t_frames: np.ndarray
+    k_frames: np.ndarray
+    arc_frames: np.ndarray
+
+
+def _plant_signals(cfg: BenchConfig, plant, stage_dev: VirtualStage, t: np.ndarray, rng) -> _Signals:
+    """Turn the stage trajectory into pressure, curvature and arc length, and the sensor readings."""
+    n = t.size
+    steps = stage_dev.trajectory_steps(t)
+    x_mm = steps * DEFAULT_MICROSTEP_MM
+    p_true = np.asarray(cfg.syringe.pressure_MPa(x_mm), float)
+    resp = plant.simulate(t, p_true)
+    kappa = np.asarray(resp.curvature_per_mm, float)
+    arc = np.asarray(resp.arc_length_mm, float)
+    sensor_kpa = (p_true + rng.normal(0.0, 0.002 * cfg.noise, n)) * 1e3
+    # frames cover every row: the last frame is at or after the last row
+    t_frames = np.arange(int(math.ceil(t[-1] * cfg.fps - 1e-9)) + 1) / cfg.fps
+    return _Signals(
+        steps=steps,
+        x_mm=x_mm,
+        p_true=p_true,
+        resp=resp,
+        kappa=kappa,
+        arc=arc,
+        sensor_kpa=sensor_kpa,
+        t_frames=t_frames,
+        k_frames=np.interp(t_frames, t, kappa),
+        arc_frames=np.interp(t_frames, t, arc),
+    )
+
+
+def _record(
+    out: Path,
+    cfg: BenchConfig,
+    scene: Scene,
+    t: np.ndarray,
+    sig: _Signals,
+    press_dev: VirtualLineDevice,
+    enc_dev: VirtualLineDevice,
+    progress,
+) -> tuple[RecordSummary, int]:
+    """Feed the virtual devices to the real recorder; returns its summary and the frames written."""
+    n = t.size
+    cal = Calibration(px_per_mm=scene.px_per_mm, base_px=scene.base, base_angle_deg=scene.base_angle_deg)
+    counts = {"frames": 0}
+    writer = VideoWriter(out / "frames.avi", fps=cfg.fps, size=(scene.width_px, scene.height_px))
+    cam_rng = np.random.default_rng([cfg.seed, 1])
+    camera = _camera(
+        replace(cfg, scene=scene), sig.t_frames, sig.k_frames, sig.arc_frames, writer, cal, cam_rng, counts
+    )
+    pressure = SerialSensor(press_dev.url, name="pressure sensor", scale=1e-3).open()
+    encoder = SerialSensor(enc_dev.url, name="encoder", scale=DEFAULT_MICROSTEP_MM).open()
+    labels = [(0.0, cfg.segments()[0][2])] + [(t0 - cfg.rest_s, lab) for t0, _, lab in cfg.segments()[1:]]
+    rec = Recorder(
+        out / "run.csv",
+        pressure=pressure,
+        encoder=encoder,
+        camera=camera,
+        config=RecorderConfig(clock="device", device_rate_hz=FS_HZ, reconnect_timeout_s=0.5),
+        segments=labels,
+        on_status=(lambda s: progress(s.rows, n)) if progress else None,
+    )
+    result: dict = {}
+
+    def record() -> None:
+        try:
+            result["s"] = rec.run(duration_s=t[-1])
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller's thread
+            result["error"] = exc
+
+    th = threading.Thread(target=record, name="bench-recorder")
+    th.start()
+    try:
+        for k in range(n):
+            press_dev.emit(sig.sensor_kpa[k])
+            enc_dev.emit(float(np.round(sig.steps[k])))
+    except OSError:
+        pass  # the recorder stopped reading (it failed): its error is raised below
+    th.join()
+    writer.close()
+    if "error" in result:
+        raise result["error"]
+    return result["s"], counts["frames"]
+
+
+def _curvature_rms(run_csv: Path, t: np.ndarray, kappa: np.ndarray) -> float:
+    """RMS error of the recorded curvature against the plant's [1/mm]."""
+    data = read_recording(run_csv)
     k_meas = data["curvature_per_mm"]
     k_true_rows = np.interp(data["time_s"], t, kappa)
     ok = np.isfinite(k_meas)
-    rms = float(np.sqrt(np.mean((k_meas[ok] - k_true_rows[ok]) ** 2))) if ok.any() else math.nan
-    _write_truth_csv(out / "truth.csv", t, p_true, x_mm, resp)
+    return float(np.sqrt(np.mean((k_meas[ok] - k_true_rows[ok]) ** 2))) if ok.any() else math.nan
+
+
+def _truth(
+    design,
+    design_label: str,
+    load: str,
+    plant,
+    cfg: BenchConfig,
+    scene: Scene,
+    commands,
+    summary: RecordSummary,
+    rms: float,
+    kappa: np.ndarray,
+) -> dict:
+    """The content of ``truth.json``."""
     try:
         from softcath import design as design_pkg
 
         design_toml = design_pkg.dumps(design)
     except Exception:  # noqa: BLE001 - a design object without TOML support still runs
         design_toml = None
-    truth = {
+    return {
         "design": design_label,
         "design_toml": design_toml,
         "load": load,
@@ -348,7 +428,7 @@ def run_bench(
         "seed": cfg.seed,
         "camera": {**asdict(scene), "fps": cfg.fps, "method": cfg.method},
         "syringe": asdict(cfg.syringe),
-        "stage": {"microstep_mm": DEFAULT_MICROSTEP_MM, "commands": stage_dev.commands},
+        "stage": {"microstep_mm": DEFAULT_MICROSTEP_MM, "commands": commands},
         "record": {
             "rows": summary.rows,
             "stop_reason": summary.stop_reason,
@@ -358,18 +438,6 @@ def run_bench(
         },
         "check": {"curvature_rms_error_per_mm": rms, "curvature_peak_per_mm": float(kappa.max())},
     }
-    (out / "truth.json").write_text(json.dumps(truth, indent=2, default=_json_default))
-    return BenchResult(
-        run_csv=str(out / "run.csv"),
-        frames_avi=str(out / "frames.avi"),
-        truth_json=str(out / "truth.json"),
-        rows=summary.rows,
-        frames=counts["frames"],
-        frames_without_tip=summary.camera_misses,
-        curvature_rms_error_per_mm=rms,
-        curvature_peak_per_mm=float(kappa.max()),
-        record=summary,
-    )
 
 
 def _params(effect) -> dict:

@@ -199,13 +199,7 @@ def make_case(
         their noise is added (None: ideal sensors). The same on both channels, as
         when both are read through the same acquisition chain.
     """
-    for e in effects:
-        if e not in EFFECT_NAMES:
-            raise DesignError("effect", e, f"must be one of {', '.join(EFFECT_NAMES)}")
-    if not 0 < noise_fraction < 1:
-        raise DesignError("noise_fraction", noise_fraction, "must be in (0, 1)")
-    if not effect_to_noise > 0:
-        raise DesignError("effect_to_noise", effect_to_noise, "must be > 0")
+    _check_case(effects, noise_fraction, effect_to_noise)
     proto = protocol or default_protocol()
     rng = np.random.default_rng(seed)
     runs = [(label, t, p, proto.recorded(label, t)) for label, t, p in proto.runs()]
@@ -220,6 +214,33 @@ def make_case(
     plant = Plant(**plant_kw, effects=tuple(truth))
     enr = {e.name: _sig(plant_kw, e, runs) / sigma for e in truth}
     sensor = _sensor(sensor_bandwidth_hz, proto.fs_hz)
+    table = _table(plant, runs, sensor, rng, sigma, pressure_noise_fraction, proto)
+    log.info("hidden case %s seed %d: ENR %s", effects, seed, enr)
+    return HiddenCase(
+        effects=tuple(effects),
+        truth_params={e.name: e.params() for e in plant.effects},
+        effect_to_noise=enr,
+        noise_fraction=noise_fraction,
+        seed=seed,
+        gain_per_mm_MPa=gain,
+        table=table,
+        plant=plant,
+    )
+
+
+def _check_case(effects, noise_fraction, effect_to_noise) -> None:
+    """Check the effect names, the noise fraction and the target ENR."""
+    for e in effects:
+        if e not in EFFECT_NAMES:
+            raise DesignError("effect", e, f"must be one of {', '.join(EFFECT_NAMES)}")
+    if not 0 < noise_fraction < 1:
+        raise DesignError("noise_fraction", noise_fraction, "must be in (0, 1)")
+    if not effect_to_noise > 0:
+        raise DesignError("effect_to_noise", effect_to_noise, "must be > 0")
+
+
+def _table(plant, runs, sensor, rng, sigma, pressure_noise_fraction, proto) -> pd.DataFrame:
+    """Simulate every run from rest through the sensors and add the noise: the measurement table."""
     frames = []
     t_start = 0.0
     for label, t, p, idx in runs:
@@ -242,17 +263,7 @@ def make_case(
             )
         )
         t_start += t[-1] + 1.0
-    log.info("hidden case %s seed %d: ENR %s", effects, seed, enr)
-    return HiddenCase(
-        effects=tuple(effects),
-        truth_params={e.name: e.params() for e in plant.effects},
-        effect_to_noise=enr,
-        noise_fraction=noise_fraction,
-        seed=seed,
-        gain_per_mm_MPa=gain,
-        table=pd.concat(frames, ignore_index=True),
-        plant=plant,
-    )
+    return pd.concat(frames, ignore_index=True)
 
 
 def paper_demo_case(*, seed: int = 0, two_frequencies: bool = True) -> HiddenCase:

@@ -16,6 +16,7 @@ bandwidth B over a duration T).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import logging
 from collections.abc import Callable, Mapping, Sequence
@@ -202,42 +203,79 @@ def fit_chain(
     ctx = dict(context or {})
     start = start or {}
     free = [(e, q) for e in effects for q in get(e).params]
-
-    def unpack(z):
-        out: dict[str, dict[str, float]] = {e: {} for e in effects}
-        for (e, q), zi in zip(free, z, strict=True):
-            out[e][q.name] = q.to_value(float(zi), scales)
-        return out
-
-    def resid(z):
-        phi, y, _ = _filtered_design(effects, unpack(z), segments, output_filter, ctx)
-        return _solve(phi, y, fixed_gain)[1]
-
-    best = None
-    if free:
-        grids = []
-        for e, q in free:
-            if e in start and q.name in start[e]:
-                grids.append((q.to_unit(start[e][q.name], scales),))
-            else:
-                grids.append(get(e).starts)
-        # scan the start grid with one evaluation each, then refine the best start:
-        # far cheaper than a full local search from every start, and the grid is
-        # dense enough (4-5 points per parameter) to land in the right basin
-        z0 = min(
-            (np.array(z, dtype=float) for z in itertools.product(*grids)),
-            key=lambda z: float(np.sum(resid(z) ** 2)),
-        )
-        best = least_squares(
-            resid, z0, bounds=(0.0, 1.0), diff_step=1e-4, x_scale=1.0, max_nfev=max_nfev, xtol=1e-6, ftol=1e-8
-        )
-        z = best.x
-    else:
-        z = np.zeros(0)
-    params = unpack(z)
+    resid = functools.partial(
+        _residual,
+        effects=effects,
+        free=free,
+        scales=scales,
+        segments=segments,
+        output_filter=output_filter,
+        ctx=ctx,
+        fixed_gain=fixed_gain,
+    )
+    z, best = _fit_nonlinear(resid, free, start, scales, max_nfev)
+    params = _unpack(effects, free, z, scales)
     phi, y, names = _filtered_design(effects, params, segments, output_filter, ctx)
     coef, res = _solve(phi, y, fixed_gain)
-    n = y.size
+    lin_se, stderr = _uncertainties(effects, free, z, best, phi, res, fixed_gain, n_eff, scales)
+    gain_se = 0.0 if fixed_gain is not None else float(lin_se[0])
+    col_se = lin_se if fixed_gain is not None else lin_se[1:]
+    coefficients = {nm: float(c) for nm, c in zip(names[1:], coef[1:], strict=True)}
+    coef_se = {nm: float(s) for nm, s in zip(names[1:], col_se, strict=True)}
+    return ChainFit(
+        effects=effects,
+        params={e: v for e, v in params.items() if v},
+        stderr={e: v for e, v in stderr.items() if v},
+        gain=float(coef[0]),
+        gain_stderr=gain_se,
+        coefficients=coefficients,
+        coefficient_stderr=coef_se,
+        rmse=float(np.sqrt(np.mean(res**2))),
+        fixed_gain=fixed_gain is not None,
+        context=ctx,
+    )
+
+
+def _unpack(effects, free, z, scales) -> dict[str, dict[str, float]]:
+    """Physical parameter values of every effect from the unit-box vector ``z``."""
+    out: dict[str, dict[str, float]] = {e: {} for e in effects}
+    for (e, q), zi in zip(free, z, strict=True):
+        out[e][q.name] = q.to_value(float(zi), scales)
+    return out
+
+
+def _residual(z, *, effects, free, scales, segments, output_filter, ctx, fixed_gain) -> np.ndarray:
+    """Residual of the variable-projection fit at the nonlinear parameters ``z``."""
+    phi, y, _ = _filtered_design(effects, _unpack(effects, free, z, scales), segments, output_filter, ctx)
+    return _solve(phi, y, fixed_gain)[1]
+
+
+def _fit_nonlinear(resid, free, start, scales, max_nfev):
+    """Best start of the grid refined by bounded least squares; returns (z, least-squares result)."""
+    if not free:
+        return np.zeros(0), None
+    grids = []
+    for e, q in free:
+        if e in start and q.name in start[e]:
+            grids.append((q.to_unit(start[e][q.name], scales),))
+        else:
+            grids.append(get(e).starts)
+    # scan the start grid with one evaluation each, then refine the best start:
+    # far cheaper than a full local search from every start, and the grid is
+    # dense enough (4-5 points per parameter) to land in the right basin
+    z0 = min(
+        (np.array(z, dtype=float) for z in itertools.product(*grids)),
+        key=lambda z: float(np.sum(resid(z) ** 2)),
+    )
+    best = least_squares(
+        resid, z0, bounds=(0.0, 1.0), diff_step=1e-4, x_scale=1.0, max_nfev=max_nfev, xtol=1e-6, ftol=1e-8
+    )
+    return best.x, best
+
+
+def _uncertainties(effects, free, z, best, phi, res, fixed_gain, n_eff, scales):
+    """1-sigma errors: of the linear coefficients (array) and of the nonlinear parameters (dict)."""
+    n = res.size
     k = len(free) + phi.shape[1] - (fixed_gain is not None)
     inflate = n / n_eff if n_eff else 1.0
     s2 = float(res @ res) / max(n - k, 1)
@@ -256,22 +294,7 @@ def fit_chain(
                 min(zi + h, 1.0) - max(zi - h, 0.0)
             )
             stderr[e][q.name] = float(abs(dv) * np.sqrt(max(cov_z[i, i], 0.0)))
-    gain_se = 0.0 if fixed_gain is not None else float(lin_se[0])
-    col_se = lin_se if fixed_gain is not None else lin_se[1:]
-    coefficients = {nm: float(c) for nm, c in zip(names[1:], coef[1:], strict=True)}
-    coef_se = {nm: float(s) for nm, s in zip(names[1:], col_se, strict=True)}
-    return ChainFit(
-        effects=effects,
-        params={e: v for e, v in params.items() if v},
-        stderr={e: v for e, v in stderr.items() if v},
-        gain=float(coef[0]),
-        gain_stderr=gain_se,
-        coefficients=coefficients,
-        coefficient_stderr=coef_se,
-        rmse=float(np.sqrt(np.mean(res**2))),
-        fixed_gain=fixed_gain is not None,
-        context=ctx,
-    )
+    return lin_se, stderr
 
 
 def predict_chain(fit: ChainFit, segment: Segment, *, output_filter: Filter) -> np.ndarray:

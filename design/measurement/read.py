@@ -97,6 +97,29 @@ def read_measurement_csv(
     path = Path(path)
     src = str(path)
     header, rows = _read_rows(path)
+    index, lines = _check_columns(src, header, rows, required)
+    numbers, text = _parse_columns(src, rows, index, lines)
+    bad, dropped = _missing_rows(src, numbers, lines, missing)
+    keep = ~bad
+    if int(keep.sum()) < min_rows:
+        raise DataError(f"{src}: {int(keep.sum())} usable rows, need at least {min_rows}")
+    run = None
+    if RUN in index:
+        run = np.array([row[index[RUN]].strip() for row in rows], dtype=str)[keep]
+    m = Measurement(
+        {c: v[keep] for c, v in numbers.items()},
+        run,
+        {c: v[keep] for c, v in text.items()},
+        src,
+        dropped,
+    )
+    if "time_s" in numbers:
+        check_time(m, lines[keep])
+    return m
+
+
+def _check_columns(src: str, header, rows, required) -> tuple[dict[str, int], np.ndarray]:
+    """Check the required columns and the field count of every row; returns column index and line numbers."""
     absent = [c for c in required if c not in header]
     if absent:
         raise DataError(f"{src}: missing required column(s) {', '.join(absent)} (header: {header})")
@@ -107,6 +130,11 @@ def read_measurement_csv(
             if len(row) == 0:
                 raise DataError(f"{src}: empty line at line {lines[r]}")
             raise DataError(f"{src}: line {lines[r]} has {len(row)} fields, header has {len(header)}")
+    return index, lines
+
+
+def _parse_columns(src: str, rows, index, lines) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Numeric columns (schema columns must parse and pass their limits) and extra text columns."""
     schema = [c for c in (*REQUIRED, *OPTIONAL) if c in index]
     numbers: dict[str, np.ndarray] = {}
     text: dict[str, np.ndarray] = {}
@@ -125,7 +153,12 @@ def read_measurement_csv(
         numbers[c] = col
     for c in schema:
         check_values(c, numbers[c], src, lines, missing_ok=True)
-    bad = np.zeros(len(rows), dtype=bool)
+    return numbers, text
+
+
+def _missing_rows(src: str, numbers, lines, missing: str) -> tuple[np.ndarray, tuple[int, ...]]:
+    """Rows to drop for a missing required value (or raise); returns the mask and their line numbers."""
+    bad = np.zeros(lines.size, dtype=bool)
     for c in (c for c in REQUIRED if c in numbers):
         miss = np.isnan(numbers[c])
         if miss.any() and (missing == "error" or c == "time_s"):
@@ -143,22 +176,7 @@ def read_measurement_csv(
             len(dropped),
             ", ".join(map(str, dropped[:5])),
         )
-    keep = ~bad
-    if int(keep.sum()) < min_rows:
-        raise DataError(f"{src}: {int(keep.sum())} usable rows, need at least {min_rows}")
-    run = None
-    if RUN in index:
-        run = np.array([row[index[RUN]].strip() for row in rows], dtype=str)[keep]
-    m = Measurement(
-        {c: v[keep] for c, v in numbers.items()},
-        run,
-        {c: v[keep] for c, v in text.items()},
-        src,
-        dropped,
-    )
-    if "time_s" in numbers:
-        check_time(m, lines[keep])
-    return m
+    return bad, dropped
 
 
 def read_recording(path: str | Path) -> Measurement:

@@ -211,15 +211,7 @@ def resolved_coil_stiffness(
         coil, turns=turns, elements_per_turn=elements_per_turn, penalty_scale=penalty_scale, contact=contact
     )
     f0 = coil.initial_tension if contact else 0.0
-    free = model.solve(np.array([0, 0, 1.0, 0, 0, 0]), mode="free")
-    ea_free = p / model.per_turn(free)[0]  # wire alone, per unit force
-    f_ref = 1e-3 * ea_free  # 0.1 % strain of the separated coil: well inside linear theory
-    stretch = [model.per_turn(model.solve(np.array([0, 0, f0 + s * f_ref, 0, 0, 0]), mode=mode, base=base))[0]
-               for s in (1, 2)]  # fmt: skip
-    ea_t = f_ref * p / (stretch[1] - stretch[0])
-    threshold = f0 + f_ref - ea_t * stretch[0] / p
-    squeeze = model.per_turn(model.solve(np.array([0, 0, -f_ref, 0, 0, 0]), mode=mode, base=base))[0]
-    ea_c = -f_ref * p / squeeze
+    ea_t, ea_c, threshold = _axial_stiffness(model, base, mode, p, f0)
 
     def bending_stiffness(state: LoadState, m_x: float) -> float:
         return m_x * p / model.per_turn(state)[1][0]
@@ -231,13 +223,7 @@ def resolved_coil_stiffness(
         raise DesignError("moment", m_ref, "must be > 0 N mm")
     bent = model.solve(np.array([0, 0, 0, m_ref, 0, 0]), mode=mode, base=base)
     ei_contact = bending_stiffness(bent, m_ref)
-    if model.periodic:
-        # Per-turn axial strain ε(x, y) = (Δc_z + Δθ_x y − Δθ_y x)/p; zero on the neutral axis.
-        dc, dtheta = model.per_turn(bent)
-        neutral_y = -dc / dtheta[0]
-    else:
-        e0, kappa = _turn_strain(model, bent)
-        neutral_y = -e0 / kappa
+    neutral_y = _neutral_axis_y(model, bent)
     return CoilStiffnessResult(
         axial_tension=float(ea_t),
         axial_compression=float(ea_c),
@@ -257,3 +243,27 @@ def resolved_coil_stiffness(
         seconds=time.perf_counter() - t0,
         bent=BentCoil(model, bent),
     )
+
+
+def _axial_stiffness(model: CoilModel, base: LoadState, mode: str, p, f0: float):
+    """Axial stiffness in tension and in compression [N] and the tension threshold [N]."""
+    free = model.solve(np.array([0, 0, 1.0, 0, 0, 0]), mode="free")
+    ea_free = p / model.per_turn(free)[0]  # wire alone, per unit force
+    f_ref = 1e-3 * ea_free  # 0.1 % strain of the separated coil: well inside linear theory
+    stretch = [model.per_turn(model.solve(np.array([0, 0, f0 + s * f_ref, 0, 0, 0]), mode=mode, base=base))[0]
+               for s in (1, 2)]  # fmt: skip
+    ea_t = f_ref * p / (stretch[1] - stretch[0])
+    threshold = f0 + f_ref - ea_t * stretch[0] / p
+    squeeze = model.per_turn(model.solve(np.array([0, 0, -f_ref, 0, 0, 0]), mode=mode, base=base))[0]
+    ea_c = -f_ref * p / squeeze
+    return ea_t, ea_c, threshold
+
+
+def _neutral_axis_y(model: CoilModel, bent: LoadState) -> float:
+    """y of the neutral axis of the bent coil [mm]."""
+    if model.periodic:
+        # Per-turn axial strain ε(x, y) = (Δc_z + Δθ_x y − Δθ_y x)/p; zero on the neutral axis.
+        dc, dtheta = model.per_turn(bent)
+        return -dc / dtheta[0]
+    e0, kappa = _turn_strain(model, bent)
+    return -e0 / kappa

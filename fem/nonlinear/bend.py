@@ -271,8 +271,29 @@ def bend_curve(
     NonlinearError
         Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
     """
-    from softcath import analytic
+    p, w = _check_inputs(pressures, load, midspan, substeps)
+    t0 = time.perf_counter()
+    cmesh = (
+        mesh
+        if mesh is not None
+        else mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
+    )
+    mesh_seconds = time.perf_counter() - t0 if mesh is None else 0.0
+    model = _Model(design, cmesh, load=load, mixed=mixed)
+    p_max = float(p[-1])
+    res = solve(
+        model.body,
+        fixed_dofs=model.fixed,
+        loads=[(model.pressure, p_max)],
+        load_factors=_load_factors(p, substeps),
+        max_iter=max_iter,
+        progress=progress,
+    )
+    return _curve(design, p, w, load, cmesh, model, res, mesh_seconds)
 
+
+def _check_inputs(pressures, load, midspan, substeps) -> tuple[np.ndarray, tuple[float, ...]]:
+    """Check the inputs of :func:`bend_curve`; returns the pressures and the mid-span window."""
     if load not in LOADS:
         raise NonlinearError(f"load = {load!r}: must be one of {LOADS}")
     p = np.atleast_1d(np.asarray(pressures, float))
@@ -283,25 +304,20 @@ def bend_curve(
         raise NonlinearError(f"midspan = {midspan!r}: must be (start, end) with 0 <= start < end <= 1")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
         raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
-    t0 = time.perf_counter()
-    cmesh = (
-        mesh
-        if mesh is not None
-        else mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
-    )
-    mesh_seconds = time.perf_counter() - t0 if mesh is None else 0.0
-    model = _Model(design, cmesh, load=load, mixed=mixed)
+    return p, w
+
+
+def _load_factors(p: np.ndarray, substeps: int):
+    """Load factors: ``substeps`` equal steps between consecutive pressures, ending at 1."""
+    edges = np.concatenate([[0.0], p / float(p[-1])])
+    return np.concatenate([np.linspace(edges[i], edges[i + 1], substeps + 1)[1:] for i in range(p.size)])
+
+
+def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds) -> BendCurve:
+    """Post-process the solved load path at the requested pressures into a :class:`BendCurve`."""
+    from softcath import analytic
+
     p_max = float(p[-1])
-    edges = np.concatenate([[0.0], p / p_max])
-    factors = np.concatenate([np.linspace(edges[i], edges[i + 1], substeps + 1)[1:] for i in range(p.size)])
-    res = solve(
-        model.body,
-        fixed_dofs=model.fixed,
-        loads=[(model.pressure, p_max)],
-        load_factors=factors,
-        max_iter=max_iter,
-        progress=progress,
-    )
     lam = np.array([s.load_factor for s in res.steps])
     angles_all = bend_angles(model.body.nodes, res.displacements, model.end)
     its_all = np.array([s.iterations for s in res.steps])

@@ -12,8 +12,9 @@ iterations and relative residual history.
 
 from __future__ import annotations
 
+import functools
 import logging
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -128,126 +129,12 @@ def solve(
     ConvergenceError
         When a step fails after ``max_cutbacks`` halvings.
     """
-    if not (isinstance(steps, (int, np.integer)) and steps >= 1):
-        raise NonlinearError(f"steps = {steps!r}: must be an integer >= 1")
-    if not (np.isfinite(rtol) and 0 < rtol < 1):
-        raise NonlinearError(f"rtol = {rtol!r}: must be in (0, 1)")
-    if load_factors is None:
-        targets = np.arange(1, steps + 1) / steps
-    else:
-        targets = np.asarray(load_factors, float)
-        if (
-            targets.ndim != 1
-            or targets.size == 0
-            or np.any(np.diff(targets) <= 0)
-            or targets[0] <= 0
-            or not np.isclose(targets[-1], 1.0)
-        ):
-            raise NonlinearError(
-                f"load_factors = {targets!r}: must increase strictly within (0, 1] and end at 1"
-            )
-        targets[-1] = 1.0
-    fixed = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
-    if fixed.size == 0:
-        raise NonlinearError("fixed_dofs: none; the body would float")
-    values = np.zeros(body.ndofs)
-    if fixed_values is not None:
-        fv = np.asarray(fixed_values, float)
-        values[np.asarray(fixed_dofs, dtype=np.int64)] = fv
-    free = np.setdiff1d(np.arange(body.ndofs), fixed)
-    mask, tmpl = body.pattern.restrict(free)
-    lin = TangentSolver(tmpl, method)
-    loads = [(ld, float(p)) for ld, p in loads]
-
-    def residual(u, lam):
-        f, data = body.internal(u)
-        fext = np.zeros(body.ndofs)
-        for ld, p in loads:
-            ld.add_to(u, lam * p, fext, data)
-        r = f + fext
-        # forces in play: the applied loads and the support reactions (not the unbalanced
-        # internal forces of an iterate, which would make the measure meaningless)
-        ref = max(np.linalg.norm(fext), np.linalg.norm(r[fixed]), 1e-300)
-        return r, data, ref
-
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=1.0, desc="load factor", unit="", bar_format="{l_bar}{bar}| {n:.3f}/1")
-    u = np.zeros(body.ndofs)
-    lam, cutbacks = 0.0, 0
-    prev = None
-    k_target = 0
-    dlam = targets[0]
-    records: list[StepRecord] = []
-    history: list[np.ndarray] = []
+    targets = _load_targets(steps, load_factors, rtol)
+    problem = _set_up(body, fixed_dofs, fixed_values, loads, method, max_iter, rtol, max_cutbacks)
+    lin = problem.lin
+    bar = _progress_bar() if progress else None
     try:
-        while lam < 1.0 - 1e-12:
-            dlam = min(dlam, targets[k_target] - lam)
-            target = lam + dlam
-            if abs(target - targets[k_target]) < 1e-12:
-                target = targets[k_target]
-            trial = u.copy()
-            if prev is not None and cutbacks == 0:
-                # secant predictor along the load path: a bending tip's displacement is a rotation
-                # field, far from the tangent's linearised rotation; extrapolating the last step
-                # puts Newton inside its convergence radius (the coil's stiff hoop otherwise turns
-                # the linearised-rotation error into large spurious stresses)
-                lam_prev, u_prev = prev
-                trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
-            dfixed = (target - lam) * values[fixed]
-            ok, its, res = _newton(
-                body,
-                trial,
-                target,
-                free,
-                mask,
-                tmpl,
-                lin,
-                residual,
-                max_iter,
-                rtol,
-                fixed=fixed,
-                dfixed=dfixed,
-                line_search=cutbacks > 0,
-            )
-            if not ok:
-                cutbacks += 1
-                log.info(
-                    "step to load factor %.4g failed (%s); cutting back", target, res[-1] if res else "-"
-                )
-                if cutbacks > max_cutbacks:
-                    last = f"{res[-1]:.3g}" if res else "n/a"
-                    raise ConvergenceError(
-                        f"Newton failed: load factor {lam:.4g} reached, step to {target:.4g} did not converge "
-                        f"after {cutbacks - 1} cutbacks (last relative residual {last}, rtol {rtol:.1g}); "
-                        "no result returned — reduce the pressure or refine the mesh"
-                    )
-                dlam *= 0.5
-                continue
-            prev = (lam, u)
-            u = trial
-            lam = target
-            records.append(
-                StepRecord(
-                    load_factor=float(lam),
-                    pressures=tuple(lam * p for _, p in loads),
-                    iterations=its,
-                    residuals=tuple(res),
-                    cutbacks=cutbacks,
-                )
-            )
-            history.append(u.reshape(-1, 3).copy())
-            log.info("load factor %.4g: %d Newton iterations, residual %.2e", lam, its, res[-1])
-            if bar is not None:
-                bar.n = lam
-                bar.refresh()
-            cutbacks = 0
-            if lam == targets[k_target] and k_target + 1 < targets.size:
-                k_target += 1
-            # grow back after cutbacks, at most doubling, never past the next target
-            dlam = 2.0 * dlam
+        records, history = _load_path(problem, targets, bar)
     finally:
         lin.release()
         if bar is not None:
@@ -259,6 +146,190 @@ def solve(
         lin.lu_fallbacks,
     )
     return NonlinearResult(steps=tuple(records), displacements=np.stack(history))
+
+
+@dataclass(frozen=True)
+class _Problem:
+    """What every load step of :func:`solve` needs."""
+
+    body: HyperelasticBody
+    fixed: np.ndarray
+    values: np.ndarray
+    free: np.ndarray
+    mask: np.ndarray
+    tmpl: sp.csr_matrix
+    lin: TangentSolver
+    loads: list[tuple[FollowerPressure, float]]
+    residual: Callable
+    max_iter: int
+    rtol: float
+    max_cutbacks: int
+
+
+def _set_up(body, fixed_dofs, fixed_values, loads, method, max_iter, rtol, max_cutbacks) -> _Problem:
+    """Constraints, sparsity pattern, linear solver and residual of the problem."""
+    fixed, values, free = _constraints(body, fixed_dofs, fixed_values)
+    mask, tmpl = body.pattern.restrict(free)
+    lin = TangentSolver(tmpl, method)
+    loads = [(ld, float(p)) for ld, p in loads]
+    return _Problem(
+        body=body,
+        fixed=fixed,
+        values=values,
+        free=free,
+        mask=mask,
+        tmpl=tmpl,
+        lin=lin,
+        loads=loads,
+        residual=functools.partial(_residual, body, loads, fixed),
+        max_iter=max_iter,
+        rtol=rtol,
+        max_cutbacks=max_cutbacks,
+    )
+
+
+def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRecord], list[np.ndarray]]:
+    """Step the load factor to 1 with cutbacks; returns the step records and displacements."""
+    free, fixed = problem.free, problem.fixed
+    u = np.zeros(problem.body.ndofs)
+    lam, cutbacks = 0.0, 0
+    prev = None
+    k_target = 0
+    dlam = targets[0]
+    records: list[StepRecord] = []
+    history: list[np.ndarray] = []
+    while lam < 1.0 - 1e-12:
+        dlam = min(dlam, targets[k_target] - lam)
+        target = lam + dlam
+        if abs(target - targets[k_target]) < 1e-12:
+            target = targets[k_target]
+        trial = _predict(u, prev, lam, target, free, cutbacks)
+        dfixed = (target - lam) * problem.values[fixed]
+        ok, its, res = _newton(
+            problem.body,
+            trial,
+            target,
+            free,
+            problem.mask,
+            problem.tmpl,
+            problem.lin,
+            problem.residual,
+            problem.max_iter,
+            problem.rtol,
+            fixed=fixed,
+            dfixed=dfixed,
+            line_search=cutbacks > 0,
+        )
+        if not ok:
+            cutbacks += 1
+            log.info("step to load factor %.4g failed (%s); cutting back", target, res[-1] if res else "-")
+            if cutbacks > problem.max_cutbacks:
+                raise _convergence_error(lam, target, cutbacks, res, problem.rtol)
+            dlam *= 0.5
+            continue
+        prev = (lam, u)
+        u = trial
+        lam = target
+        records.append(_step_record(lam, problem.loads, its, res, cutbacks))
+        history.append(u.reshape(-1, 3).copy())
+        log.info("load factor %.4g: %d Newton iterations, residual %.2e", lam, its, res[-1])
+        if bar is not None:
+            bar.n = lam
+            bar.refresh()
+        cutbacks = 0
+        if lam == targets[k_target] and k_target + 1 < targets.size:
+            k_target += 1
+        # grow back after cutbacks, at most doubling, never past the next target
+        dlam = 2.0 * dlam
+    return records, history
+
+
+def _load_targets(steps, load_factors, rtol) -> np.ndarray:
+    """Check ``steps`` and ``rtol`` and return the load factors to stop at."""
+    if not (isinstance(steps, (int, np.integer)) and steps >= 1):
+        raise NonlinearError(f"steps = {steps!r}: must be an integer >= 1")
+    if not (np.isfinite(rtol) and 0 < rtol < 1):
+        raise NonlinearError(f"rtol = {rtol!r}: must be in (0, 1)")
+    if load_factors is None:
+        return np.arange(1, steps + 1) / steps
+    targets = np.asarray(load_factors, float)
+    if (
+        targets.ndim != 1
+        or targets.size == 0
+        or np.any(np.diff(targets) <= 0)
+        or targets[0] <= 0
+        or not np.isclose(targets[-1], 1.0)
+    ):
+        raise NonlinearError(f"load_factors = {targets!r}: must increase strictly within (0, 1] and end at 1")
+    targets[-1] = 1.0
+    return targets
+
+
+def _constraints(body, fixed_dofs, fixed_values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return the constrained DOFs, the final value of every DOF and the free DOFs."""
+    fixed = np.unique(np.asarray(fixed_dofs, dtype=np.int64))
+    if fixed.size == 0:
+        raise NonlinearError("fixed_dofs: none; the body would float")
+    values = np.zeros(body.ndofs)
+    if fixed_values is not None:
+        fv = np.asarray(fixed_values, float)
+        values[np.asarray(fixed_dofs, dtype=np.int64)] = fv
+    free = np.setdiff1d(np.arange(body.ndofs), fixed)
+    return fixed, values, free
+
+
+def _residual(body, loads, fixed, u, lam):
+    """Residual at load factor ``lam``: (R, tangent data, reference force)."""
+    f, data = body.internal(u)
+    fext = np.zeros(body.ndofs)
+    for ld, p in loads:
+        ld.add_to(u, lam * p, fext, data)
+    r = f + fext
+    # forces in play: the applied loads and the support reactions (not the unbalanced
+    # internal forces of an iterate, which would make the measure meaningless)
+    ref = max(np.linalg.norm(fext), np.linalg.norm(r[fixed]), 1e-300)
+    return r, data, ref
+
+
+def _progress_bar():
+    """A tqdm bar over the load factor."""
+    from tqdm import tqdm
+
+    return tqdm(total=1.0, desc="load factor", unit="", bar_format="{l_bar}{bar}| {n:.3f}/1")
+
+
+def _predict(u, prev, lam, target, free, cutbacks) -> np.ndarray:
+    """Starting guess of the step from ``lam`` to ``target``."""
+    trial = u.copy()
+    if prev is not None and cutbacks == 0:
+        # secant predictor along the load path: a bending tip's displacement is a rotation
+        # field, far from the tangent's linearised rotation; extrapolating the last step
+        # puts Newton inside its convergence radius (the coil's stiff hoop otherwise turns
+        # the linearised-rotation error into large spurious stresses)
+        lam_prev, u_prev = prev
+        trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
+    return trial
+
+
+def _convergence_error(lam, target, cutbacks, res, rtol) -> ConvergenceError:
+    """The error raised when a step fails after the last cutback."""
+    last = f"{res[-1]:.3g}" if res else "n/a"
+    return ConvergenceError(
+        f"Newton failed: load factor {lam:.4g} reached, step to {target:.4g} did not converge "
+        f"after {cutbacks - 1} cutbacks (last relative residual {last}, rtol {rtol:.1g}); "
+        "no result returned — reduce the pressure or refine the mesh"
+    )
+
+
+def _step_record(lam, loads, its, res, cutbacks) -> StepRecord:
+    """Record of an accepted step."""
+    return StepRecord(
+        load_factor=float(lam),
+        pressures=tuple(lam * p for _, p in loads),
+        iterations=its,
+        residuals=tuple(res),
+        cutbacks=cutbacks,
+    )
 
 
 #: A Newton correction this small relative to the displacement is round-off.
@@ -316,30 +387,18 @@ def _newton(
             du = lin(k, -rf)
             if not np.all(np.isfinite(du)):
                 return False, it, res
-            u0 = u[free].copy()
-            g0 = float(du @ rf)
-            alpha, a_prev, g_prev = 1.0, 0.0, g0
-            for tries in range(_LS_TRIES):
-                u[free] = u0 + alpha * du
-                r, data, ref = residual(u, lam)
-                if tries == 0 and not line_search and np.all(np.isfinite(r[free])):
-                    rel_full = float(np.linalg.norm(r[free]) / ref)
-                    if it == 1 or rel_full <= _LS_GROWTH * res[-1]:
-                        break  # the full Newton step is accepted unless it makes the residual grow
-                g = float(du @ r[free])
-                if first_with_bc or not np.isfinite(g):
-                    if np.isfinite(g) or alpha < 1e-3:
-                        break
-                    alpha *= 0.5  # inverted elements: halve
-                    continue
-                if abs(g) <= 0.5 * abs(g0) or g0 >= 0:
-                    break
-                # secant toward g = 0 between the last two points, kept inside (0.05, 1]
-                a_new = alpha - g * (alpha - a_prev) / (g - g_prev) if g != g_prev else alpha
-                a_prev, g_prev = alpha, g
-                alpha = float(np.clip(a_new, 0.05, 1.0))
-                if alpha == a_prev:
-                    break
+            r, data, ref, alpha = _line_search(
+                u,
+                du,
+                rf,
+                lam,
+                free,
+                residual,
+                line_search=line_search,
+                first_iter=it == 1,
+                last_rel=res[-1] if res else None,
+                first_with_bc=first_with_bc,
+            )
             if (
                 it > 1
                 and res[-1] <= 1e-5
@@ -353,3 +412,32 @@ def _newton(
         rel = float(np.linalg.norm(r[free]) / ref)
         res.append(rel)
         return rel <= rtol, max_iter, res
+
+
+def _line_search(u, du, rf, lam, free, residual, *, line_search, first_iter, last_rel, first_with_bc):
+    """Step ``u[free]`` along ``du``, searching on g(α) = Δu · R; returns (R, data, ref, α)."""
+    u0 = u[free].copy()
+    g0 = float(du @ rf)
+    alpha, a_prev, g_prev = 1.0, 0.0, g0
+    for tries in range(_LS_TRIES):
+        u[free] = u0 + alpha * du
+        r, data, ref = residual(u, lam)
+        if tries == 0 and not line_search and np.all(np.isfinite(r[free])):
+            rel_full = float(np.linalg.norm(r[free]) / ref)
+            if first_iter or rel_full <= _LS_GROWTH * last_rel:
+                break  # the full Newton step is accepted unless it makes the residual grow
+        g = float(du @ r[free])
+        if first_with_bc or not np.isfinite(g):
+            if np.isfinite(g) or alpha < 1e-3:
+                break
+            alpha *= 0.5  # inverted elements: halve
+            continue
+        if abs(g) <= 0.5 * abs(g0) or g0 >= 0:
+            break
+        # secant toward g = 0 between the last two points, kept inside (0.05, 1]
+        a_new = alpha - g * (alpha - a_prev) / (g - g_prev) if g != g_prev else alpha
+        a_prev, g_prev = alpha, g
+        alpha = float(np.clip(a_new, 0.05, 1.0))
+        if alpha == a_prev:
+            break
+    return r, data, ref, alpha

@@ -182,6 +182,18 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    summary = _summary(curve, design_name, compare_linear)
+    (out / "fem.json").write_text(json.dumps(summary, indent=2))
+    _write_sweep_csv(curve, out / "pressure_sweep.csv")
+    if curve.model is not None:
+        write_vtu_series(curve, out)
+        plot_deformed(curve, out / "deformed_tip.png")
+    plot_curve(curve, out / "bend_curve.png")
+    return summary
+
+
+def _summary(curve, design_name: str, compare_linear: bool) -> dict:
+    """The ``fem.json`` document of ``curve``."""
     k = -1
     summary = {
         "design": design_name,
@@ -225,8 +237,12 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
         summary["departure_5pct_deg"] = {
             kk: (None if v is None else float(np.degrees(v))) for kk, v in dep.items()
         }
-    (out / "fem.json").write_text(json.dumps(summary, indent=2))
-    with open(out / "pressure_sweep.csv", "w", newline="") as fh:
+    return summary
+
+
+def _write_sweep_csv(curve, path: Path) -> None:
+    """One row per pressure of the sweep."""
+    with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             [
@@ -261,11 +277,6 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
                     f"{curve.analytic_bend_angle[i]:.9g}",
                 ]
             )
-    if curve.model is not None:
-        write_vtu_series(curve, out)
-        plot_deformed(curve, out / "deformed_tip.png")
-    plot_curve(curve, out / "bend_curve.png")
-    return summary
 
 
 def write_vtu_series(curve, out: Path) -> None:

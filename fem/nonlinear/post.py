@@ -229,19 +229,40 @@ def midspan_bend(
     ValueError
         If ``window`` is not 0 ≤ start < end ≤ 1.
     """
+    w0, w1 = _check_window(window)
+    nodes = np.asarray(nodes, float)
+    u = np.asarray(u, float).reshape(nodes.shape)
+    z = np.round(nodes[:, 2], 9)
+    levels = _stations(z, length, w0, w1, min_nodes)
+    if levels.size < 2:
+        return _no_stations(levels)
+    return _bend_of_stations(nodes, u, z, levels, axis_point)
+
+
+def _check_window(window) -> tuple[float, float]:
+    """The mid-span window as (start, end) fractions, checked."""
     w0, w1 = (float(w) for w in window)
     if not (0.0 <= w0 < w1 <= 1.0):
         raise ValueError(f"window = {tuple(window)!r}: must be 0 <= start < end <= 1 (fractions of length)")
-    nodes = np.asarray(nodes, float)
-    u = np.asarray(u, float).reshape(nodes.shape)
+    return w0, w1
+
+
+def _stations(z: np.ndarray, length: float, w0: float, w1: float, min_nodes: int) -> np.ndarray:
+    """The z levels inside the window with at least ``min_nodes`` nodes, increasing."""
     tol = 1e-9 * max(float(length), 1.0)
-    z = np.round(nodes[:, 2], 9)
     inside = (z >= w0 * length - tol) & (z <= w1 * length + tol)
     levels, counts = np.unique(z[inside], return_counts=True)
-    levels = levels[counts >= min_nodes]
-    if levels.size < 2:
-        nan = float("nan")
-        return MidspanBend(nan, nan, nan, levels, np.full(levels.shape, nan), np.full((levels.size, 3), nan))
+    return levels[counts >= min_nodes]
+
+
+def _no_stations(levels: np.ndarray) -> MidspanBend:
+    """The all-NaN result of a window with fewer than two stations."""
+    nan = float("nan")
+    return MidspanBend(nan, nan, nan, levels, np.full(levels.shape, nan), np.full((levels.size, 3), nan))
+
+
+def _bend_of_stations(nodes, u, z, levels, axis_point) -> MidspanBend:
+    """Fit each station's rigid rotation and reduce the rotations and centroids to the mid-span bend."""
     sections = [z == lv for lv in levels]
     if axis_point is None:
         in_sections = np.any(sections, axis=0)

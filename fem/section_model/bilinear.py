@@ -244,6 +244,30 @@ def bend_curve(
     )  # fmt: skip
     gain_linear = float(np.linalg.solve(k_rest + fibres.linear_stiffness(fibres.tension_modulus), f_unit)[2])
 
+    gain_pivot, threshold, opening = _asymptotes(k_rest, fibres, f_unit)
+    g_all, closed_share, iters = _walk(k_rest, fibres, f_unit, p, owner, names)
+    return BendCurve(
+        design_name=d.name,
+        load=load,
+        coil_model=coil_model,
+        pressure=p,
+        curvature=g_all[:, 2],
+        lateral_curvature=g_all[:, 1],
+        elongation=g_all[:, 0] + g_all[:, 2] * centroid_y,
+        closed_fraction={k: np.array(v) for k, v in closed_share.items()},
+        iterations=np.array(iters),
+        threshold_pressure=threshold,
+        opening_pressure=opening,
+        gain_pivoting=gain_pivot,
+        gain_linear=gain_linear,
+        initial_tension=(float(f0[0]), float(f0[1])),
+        compression_modulus=tuple(float("nan") if v is None else float(v) for v in ec),
+        seconds=time.perf_counter() - t0,
+    )
+
+
+def _asymptotes(k_rest, fibres: Fibres, f_unit) -> tuple[float, float, float]:
+    """Pivoting gain, threshold pressure (0 without preload) and first opening pressure [MPa]."""
     # The pivoting asymptote: the closed set without initial tension, then F₀'s preload on the open fibres.
     free = Fibres(**{**fibres.__dict__, "prestress": np.zeros_like(fibres.prestress)})
     g1, closed1, _ = solve_fibres(k_rest, free, f_unit)
@@ -261,7 +285,11 @@ def bend_curve(
         eps = free.phi[loaded] @ g_s
         ep = fibres.opening_strain()[loaded]
         opening = float(np.min(np.where(eps > 0, ep / np.where(eps > 0, eps, 1.0), np.inf)))
+    return gain_pivot, threshold if loaded.any() else 0.0, opening
 
+
+def _walk(k_rest, fibres: Fibres, f_unit, p, owner, names):
+    """Solve each pressure warm-started; returns the strains, closed area share per coil and iterations."""
     g_all, closed_share, iters = [], {n: [] for n in names}, []
     g = None
     for pi in p:
@@ -271,22 +299,4 @@ def bend_curve(
         for i, name in enumerate(names):
             mine = owner == i
             closed_share[name].append(float(fibres.area[mine & closed].sum() / fibres.area[mine].sum()))
-    g_all = np.array(g_all)
-    return BendCurve(
-        design_name=d.name,
-        load=load,
-        coil_model=coil_model,
-        pressure=p,
-        curvature=g_all[:, 2],
-        lateral_curvature=g_all[:, 1],
-        elongation=g_all[:, 0] + g_all[:, 2] * centroid_y,
-        closed_fraction={k: np.array(v) for k, v in closed_share.items()},
-        iterations=np.array(iters),
-        threshold_pressure=threshold if loaded.any() else 0.0,
-        opening_pressure=opening,
-        gain_pivoting=gain_pivot,
-        gain_linear=gain_linear,
-        initial_tension=(float(f0[0]), float(f0[1])),
-        compression_modulus=tuple(float("nan") if v is None else float(v) for v in ec),
-        seconds=time.perf_counter() - t0,
-    )
+    return np.array(g_all), closed_share, iters

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -163,10 +164,51 @@ def calibrate_section(
     section_options
         Passed to :func:`softcath.fem.section_model.section_model` (e.g. ``mesh_size``).
     """
-    from softcath import analytic
-    from softcath.analytic.calibration import calibrate, nrmse
-    from softcath.fem.section_model import section_model
+    from softcath.analytic.calibration import nrmse
 
+    _check_options(load, max_iterations, tol)
+    x_nom = dict(design.tube_shape)
+    gains_nominal, used = _evaluate(design, dict(x_nom), load, section_options)
+    it = _iterate(
+        measurement,
+        design,
+        dict(x_nom),
+        used,
+        free=free,
+        load=load,
+        grid=grid,
+        tol=tol,
+        max_iterations=max_iterations,
+        use_elongation=use_elongation,
+        section_options=section_options,
+    )
+    x, gains, inner = it.x, it.gains, it.inner
+    p = np.asarray(measurement.pressure_MPa, float)
+    kap = np.asarray(measurement.curvature_per_mm, float)
+    nr_nom, nr_opt = nrmse(gains_nominal[0] * p, kap), nrmse(gains[0] * p, kap)
+    return SectionCalibration(
+        x_opt=x,
+        x_nominal=x_nom,
+        free=tuple(free),
+        load=load,
+        iterations=len(it.history),
+        converged=it.converged,
+        history=tuple(it.history),
+        gains_data=inner.gains_data,
+        gains_model={"curvature_per_mm_per_MPa": gains[0], "elongation_per_MPa": gains[1]},
+        nrmse_nominal=nr_nom,
+        nrmse_optimized=nr_opt,
+        ratio=nr_nom / nr_opt if nr_opt > 0 else float("inf"),
+        reachable=inner.reachable,
+        identifiable=inner.identifiable,
+        message=_message(load, tol, it),
+        inner=inner,
+        design=design.with_tube_shape(**x),
+    )
+
+
+def _check_options(load, max_iterations, tol) -> None:
+    """Check the load, the iteration limit and the tolerance."""
     if load not in ("cap", "lumen"):
         raise DesignError("load", load, "must be cap or lumen")
     if not (isinstance(max_iterations, int) and 1 <= max_iterations <= 50):
@@ -174,19 +216,40 @@ def calibrate_section(
     if not (np.isfinite(tol) and tol > 0):
         raise DesignError("tol", tol, "must be > 0")
 
-    def evaluate(shape: dict) -> tuple[tuple[float, float], tuple[float, float]]:
-        """Section gains and their factors over the formula's (cap load) at ``shape``."""
-        d = design.with_tube_shape(**shape)
-        g = section_model(d, loads=(load,), **section_options).gains(load)
-        k_f, e_f = analytic.gains(d, "cap")
-        return g, (g[0] / k_f, g[1] / e_f)
 
-    x_nom = dict(design.tube_shape)
-    x = dict(x_nom)
-    gains, used = evaluate(x)
-    gains_nominal = gains
+def _evaluate(design, shape: dict, load, section_options) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Section gains and their factors over the formula's (cap load) at ``shape``."""
+    from softcath import analytic
+    from softcath.fem.section_model import section_model
+
+    d = design.with_tube_shape(**shape)
+    g = section_model(d, loads=(load,), **section_options).gains(load)
+    k_f, e_f = analytic.gains(d, "cap")
+    return g, (g[0] / k_f, g[1] / e_f)
+
+
+@dataclass(frozen=True)
+class _Iteration:
+    """Where the space-mapping iteration stopped."""
+
+    x: dict
+    gains: Any
+    inner: Any
+    history: list
+    converged: bool
+    step: float
+    mismatch: float
+
+
+def _iterate(
+    measurement, design, x, used, *, free, load, grid, tol, max_iterations, use_elongation, section_options
+) -> _Iteration:
+    """Alternate inner calibrations and section-model evaluations until x and the factors settle."""
+    from softcath.analytic.calibration import calibrate
+
     history, inner, converged, previous = [], None, False, None
     step = mismatch = np.inf
+    gains = None
     for _ in range(max_iterations):
         inner = calibrate(
             measurement, design, free=free, load="cap", grid=grid, use_elongation=use_elongation,
@@ -194,7 +257,7 @@ def calibrate_section(
         )  # fmt: skip
         step = _change(inner.x_opt, x, free)
         x = dict(inner.x_opt)
-        gains, factors = evaluate(x)
+        gains, factors = _evaluate(design, x, load, section_options)
         history.append(
             {"x": dict(x), "factors_used": list(used), "factors": list(factors), "gains": list(gains)}
         )
@@ -207,39 +270,24 @@ def calibrate_section(
             break
         used = _anderson(np.asarray(factors), residual, previous)
         previous = (np.asarray(factors), residual)
-    p = np.asarray(measurement.pressure_MPa, float)
-    kap = np.asarray(measurement.curvature_per_mm, float)
-    nr_nom, nr_opt = nrmse(gains_nominal[0] * p, kap), nrmse(gains[0] * p, kap)
-    data = inner.gains_data
+    return _Iteration(
+        x=x, gains=gains, inner=inner, history=history, converged=converged, step=step, mismatch=mismatch
+    )
+
+
+def _message(load, tol, it: _Iteration) -> str:
+    """Summary line of the calibration."""
+    gains, data = it.gains, it.inner.gains_data
     miss = abs(gains[0] - data["curvature_per_mm_per_MPa"]) / max(
         abs(data["curvature_per_mm_per_MPa"]), 1e-300
     )
-    msg = (
-        f"section model ({load} load), {len(history)} iteration(s), "
+    return (
+        f"section model ({load} load), {len(it.history)} iteration(s), "
         + (
             "converged"
-            if converged
-            else f"NOT converged to {tol:g} (last step {step:.2g}, factor mismatch {mismatch:.2g})"
+            if it.converged
+            else f"NOT converged to {tol:g} (last step {it.step:.2g}, factor mismatch {it.mismatch:.2g})"
         )
         + f": curvature gain {gains[0]:.5g} vs data {data['curvature_per_mm_per_MPa']:.5g} 1/(mm MPa)"
-        + f" ({100 * miss:.2g} % off); inner fit: {inner.message}"
-    )
-    return SectionCalibration(
-        x_opt=x,
-        x_nominal=x_nom,
-        free=tuple(free),
-        load=load,
-        iterations=len(history),
-        converged=converged,
-        history=tuple(history),
-        gains_data=data,
-        gains_model={"curvature_per_mm_per_MPa": gains[0], "elongation_per_MPa": gains[1]},
-        nrmse_nominal=nr_nom,
-        nrmse_optimized=nr_opt,
-        ratio=nr_nom / nr_opt if nr_opt > 0 else float("inf"),
-        reachable=inner.reachable,
-        identifiable=inner.identifiable,
-        message=msg,
-        inner=inner,
-        design=design.with_tube_shape(**x),
+        + f" ({100 * miss:.2g} % off); inner fit: {it.inner.message}"
     )

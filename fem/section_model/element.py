@@ -160,12 +160,7 @@ def assemble(
 
     w = basis.dx  # (nel, nq)
     xq, yq = np.asarray(basis.global_coordinates())  # (nel, nq)
-    if axial_groups is None:
-        phi = np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
-    else:
-        groups = np.asarray(axial_groups, dtype=np.int64)
-        onehot = (groups[None, :] == np.arange(groups.max() + 1)[:, None]).astype(float)
-        phi = np.concatenate([np.broadcast_to(onehot[:, :, None], (onehot.shape[0],) + xq.shape), [xq, yq]])
+    phi = _axial_strain_basis(xq, yq, axial_groups)
     ng = phi.shape[0]
     eps = _strains(basis)
     nb, nq = eps.shape[0], w.shape[1]
@@ -178,43 +173,10 @@ def assemble(
     kug_loc = DB[:, :, 2, :].transpose(0, 2, 1) @ phiw  # sigma_zz(U_i) * phi_k: (nel, nb, 3)
     k_gg = np.einsum("e,eqk,leq->kl", D[:, 2, 2], phiw, phi)
     # Projected volumetric part: lambda * P(tr eps)^2 with P onto P1 per element.
-    mixed = lam > 0
-    if mixed.any():
-        area = w.sum(axis=1)
-        xc = (w * xq).sum(axis=1) / area
-        yc = (w * yq).sum(axis=1) / area
-        q = np.stack([np.ones_like(xq), xq - xc[:, None], yq - yc[:, None]], axis=-1)[mixed]  # (e, nq, 3)
-        qw = q * w[mixed][:, :, None]
-        m = qw.transpose(0, 2, 1) @ q
-        div = (eps[:, 0] + eps[:, 1]).transpose(1, 2, 0)[mixed]  # (e, nq, nb)
-        gu = qw.transpose(0, 2, 1) @ div  # (e, 3, nb)
-        gg = qw.transpose(0, 2, 1) @ phi.transpose(1, 2, 0)[mixed]  # (e, 3, 3)
-        minv = np.linalg.inv(m) * lam[mixed, None, None]
-        mgu = minv @ gu
-        k_loc[mixed] += gu.transpose(0, 2, 1) @ mgu
-        kug_loc[mixed] += mgu.transpose(0, 2, 1) @ gg
-        k_gg += np.einsum("eak,eal->kl", gg, minv @ gg)
+    k_gg = _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, xq, yq, lam)
     # Static condensation of the element bubbles (interior DOFs, the last two local
     # rows, numbered last globally): the global system keeps only the P2 DOFs.
-    dofs = basis.element_dofs  # (nb, nel)
-    ri, bi = np.arange(nb - 2), np.arange(nb - 2, nb)
-    if not np.array_equal(dofs[bi], basis.interior_dofs):
-        raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
-    kbb_inv = np.linalg.inv(k_loc[:, bi][:, :, bi])
-    kbr = k_loc[:, bi][:, :, ri]
-    kbg = kug_loc[:, bi, :]
-    xr, xg = kbb_inv @ kbr, kbb_inv @ kbg  # bubble values per unit retained DOF / global strain
-    k_rr = k_loc[:, ri][:, :, ri] - kbr.transpose(0, 2, 1) @ xr
-    k_rg = kug_loc[:, ri, :] - kbr.transpose(0, 2, 1) @ xg
-    k_gg = k_gg - np.einsum("ebk,ebl->kl", kbg, xg)
-    n = basis.N - basis.interior_dofs.size
-    rdofs = dofs[ri]
-    rows = np.broadcast_to(rdofs.T[:, :, None], k_rr.shape).ravel()
-    cols = np.broadcast_to(rdofs.T[:, None, :], k_rr.shape).ravel()
-    k_uu = sparse.coo_matrix((k_rr.ravel(), (rows, cols)), shape=(n, n)).tocsr()
-    k_ug = np.zeros((n, ng))
-    for k in range(ng):
-        k_ug[:, k] = np.bincount(rdofs.T.ravel(), weights=k_rg[:, :, k].ravel(), minlength=n)
+    k_uu, k_ug, k_gg, xr, xg, n = _condense_bubbles(basis, k_loc, kug_loc, k_gg, nb, ng)
 
     # Lumen pressure (unit): traction -n on the solid's lumen boundary (n out of the solid).
     f_full, a_l, xl, yl = _lumen_load(section, mesh, basis)
@@ -240,6 +202,60 @@ def assemble(
         quadrature_xy=np.stack([xq, yq]),
         axial_groups=None if axial_groups is None else np.asarray(axial_groups, dtype=np.int64),
     )
+
+
+def _axial_strain_basis(xq, yq, axial_groups) -> np.ndarray:
+    """(G + 2, nel, nq): d eps_zz / d g at the quadrature points."""
+    if axial_groups is None:
+        return np.stack([np.ones_like(xq), xq, yq])  # (3, nel, nq): d eps_zz / d g
+    groups = np.asarray(axial_groups, dtype=np.int64)
+    onehot = (groups[None, :] == np.arange(groups.max() + 1)[:, None]).astype(float)
+    return np.concatenate([np.broadcast_to(onehot[:, :, None], (onehot.shape[0],) + xq.shape), [xq, yq]])
+
+
+def _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, xq, yq, lam) -> np.ndarray:
+    """Add lambda * P(tr eps)^2 (P onto P1 per element) in place; returns the updated ``k_gg``."""
+    mixed = lam > 0
+    if mixed.any():
+        area = w.sum(axis=1)
+        xc = (w * xq).sum(axis=1) / area
+        yc = (w * yq).sum(axis=1) / area
+        q = np.stack([np.ones_like(xq), xq - xc[:, None], yq - yc[:, None]], axis=-1)[mixed]  # (e, nq, 3)
+        qw = q * w[mixed][:, :, None]
+        m = qw.transpose(0, 2, 1) @ q
+        div = (eps[:, 0] + eps[:, 1]).transpose(1, 2, 0)[mixed]  # (e, nq, nb)
+        gu = qw.transpose(0, 2, 1) @ div  # (e, 3, nb)
+        gg = qw.transpose(0, 2, 1) @ phi.transpose(1, 2, 0)[mixed]  # (e, 3, 3)
+        minv = np.linalg.inv(m) * lam[mixed, None, None]
+        mgu = minv @ gu
+        k_loc[mixed] += gu.transpose(0, 2, 1) @ mgu
+        kug_loc[mixed] += mgu.transpose(0, 2, 1) @ gg
+        k_gg += np.einsum("eak,eal->kl", gg, minv @ gg)
+    return k_gg
+
+
+def _condense_bubbles(basis, k_loc, kug_loc, k_gg, nb, ng):
+    """Condense the element bubbles out; returns (K_uu, K_ug, K_gg, bubble maps xr, xg, retained DOFs)."""
+    dofs = basis.element_dofs  # (nb, nel)
+    ri, bi = np.arange(nb - 2), np.arange(nb - 2, nb)
+    if not np.array_equal(dofs[bi], basis.interior_dofs):
+        raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
+    kbb_inv = np.linalg.inv(k_loc[:, bi][:, :, bi])
+    kbr = k_loc[:, bi][:, :, ri]
+    kbg = kug_loc[:, bi, :]
+    xr, xg = kbb_inv @ kbr, kbb_inv @ kbg  # bubble values per unit retained DOF / global strain
+    k_rr = k_loc[:, ri][:, :, ri] - kbr.transpose(0, 2, 1) @ xr
+    k_rg = kug_loc[:, ri, :] - kbr.transpose(0, 2, 1) @ xg
+    k_gg = k_gg - np.einsum("ebk,ebl->kl", kbg, xg)
+    n = basis.N - basis.interior_dofs.size
+    rdofs = dofs[ri]
+    rows = np.broadcast_to(rdofs.T[:, :, None], k_rr.shape).ravel()
+    cols = np.broadcast_to(rdofs.T[:, None, :], k_rr.shape).ravel()
+    k_uu = sparse.coo_matrix((k_rr.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+    k_ug = np.zeros((n, ng))
+    for k in range(ng):
+        k_ug[:, k] = np.bincount(rdofs.T.ravel(), weights=k_rg[:, :, k].ravel(), minlength=n)
+    return k_uu, k_ug, k_gg, xr, xg, n
 
 
 def _rigid_pins(basis, mesh) -> np.ndarray:

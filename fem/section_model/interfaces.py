@@ -202,29 +202,34 @@ def tie_projection(split: InterfaceSplit, basis, *, tie: np.ndarray | None = Non
         Optional bool per interface edge: ``False`` ties that edge in full (a
         bonded interface kept split), default all ``True`` (normal tie only).
     """
-    mesh = basis.mesh
     nd, fd = np.asarray(basis.nodal_dofs), np.asarray(basis.facet_dofs)
     n = int(max(nd.max(), fd.max())) + 1
     tie = np.ones(len(split.edges), bool) if tie is None else np.asarray(tie, bool)
-    # Master/slave node pairs with their normals (None: full tie) and interface length weights.
+    nodes = _node_pairs(split, basis.mesh, nd, fd, tie)
+    return _ties(nodes, n)
+
+
+def _add_pair(nodes: dict, sdofs, mdofs, normal, full, weight) -> None:
+    """Add a slave/master node pair to ``nodes``, or accumulate its normal, full flag and weight."""
+    key = int(sdofs[0])
+    if key in nodes:
+        entry = nodes[key]
+        entry[1] = entry[1] + normal
+        entry[2] = entry[2] or full
+        entry[3] += weight
+    else:
+        nodes[key] = [
+            tuple(int(d) for d in mdofs),
+            normal.copy(),
+            full,
+            weight,
+            tuple(int(d) for d in sdofs),
+        ]
+
+
+def _node_pairs(split: InterfaceSplit, mesh, nd, fd, tie) -> dict[int, list]:
+    """Master/slave node pairs with their normals (None: full tie) and interface length weights."""
     nodes: dict[int, list] = {}  # slave node dofs key -> [master dofs, normal sum, full, weight]
-
-    def add(sdofs, mdofs, normal, full, weight):
-        key = int(sdofs[0])
-        if key in nodes:
-            entry = nodes[key]
-            entry[1] = entry[1] + normal
-            entry[2] = entry[2] or full
-            entry[3] += weight
-        else:
-            nodes[key] = [
-                tuple(int(d) for d in mdofs),
-                normal.copy(),
-                full,
-                weight,
-                tuple(int(d) for d in sdofs),
-            ]
-
     facets = np.sort(np.asarray(mesh.facets), axis=0)
     nv = int(mesh.p.shape[1])
     fkey = facets[0].astype(np.int64) * nv + facets[1]
@@ -239,17 +244,21 @@ def tie_projection(split: InterfaceSplit, basis, *, tie: np.ndarray | None = Non
     for (m0, m1, s0, s1), nrm, t_ok in zip(split.edges, split.edge_normals, tie, strict=True):
         length = float(np.hypot(*(pts[:, m1] - pts[:, m0])))
         full = not t_ok
-        add(nd[:, s0], nd[:, m0], nrm, full, length / 6)
-        add(nd[:, s1], nd[:, m1], nrm, full, length / 6)
-        add(fd[:, facet_of(s0, s1)], fd[:, facet_of(m0, m1)], nrm, full, 2 * length / 3)
+        _add_pair(nodes, nd[:, s0], nd[:, m0], nrm, full, length / 6)
+        _add_pair(nodes, nd[:, s1], nd[:, m1], nrm, full, length / 6)
+        _add_pair(nodes, fd[:, facet_of(s0, s1)], fd[:, facet_of(m0, m1)], nrm, full, 2 * length / 3)
     # Vertices shared by three or more bodies: every copy tied in full to the master.
     for copies in split.vertex_copies.values():
         if len(copies) > 2:
             master = copies[0][0]
             for v, _ in copies[1:]:
-                add(nd[:, v], nd[:, master], np.zeros(2), True, 0.0)
+                _add_pair(nodes, nd[:, v], nd[:, master], np.zeros(2), True, 0.0)
                 nodes[int(nd[0, v])][0] = tuple(int(d) for d in nd[:, master])
+    return nodes
 
+
+def _ties(nodes: dict[int, list], n: int) -> Ties:
+    """The projection T and slip rows S of the node pairs on ``n`` split DOFs."""
     slaves = set()
     for entry in nodes.values():
         slaves.update(entry[4])

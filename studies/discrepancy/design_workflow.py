@@ -236,6 +236,47 @@ def run_design_workflow(
         Fraction of designs held out (seeded split by design, so both loads of a
         design fall on the same side).
     """
+    cands = _check_options(candidates, margin, heldout_fraction)
+    ids, held, train, test = _split(cases, heldout_fraction, seed)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=ids.size * 4, desc="section models", unit="model", leave=False)
+    models = _Models(bar)
+    gap0 = _gap(test, models, frozenset(), 0.0)
+    nrmse0 = _nrmse(test, models, frozenset(), 0.0)
+    sel = _select(cands, train, test, models, margin=margin, max_steps=max_steps, gap0=gap0)
+    active, c_end = sel.active, sel.c_end
+    if bar is not None:
+        bar.close()
+    notes = []
+    if not sel.named:
+        notes.append(
+            f"nothing beats the paper's formula by the {margin:.0%} margin on held-out designs "
+            f"(held-out gap {gap0:.3g})"
+        )
+    return DesignWorkflowResult(
+        named=tuple(sel.named),
+        steps=tuple(sel.steps),
+        ambiguous_with=sel.ambiguous,
+        gap_before=gap0,
+        gap_after=sel.gap,
+        nrmse_before=nrmse0,
+        nrmse_after=_nrmse(test, models, active, c_end),
+        end_effects_coefficient=c_end if "end_effects" in active else None,
+        n_designs=int(ids.size),
+        n_train=len({c.design_id for c in train}),
+        n_heldout=len(held),
+        margin=margin,
+        seed=seed,
+        notes=tuple(notes),
+        table=_table(cases, held, models, active, c_end),
+    )
+
+
+def _check_options(candidates, margin, heldout_fraction) -> tuple[str, ...]:
+    """Check the candidates, the margin and the held-out fraction; returns the candidates."""
     cands = tuple(candidates)
     bad = [c for c in cands if c not in INGREDIENTS]
     if bad:
@@ -244,6 +285,11 @@ def run_design_workflow(
         raise DataError(
             f"margin = {margin}, heldout_fraction = {heldout_fraction}: need (0, 1) and [0.1, 0.9]"
         )
+    return cands
+
+
+def _split(cases, heldout_fraction, seed):
+    """Seeded split by design; returns (design ids, held-out ids, training cases, held-out cases)."""
     ids = np.array(sorted({c.design_id for c in cases}))
     rng = np.random.default_rng(seed)
     held = set(rng.permutation(ids)[: max(2, int(round(heldout_fraction * ids.size)))].tolist())
@@ -251,35 +297,33 @@ def run_design_workflow(
     test = [c for c in cases if c.design_id in held]
     if not train or not test:
         raise DataError(f"{ids.size} designs cannot be split into training and held-out sets")
-    bar = None
-    if progress:
-        from tqdm import tqdm
+    return ids, held, train, test
 
-        bar = tqdm(total=ids.size * 4, desc="section models", unit="model", leave=False)
-    models = _Models(bar)
+
+@dataclass(frozen=True)
+class _Selection:
+    """Where the forward selection stopped."""
+
+    steps: list
+    named: list
+    ambiguous: dict
+    active: frozenset
+    c_end: float
+    gap: float
+
+
+def _select(cands, train, test, models, *, margin, max_steps, gap0) -> _Selection:
+    """Forward selection: add the best candidate while it shrinks the held-out gap by the margin."""
     active: frozenset = frozenset()
     c_end = 0.0
-    gap0 = _gap(test, models, active, c_end)
-    nrmse0 = _nrmse(test, models, active, c_end)
-    steps, named, ambiguous, notes = [], [], {}, []
+    steps, named, ambiguous = [], [], {}
     current = gap0
     current_score = _score(test, models, active, c_end)
     for _ in range(max_steps):
         remaining = [c for c in cands if c not in active]
         if not remaining:
             break
-        scores = {}
-        for cand in remaining:
-            trial = active | {cand}
-            c_fit, t_stat = _fit_end(train, models, trial)
-            scores[cand] = {
-                "gap_train": _gap(train, models, trial, c_fit),
-                "gap_heldout": _gap(test, models, trial, c_fit),
-                "score_heldout": _score(test, models, trial, c_fit),
-                "end_effects_coefficient": c_fit,
-                # a fitted correction must be resolved on the training designs (|c| > 3 standard errors)
-                "significant": bool(cand != "end_effects" or t_stat > 3.0),
-            }
+        scores = _score_candidates(remaining, active, train, test, models)
         # Parameter-free physics first: a fitted correction is only weighed for what physics leaves.
         physics = [k for k in scores if k != "end_effects"]
         pool = physics if physics and _passes(scores, physics, current_score, margin) else list(scores)
@@ -312,14 +356,29 @@ def run_design_workflow(
         current = s["gap_heldout"]
         current_score = s["score_heldout"]
         step["gap_heldout_after"] = current
-    if bar is not None:
-        bar.close()
-    if not named:
-        notes.append(
-            f"nothing beats the paper's formula by the {margin:.0%} margin on held-out designs "
-            f"(held-out gap {gap0:.3g})"
-        )
-    table = [
+    return _Selection(steps=steps, named=named, ambiguous=ambiguous, active=active, c_end=c_end, gap=current)
+
+
+def _score_candidates(remaining, active, train, test, models) -> dict:
+    """Fit and score each remaining candidate added to ``active``."""
+    scores = {}
+    for cand in remaining:
+        trial = active | {cand}
+        c_fit, t_stat = _fit_end(train, models, trial)
+        scores[cand] = {
+            "gap_train": _gap(train, models, trial, c_fit),
+            "gap_heldout": _gap(test, models, trial, c_fit),
+            "score_heldout": _score(test, models, trial, c_fit),
+            "end_effects_coefficient": c_fit,
+            # a fitted correction must be resolved on the training designs (|c| > 3 standard errors)
+            "significant": bool(cand != "end_effects" or t_stat > 3.0),
+        }
+    return scores
+
+
+def _table(cases, held, models, active, c_end) -> list[dict]:
+    """Per case: reference, formula and model gains, and whether it was held out."""
+    return [
         {
             "design_id": c.design_id,
             "load": c.load,
@@ -330,20 +389,3 @@ def run_design_workflow(
         }
         for c in cases
     ]
-    return DesignWorkflowResult(
-        named=tuple(named),
-        steps=tuple(steps),
-        ambiguous_with=ambiguous,
-        gap_before=gap0,
-        gap_after=current,
-        nrmse_before=nrmse0,
-        nrmse_after=_nrmse(test, models, active, c_end),
-        end_effects_coefficient=c_end if "end_effects" in active else None,
-        n_designs=int(ids.size),
-        n_train=len({c.design_id for c in train}),
-        n_heldout=len(held),
-        margin=margin,
-        seed=seed,
-        notes=tuple(notes),
-        table=table,
-    )

@@ -196,6 +196,46 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
 
     if excitation == "quasi-static" or (excitation == "auto" and is_quasi_static(m)):
         return prepare_quasi_static(m)
+    runs = _runs(m)
+    raw, fs = _uniform_runs(runs)
+    exc = [_excitation(t, p, f"{m.source}: run {label!r}: ") for label, t, p, _ in raw]
+    spec = _data_low_pass(filter_spec, exc, fs)
+    aa = spec.scaled(4.0)
+    q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz) + 1e-6)))
+    fs_d = fs / q
+    fit_spec = FilterSpec(
+        passband_hz=spec.passband_hz,
+        stopband_hz=spec.stopband_hz,
+        ripple_db=spec.ripple_db,
+        attenuation_db=spec.attenuation_db,
+        fs_hz=fs_d,
+        family=spec.family,
+    )
+    gain = _noise_gain(aa, fit_spec, fs)
+    data_filter = _zero_phase(fit_spec)
+    trim = int(round(TRIM_OVER_PASSBAND / spec.passband_hz * fs_d))
+    segments, infos, times, noise = _segments(raw, exc, aa, q, data_filter, trim, spec, fs)
+    targets = np.concatenate([s.target[s.mask] for s in segments])
+    pressures = np.concatenate([s.pressure_MPa for s in segments])
+    # relative: a constant series comes out of the filters with 1e-16 of rounding ripple
+    if not np.ptp(targets) > 1e-9 * np.max(np.abs(targets)):
+        raise DataError(f"{m.source}: curvature is constant: there is no response to compare")
+    return Prepared(
+        segments=tuple(segments),
+        runs=tuple(infos),
+        data_filter=spec,
+        fit_filter=fit_spec,
+        fs_hz=fs_d,
+        decimation=q,
+        noise_floor_per_mm=float(np.sqrt(np.mean(np.square(noise))) * gain),
+        full_scale_per_mm=float(np.ptp(targets)),
+        scales=Scales(pressure_MPa=float(np.ptp(pressures)), duration_s=max(r.duration_s for r in infos)),
+        times=tuple(times),
+    )
+
+
+def _runs(m: Measurement) -> list[tuple]:
+    """(label, time, pressure, curvature) of every run, each long enough for a time series."""
     labels = m.run_labels()
     runs = []
     for label in m.runs:
@@ -207,6 +247,11 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
                 "for a time series (quasi-static points: time_s as a step index 0, 1, 2, ...)"
             )
         runs.append((str(label), t, p, k))
+    return runs
+
+
+def _uniform_runs(runs: list[tuple]) -> tuple[list[tuple], float]:
+    """The runs on one uniform time base and its sample rate [Hz]."""
     # irregular runs go onto one uniform base: the paper's 200 Hz, or the file's median
     # rate when it is slower (a 25 Hz camera log gains nothing from 8x interpolation)
     rate = min(
@@ -225,7 +270,11 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
     if len(fs_all) != 1:
         raise DataError(f"runs have different sample rates {sorted(fs_all)} Hz")
     fs = fs_all.pop()
-    exc = [_excitation(t, p, f"{m.source}: run {label!r}: ") for label, t, p, _ in raw]
+    return raw, fs
+
+
+def _data_low_pass(filter_spec: FilterSpec | None, exc, fs: float) -> FilterSpec:
+    """The data low-pass: the given one, or chosen from the fastest sine; checked against ``fs``."""
     if filter_spec is None:
         fmax = max([f for kind, f in exc if kind == "sine"], default=0.0)
         spec = FilterSpec(fs_hz=fs) if fs != PAPER_FILTER.fs_hz else PAPER_FILTER
@@ -238,20 +287,12 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
             f"sample rate {fs} Hz is too low for a {spec.passband_hz:g} Hz "
             f"data filter: need > {8 * spec.stopband_hz:g} Hz"
         )
-    aa = spec.scaled(4.0)
-    q = max(1, int(np.floor(fs / (DECIMATED_OVER_PASSBAND * spec.passband_hz) + 1e-6)))
+    return spec
+
+
+def _segments(raw, exc, aa: FilterSpec, q: int, data_filter, trim: int, spec: FilterSpec, fs: float):
+    """Anti-alias, decimate and filter each run; returns (segments, run infos, times, noise s.d.)."""
     fs_d = fs / q
-    fit_spec = FilterSpec(
-        passband_hz=spec.passband_hz,
-        stopband_hz=spec.stopband_hz,
-        ripple_db=spec.ripple_db,
-        attenuation_db=spec.attenuation_db,
-        fs_hz=fs_d,
-        family=spec.family,
-    )
-    gain = _noise_gain(aa, fit_spec, fs)
-    data_filter = _zero_phase(fit_spec)
-    trim = int(round(TRIM_OVER_PASSBAND / spec.passband_hz * fs_d))
     segments, infos, times, noise = [], [], [], []
     for (label, t, p, k), (kind, f) in zip(raw, exc, strict=True):
         pa = filtfilt(p, aa)
@@ -274,23 +315,7 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
         )
         times.append(td)
         noise.append(sd)
-    targets = np.concatenate([s.target[s.mask] for s in segments])
-    pressures = np.concatenate([s.pressure_MPa for s in segments])
-    # relative: a constant series comes out of the filters with 1e-16 of rounding ripple
-    if not np.ptp(targets) > 1e-9 * np.max(np.abs(targets)):
-        raise DataError(f"{m.source}: curvature is constant: there is no response to compare")
-    return Prepared(
-        segments=tuple(segments),
-        runs=tuple(infos),
-        data_filter=spec,
-        fit_filter=fit_spec,
-        fs_hz=fs_d,
-        decimation=q,
-        noise_floor_per_mm=float(np.sqrt(np.mean(np.square(noise))) * gain),
-        full_scale_per_mm=float(np.ptp(targets)),
-        scales=Scales(pressure_MPa=float(np.ptp(pressures)), duration_s=max(r.duration_s for r in infos)),
-        times=tuple(times),
-    )
+    return segments, infos, times, noise
 
 
 def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Prepared:

@@ -48,7 +48,7 @@ import itertools
 import logging
 import math
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -192,70 +192,11 @@ def explain_prototype(
     max_size
         Largest number of ingredients in one hypothesis.
     """
-    p = np.asarray(measured["pressure_MPa"], float)
-    k = np.asarray(measured["curvature_per_mm"], float)
-    notes = []
-    cands = [c for c in (candidates or INGREDIENTS) if c in INGREDIENTS]
-    if "finite_strain" in cands:
-        cands.remove("finite_strain")
-        notes.append(f"finite_strain skipped: {_FINITE_STRAIN_SKIP}")
-    g_free = float(p @ k / (p @ p))
-    resid = k - g_free * p
-    sigma = max(float(np.sqrt(resid @ resid / max(p.size - 1, 1))), 1e-3 * float(np.abs(k).max()))
-    n = p.size
-
-    def loglik(g: float) -> float:
-        r = k - g * p
-        return float(-0.5 * (r @ r) / sigma**2 - n * math.log(sigma * math.sqrt(2 * math.pi)))
-
-    best = loglik(g_free)
-    e = measured.get("elongation")
-    if e is not None:  # the elongation scored alike (its own line and scatter), added to the log-likelihood
-        e = np.asarray(e, float)
-        ge_free = float(p @ e / (p @ p))
-        re = e - ge_free * p
-        sigma_e = max(float(np.sqrt(re @ re / max(n - 1, 1))), 1e-3 * float(np.abs(e).max() or 1.0))
-
-        def loglik_e(g: float) -> float:
-            r = e - g * p
-            return float(-0.5 * (r @ r) / sigma_e**2 - n * math.log(sigma_e * math.sqrt(2 * math.pi)))
-
-        best += loglik_e(ge_free)
-    cache: dict = {}
-    hyps = []
-    for combo in _hypotheses(max_size, cands):
-        gains, elong = hypothesis_gains(design, combo, load=load, cache=cache)
-        lo, hi = float(gains.min()) * tip_factor, float(gains.max()) * tip_factor
-        if "vision_bias" in combo:
-            lo, hi = lo * VISION[0], hi * VISION[1]
-        g_star = min(max(g_free, lo), hi)
-        ll = loglik(g_star)
-        if e is not None:
-            ll += loglik_e(min(max(ge_free, float(elong.min())), float(elong.max())))
-        band = [[float(lo * pi), float(hi * pi)] for pi in p]
-        covers = bool(np.all((k >= p * lo - 2 * sigma) & (k <= p * hi + 2 * sigma)))
-        hyps.append(
-            {
-                "ingredients": list(combo),
-                "gain_band_per_mm_MPa": [lo, hi],
-                "elongation_band_per_MPa": [float(elong.min()), float(elong.max())],
-                "band": band,
-                "covers_measurement": covers,
-                "log_likelihood": ll,
-                "fits": bool(best - ll <= FIT_DELTA),
-            }
-        )
-    named: list[str] = []
-    equally_good: list[list[str]] = []
-    for size in range(0, max_size + 1):
-        fit = [h for h in hyps if len(h["ingredients"]) == size and h["fits"]]
-        if fit:
-            equally_good = [h["ingredients"] for h in fit]
-            common = set(fit[0]["ingredients"]).intersection(*[set(h["ingredients"]) for h in fit[1:]])
-            named = sorted(common)
-            break
-    else:
-        notes.append(f"no hypothesis of up to {max_size} ingredients fits the measurement")
+    pts = _points(measured)
+    p, k, g_free, sigma = pts.p, pts.k, pts.g_free, pts.sigma
+    cands, notes = _candidates(candidates)
+    hyps = _score_hypotheses(design, cands, pts, load=load, tip_factor=tip_factor, max_size=max_size)
+    named, equally_good = _decide(hyps, max_size, notes)
     separate = _separating_measurement([h for h in hyps if h["ingredients"] in equally_good])
     base = hyps[0]
     return {
@@ -281,6 +222,105 @@ def explain_prototype(
         "separating_measurement": separate,
         "hypotheses": hyps,
     }
+
+
+def _loglik(y: np.ndarray, p: np.ndarray, g: float, sigma: float) -> float:
+    """Gaussian log-likelihood of the points ``y`` about the line ``g p``."""
+    r = y - g * p
+    return float(-0.5 * (r @ r) / sigma**2 - p.size * math.log(sigma * math.sqrt(2 * math.pi)))
+
+
+@dataclass(frozen=True)
+class _Points:
+    """The measured points, their unconstrained best lines, scatter and best log-likelihood."""
+
+    p: np.ndarray
+    k: np.ndarray
+    g_free: float
+    sigma: float
+    best: float
+    e: np.ndarray | None = None
+    ge_free: float = math.nan
+    sigma_e: float = math.nan
+
+
+def _points(measured: dict[str, np.ndarray]) -> _Points:
+    """Best lines through the origin and scatter of the curvature (and elongation, if measured)."""
+    p = np.asarray(measured["pressure_MPa"], float)
+    k = np.asarray(measured["curvature_per_mm"], float)
+    g_free = float(p @ k / (p @ p))
+    resid = k - g_free * p
+    sigma = max(float(np.sqrt(resid @ resid / max(p.size - 1, 1))), 1e-3 * float(np.abs(k).max()))
+    n = p.size
+    best = _loglik(k, p, g_free, sigma)
+    e = measured.get("elongation")
+    if e is None:
+        return _Points(p=p, k=k, g_free=g_free, sigma=sigma, best=best)
+    # the elongation scored alike (its own line and scatter), added to the log-likelihood
+    e = np.asarray(e, float)
+    ge_free = float(p @ e / (p @ p))
+    re = e - ge_free * p
+    sigma_e = max(float(np.sqrt(re @ re / max(n - 1, 1))), 1e-3 * float(np.abs(e).max() or 1.0))
+    best += _loglik(e, p, ge_free, sigma_e)
+    return _Points(p=p, k=k, g_free=g_free, sigma=sigma, best=best, e=e, ge_free=ge_free, sigma_e=sigma_e)
+
+
+def _candidates(candidates: Sequence[str] | None) -> tuple[list[str], list[str]]:
+    """The ingredients to try, and the notes on those skipped."""
+    notes = []
+    cands = [c for c in (candidates or INGREDIENTS) if c in INGREDIENTS]
+    if "finite_strain" in cands:
+        cands.remove("finite_strain")
+        notes.append(f"finite_strain skipped: {_FINITE_STRAIN_SKIP}")
+    return cands, notes
+
+
+def _score_hypotheses(design, cands, pts: _Points, *, load, tip_factor, max_size) -> list[dict]:
+    """Band, best log-likelihood and fit of every hypothesis."""
+    p, k, sigma = pts.p, pts.k, pts.sigma
+    cache: dict = {}
+    hyps = []
+    for combo in _hypotheses(max_size, cands):
+        gains, elong = hypothesis_gains(design, combo, load=load, cache=cache)
+        lo, hi = float(gains.min()) * tip_factor, float(gains.max()) * tip_factor
+        if "vision_bias" in combo:
+            lo, hi = lo * VISION[0], hi * VISION[1]
+        g_star = min(max(pts.g_free, lo), hi)
+        ll = _loglik(k, p, g_star, sigma)
+        if pts.e is not None:
+            ll += _loglik(
+                pts.e, p, min(max(pts.ge_free, float(elong.min())), float(elong.max())), pts.sigma_e
+            )
+        band = [[float(lo * pi), float(hi * pi)] for pi in p]
+        covers = bool(np.all((k >= p * lo - 2 * sigma) & (k <= p * hi + 2 * sigma)))
+        hyps.append(
+            {
+                "ingredients": list(combo),
+                "gain_band_per_mm_MPa": [lo, hi],
+                "elongation_band_per_MPa": [float(elong.min()), float(elong.max())],
+                "band": band,
+                "covers_measurement": covers,
+                "log_likelihood": ll,
+                "fits": bool(pts.best - ll <= FIT_DELTA),
+            }
+        )
+    return hyps
+
+
+def _decide(hyps: list[dict], max_size: int, notes: list[str]) -> tuple[list[str], list[list[str]]]:
+    """The fewest ingredients that fit: (named ingredients, equally good hypotheses); notes a miss."""
+    named: list[str] = []
+    equally_good: list[list[str]] = []
+    for size in range(0, max_size + 1):
+        fit = [h for h in hyps if len(h["ingredients"]) == size and h["fits"]]
+        if fit:
+            equally_good = [h["ingredients"] for h in fit]
+            common = set(fit[0]["ingredients"]).intersection(*[set(h["ingredients"]) for h in fit[1:]])
+            named = sorted(common)
+            break
+    else:
+        notes.append(f"no hypothesis of up to {max_size} ingredients fits the measurement")
+    return named, equally_good
 
 
 def _band_of(hyps, equally_good):

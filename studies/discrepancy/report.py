@@ -185,40 +185,9 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
     record = result.as_dict()
     check_finite_json(record)  # strict JSON: a NaN in the record is refused, not written
     (out / "discrepancy.json").write_text(json.dumps(record, indent=2, allow_nan=False))
-    prep = result.prepared
-    before = residuals(prep, result.baseline_fit)
-    after = residuals(prep, result.final_fit)
-    _plot_maps(
-        before,
-        "where the calibrated model is wrong (residual maps, before)",
-        out / "residual_maps_before.png",
-        prep.static,
-    )
-    _plot_maps(
-        after,
-        "residual maps after adding " + (", ".join(result.named) or "nothing"),
-        out / "residual_maps_after.png",
-        prep.static,
-    )
-    _plot_loops(before, after, " + ".join(result.named), out / "loops.png")
-    _plot_candidates(result, out / "candidates.png")
+    _write_figures(result, out)
     shrink = record["gap_shrink"]
-    rows = "".join(
-        f"<tr><td>{i + 1}</td><td><b>{html.escape(s['effect'])}</b><br><small>"
-        f"{html.escape(s['meaning'])}</small></td><td>"
-        + "<br>".join(
-            f"{k} = {_fmt(v)} &plusmn; {_fmt(s['params_stderr'].get(k))}" for k, v in s["params"].items()
-        )
-        + (
-            f"coefficient = {_fmt(s['coefficient'])} &plusmn; {_fmt(s['coefficient_stderr'])}"
-            if s["coefficient"] is not None
-            else ""
-        )
-        + f"</td><td>{_fmt(s['nrmse_before'])}</td><td>{_fmt(s['nrmse_after'])}</td>"
-        f"<td>{s['excess_removed']:.1%}</td><td>{_fmt(', '.join(s['ambiguous_with']) or 'none')}"
-        f"</td></tr>"
-        for i, s in enumerate(result.steps)
-    )
+    rows = _step_rows(result)
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)
     runs = "".join(
         f"<tr><td>{html.escape(r['run'])}</td><td>{r['kind']}</td>"
@@ -229,17 +198,7 @@ def write_report(result: DiscrepancyResult, out_dir) -> Path:
         f"<tr><td>{html.escape(k)}</td><td>{_cell(v)}</td></tr>" for k, v in result.calibration.items()
     )
     filt = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in result.filter.items())
-    from softcath.analytic.effects import get
-
-    library = "".join(
-        f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"
-        + "<br>".join(
-            f"{html.escape(q['name'])} [{html.escape(q['unit'])}]: {html.escape(q['doc'])}"
-            for q in d["params"]
-        )
-        + "</td></tr>"
-        for d in (get(c).describe() for c in result.candidates[0] if c != "(current)")
-    )
+    library = _library_rows(result)
     verdict = (
         f"named: <b>{html.escape(' + '.join(result.named))}</b>"
         if result.named
@@ -275,3 +234,59 @@ alt="residual maps after">
     path.write_text(page)
     log.info("wrote %s", path)
     return path
+
+
+def _write_figures(result: DiscrepancyResult, out: Path) -> None:
+    """Residual maps before and after, the loops and the candidate scores as PNGs."""
+    prep = result.prepared
+    before = residuals(prep, result.baseline_fit)
+    after = residuals(prep, result.final_fit)
+    _plot_maps(
+        before,
+        "where the calibrated model is wrong (residual maps, before)",
+        out / "residual_maps_before.png",
+        prep.static,
+    )
+    _plot_maps(
+        after,
+        "residual maps after adding " + (", ".join(result.named) or "nothing"),
+        out / "residual_maps_after.png",
+        prep.static,
+    )
+    _plot_loops(before, after, " + ".join(result.named), out / "loops.png")
+    _plot_candidates(result, out / "candidates.png")
+
+
+def _step_rows(result: DiscrepancyResult) -> str:
+    """HTML rows of the named steps."""
+    return "".join(
+        f"<tr><td>{i + 1}</td><td><b>{html.escape(s['effect'])}</b><br><small>"
+        f"{html.escape(s['meaning'])}</small></td><td>"
+        + "<br>".join(
+            f"{k} = {_fmt(v)} &plusmn; {_fmt(s['params_stderr'].get(k))}" for k, v in s["params"].items()
+        )
+        + (
+            f"coefficient = {_fmt(s['coefficient'])} &plusmn; {_fmt(s['coefficient_stderr'])}"
+            if s["coefficient"] is not None
+            else ""
+        )
+        + f"</td><td>{_fmt(s['nrmse_before'])}</td><td>{_fmt(s['nrmse_after'])}</td>"
+        f"<td>{s['excess_removed']:.1%}</td><td>{_fmt(', '.join(s['ambiguous_with']) or 'none')}"
+        f"</td></tr>"
+        for i, s in enumerate(result.steps)
+    )
+
+
+def _library_rows(result: DiscrepancyResult) -> str:
+    """HTML rows describing the candidates of the first step."""
+    from softcath.analytic.effects import get
+
+    return "".join(
+        f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"
+        + "<br>".join(
+            f"{html.escape(q['name'])} [{html.escape(q['unit'])}]: {html.escape(q['doc'])}"
+            for q in d["params"]
+        )
+        + "</td></tr>"
+        for d in (get(c).describe() for c in result.candidates[0] if c != "(current)")
+    )

@@ -29,6 +29,7 @@ import logging
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -264,20 +265,38 @@ def section_curve(
     >>> [round(float(a)) for a in c.bend_angle_rad * 180 / 3.141592653589793]  # degrees
     [25, 59]
     """
-    from softcath import design as design_pkg
-    from softcath.analytic.pose import tip_pose
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.geometry import FILLER, TUBE
-    from softcath.fem.section_model.finite_strain.discretisation import discretise
-    from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
-    from softcath.fem.section_model.finite_strain.newton import (
-        LOADS,
-        Loading,
-        Problem,
-        SectionConvergenceError,
-        walk,
+    d, p = _check_inputs(design, pressures, load)
+    t0 = time.perf_counter()
+    setup = _set_up(
+        d,
+        p,
+        load,
+        mesh_size=mesh_size,
+        segments=segments,
+        mesher=mesher,
+        laws=laws,
+        silicone_poisson=silicone_poisson,
+        hoop_cap=hoop_cap,
+        linear_gain=linear_gain,
     )
-    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+    states, error = _walk(setup, progress)
+    curve = _curve(d, load, p, setup, states, hoop_cap, t0)
+    log.info(
+        "finite-strain section: %d pressures in %.3g s (%d DOFs)",
+        curve.pressure.size,
+        curve.seconds,
+        setup.disc.ndofs,
+    )
+    if error is not None:
+        error.curve = curve
+        raise error
+    return curve
+
+
+def _check_inputs(design, pressures, load):
+    """Check the load and pressures and resolve the design; returns (design, pressures)."""
+    from softcath import design as design_pkg
+    from softcath.fem.section_model.finite_strain.newton import LOADS
 
     if load not in LOADS:
         raise DesignError("load", load, f"must be one of {LOADS}")
@@ -288,7 +307,37 @@ def section_curve(
             "assembly", d.assembly.to_dict(), "the finite-strain section model takes the bonded tip only "
             "(interfaces and fillers as built are in the linear section model and the 3-D FEM)"
         )  # fmt: skip
-    t0 = time.perf_counter()
+    return d, p
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """The discretised section and its loading, ready for the Newton walk."""
+
+    section: Any
+    mesh_size: float
+    law_map: dict
+    disc: Any
+    wall: Any
+    problem: Any
+    positive: np.ndarray
+    p_top: float
+    loading: Any
+    rest: Any
+    gain: float | None
+
+
+def _set_up(
+    d, p, load, *, mesh_size, segments, mesher, laws, silicone_poisson, hoop_cap, linear_gain
+) -> _Setup:
+    """Mesh and discretise the section, set up its loading and the rest state."""
+    from softcath.fem.adapter import geometry_from_design
+    from softcath.fem.geometry import FILLER, TUBE
+    from softcath.fem.section_model.finite_strain.discretisation import discretise
+    from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
+    from softcath.fem.section_model.finite_strain.newton import Loading, Problem
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+
     mesh_size = MESH_SIZE if mesh_size is None else mesh_size
     segments = SEGMENTS if segments is None else segments
     section = catheter_section_mesh(
@@ -309,30 +358,63 @@ def section_curve(
     q_rest[disc.n_u] = 1.0
     rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
     gain = _linear_gain(problem, q_rest, loading) / p_top if linear_gain else None
+    return _Setup(
+        section=section,
+        mesh_size=mesh_size,
+        law_map=law_map,
+        disc=disc,
+        wall=wall,
+        problem=problem,
+        positive=positive,
+        p_top=p_top,
+        loading=loading,
+        rest=rest,
+        gain=gain,
+    )
+
+
+def _walk(setup: _Setup, progress: bool):
+    """Newton walk through the positive pressures; returns (states, convergence error or None)."""
+    from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, walk
 
     bar = None
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=positive.size, desc="finite-strain section", unit="pressure")
+        bar = tqdm(total=setup.positive.size, desc="finite-strain section", unit="pressure")
     states = []
     error = None
     try:
-        states = walk(problem, loading, positive / p_top, on_state=(lambda s: bar.update(1)) if bar else None)
+        states = walk(
+            setup.problem,
+            setup.loading,
+            setup.positive / setup.p_top,
+            on_state=(lambda s: bar.update(1)) if bar else None,
+        )
     except SectionConvergenceError as exc:
         error = exc
         states = list(exc.states)
     finally:
         if bar is not None:
             bar.close()
-    n_zero = p.size - positive.size
+    return states, error
+
+
+def _curve(d, load, p, setup: _Setup, states, hoop_cap, t0) -> SectionCurve:
+    """The :class:`SectionCurve` of the rest rows and the converged states."""
+    from softcath.analytic.pose import tip_pose
+    from softcath.fem.geometry import TUBE
+
+    disc, wall, rest = setup.disc, setup.wall, setup.rest
+    n_zero = p.size - setup.positive.size
     rows = [_rest_row(rest)] * n_zero + [_row(disc, wall, s) for s in states]
     cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
     k_c = cols.get("curvature", np.zeros(0))
     length = float(d.tip.bending_length)
     stretched = length * (1.0 + cols.get("elongation", np.zeros(0)))
     tip_x, tip_y, _ = tip_pose(k_c, stretched)
-    curve = SectionCurve(
+    gain = setup.gain
+    return SectionCurve(
         design_name=d.name,
         load=load,
         pressure=p[: len(rows)],
@@ -352,19 +434,14 @@ def section_curve(
         length_mm=length,
         lumen_area_rest_mm2=float(rest.area),
         dofs=int(disc.ndofs),
-        n_triangles=int(section.triangles.shape[0]),
-        mesh_size_mm=float(mesh_size),
-        poisson_ratio_silicone=_poisson(law_map[TUBE]),
+        n_triangles=int(setup.section.triangles.shape[0]),
+        mesh_size_mm=float(setup.mesh_size),
+        poisson_ratio_silicone=_poisson(setup.law_map[TUBE]),
         hoop_cap=hoop_cap,
         seconds=float(time.perf_counter() - t0),
-        mesh_seconds=float(section.seconds),
+        mesh_seconds=float(setup.section.seconds),
         state=(disc, states),
     )
-    log.info("finite-strain section: %d pressures in %.3g s (%d DOFs)", len(rows), curve.seconds, disc.ndofs)
-    if error is not None:
-        error.curve = curve
-        raise error
-    return curve
 
 
 def _poisson(law) -> float:
