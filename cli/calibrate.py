@@ -62,7 +62,6 @@ def run(args: argparse.Namespace) -> int:
     from softcath import analytic, design
     from softcath.analytic.calibration import calibrate
     from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
-    from softcath.studies.model_validity import check_pressure
     from softcath.studies.plots import calibration_plot
 
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
@@ -145,7 +144,7 @@ def _check_grid(grid: int, free: tuple[str, ...]) -> None:
 def _read_measurement(path: Path, low_pass: bool):
     """Read and check the measurement CSV; with ``low_pass`` filter every series."""
     from softcath.design.measurement import Measurement, read_measurement_csv
-    from softcath.studies.validity import check_pressure
+    from softcath.studies.model_validity import check_pressure
 
     m = read_measurement_csv(path)
     check_pressure(m.pressure_MPa, param=f"{path}: pressure_MPa")
