@@ -109,6 +109,10 @@ class _Kernel:
             hit = ce[order[pos]] == e if ce.size else np.zeros(nel, bool)
             self.edge_curved[hit, j] = order[pos[hit]]
         self.silicone = np.isin(m.labels, (TUBE, FILLER))
+        self.silicone_elements = np.flatnonzero(self.silicone)
+        self.curved = np.flatnonzero((self.edge_curved >= 0).any(axis=1))
+        self.affine = np.flatnonzero((self.edge_curved < 0).all(axis=1))
+        self._reference(X, W)
         # Sparse pattern of the free-free block and the scatter into it.
         self.pinned = _rigid_pins(basis, mesh)
         free = np.setdiff1d(np.arange(self.n), self.pinned)
@@ -130,6 +134,10 @@ class _Kernel:
         self.lower = self.indices <= row_of
         count = np.bincount(row_of[self.lower], minlength=free.size)
         self.indptr_lower = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
+        nr = nb - 2
+        self.scatter_k = sparse.csr_matrix(
+            (np.ones(self.entries.size), (slot, self.entries)), shape=(self.nnz, nel * nr * nr)
+        )
         rdofs = dofs[: nb - 2].T.ravel()
         self.scatter_g = sparse.csr_matrix(
             (np.ones(rdofs.size), (rdofs, np.arange(rdofs.size))), shape=(self.n, rdofs.size)
@@ -181,71 +189,137 @@ class _Kernel:
             out.append(np.concatenate([p, mids], axis=1))
         return np.stack(out)
 
-    def assemble(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray, ez: np.ndarray) -> dict:
-        """The condensed operators of ``m`` designs (``element.assemble``'s algebra, batched).
+    def _reference(self, X: np.ndarray, W: np.ndarray) -> None:
+        """Reference-element integrals of the straight-sided (affine) triangles' blocks.
 
-        ``x6`` (m, nel, 6, 2) node positions; ``D`` (m, nel, 4, 4), ``lam`` and ``ez`` (m, nel)
-        the region laws per triangle.
+        On an affine triangle the Jacobian is constant, so every block is a fixed
+        combination of these integrals (taken with the curved triangles' quadrature,
+        hence the same numbers as quadrature on the mapped triangle, to round-off).
         """
-        m, nel, nb = x6.shape[0], self.nel, self.nb
-        M = m * nel
-        J = np.einsum("mekI,kjq->meqIj", x6, self.dNg).reshape(M, -1, 2, 2)  # dx_I / dX_j
+        r, s = X
+        psi = np.stack([np.ones_like(r), r, s])  # (3, nq): 1, r, s
+        dphi = self.dphi  # (ns, 2, nq)
+        ns = dphi.shape[0]
+        # Gradient Gram matrices: R[(j, k), (s, t)] = int dphi_s/dX_j dphi_t/dX_k.
+        self.ref_grad = np.einsum("sjq,tkq,q->jkst", dphi, dphi, W).reshape(4, ns * ns)
+        # S[j, (s, m)] = int dphi_s/dX_j psi_m; M[m, n] = int psi_m psi_n.
+        self.ref_grad_psi = np.einsum("sjq,mq,q->jsm", dphi, psi, W).reshape(2, ns * 3)
+        self.ref_mass = np.einsum("mq,nq,q->mn", psi, psi, W)
+        # Strain component p of local DOF (scalar s, component c) is sum_I sel[c, p, I] d phi_s / dx_I.
+        sel = np.zeros((2, 4, 2))
+        sel[0, 0, 0] = sel[1, 1, 1] = sel[0, 3, 1] = sel[1, 3, 0] = 1.0
+        self.sel = sel
+        # E[(c, d, I, J)] = sum_pq sel[c, p, I] sel[d, q, J] D[p, q], as one product with D (16,).
+        self.sel2 = np.einsum("cpI,dqJ->pqcdIJ", sel, sel).reshape(16, 16)
+
+    def _affine_blocks(self, x6: np.ndarray, D: np.ndarray):
+        """Element blocks of straight-sided triangles from the reference integrals.
+
+        ``x6`` (e, 6, 2) nodes, ``D`` (e, 4, 4). Returns ``k_loc`` (e, nb, nb), ``kug``
+        (e, nb, 3), ``phi_phi`` = int phi phi^T (e, 3, 3) with phi = (1, x, y),
+        ``phi_div`` = int phi div (e, 3, nb), and the inverse Jacobian (e, 2, 2).
+        """
+        e, ns = x6.shape[0], self.dphi.shape[0]
+        x0 = x6[:, 0]
+        J = (x6[:, 1:3] - x0[:, None]).transpose(0, 2, 1)  # J[I, j] = dx_I / dX_j
+        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+        inv = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1),
+                        np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2) / det[:, None, None]  # fmt: skip
+        adet = np.abs(det)
+        invT = inv.transpose(0, 2, 1)  # (e, I, j)
+        C = (invT[:, :, None, :, None] * invT[:, None, :, None, :]).reshape(e, 4, 4) * adet[:, None, None]
+        E = (D.reshape(e, 16) @ self.sel2).reshape(e, 4, 4)  # (e, (c, d), (I, J))
+        k = ((E @ C).reshape(e * 4, 4) @ self.ref_grad).reshape(e, 2, 2, ns, ns)
+        k_loc = k.transpose(0, 3, 1, 4, 2).reshape(e, 2 * ns, 2 * ns)
+        # phi = A psi with psi = (1, r, s): A = [[1, 0, 0], [x0, J0.], [y0, J1.]].
+        A = np.zeros((e, 3, 3))
+        A[:, 0, 0] = 1.0
+        A[:, 1:, 0] = x0
+        A[:, 1:, 1:] = J
+        Sinv = (invT @ self.ref_grad_psi).reshape(e, 2, ns, 3)  # (e, I, s, m)
+        H = (A @ Sinv.transpose(0, 3, 1, 2).reshape(e, 3, 2 * ns)).reshape(e, 3, 2, ns)
+        H *= adet[:, None, None, None]  # H[k, I, s] = int phi_k d phi_s / dx_I
+        e2 = np.einsum("mp,cpI->mcI", D[:, 2], self.sel)
+        kug = np.einsum("mcI,mkIs->msck", e2, H).reshape(e, 2 * ns, 3)
+        phi_div = H.transpose(0, 1, 3, 2).reshape(e, 3, 2 * ns)
+        phi_phi = (A @ self.ref_mass @ A.transpose(0, 2, 1)) * adet[:, None, None]
+        return k_loc, kug, phi_phi, phi_div, inv
+
+    def _curved_blocks(self, x6: np.ndarray, D: np.ndarray):
+        """:meth:`_affine_blocks` of curved (isoparametric P2) triangles, by quadrature.
+
+        The inverse Jacobian is returned per quadrature point, (e, nq, 2, 2).
+        """
+        e, nb = x6.shape[0], self.nb
+        J = np.einsum("ekI,kjq->eqIj", x6, self.dNg)  # dx_I / dX_j
         det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
         inv = np.stack([np.stack([J[..., 1, 1], -J[..., 0, 1]], -1),
                         np.stack([-J[..., 1, 0], J[..., 0, 0]], -1)], -2) / det[..., None, None]  # fmt: skip
-        g = self.dphi.transpose(2, 0, 1)[None] @ inv  # physical gradients (M, nq, ns, 2)
-        w = np.abs(det) * self.W  # (M, nq)
-        xq = np.einsum("mekI,kq->Imeq", x6, self.Ng).reshape(2, M, -1)
+        g = self.dphi.transpose(2, 0, 1)[None] @ inv  # physical gradients (e, nq, ns, 2)
+        w = np.abs(det) * self.W  # (e, nq)
+        xq = np.einsum("ekI,kq->Ieq", x6, self.Ng)
         nq = w.shape[1]
-        B = np.zeros((M, 4, nq, nb))  # strain (xx, yy, zz, xy) of each local DOF at each point
+        B = np.zeros((e, 4, nq, nb))  # strain (xx, yy, zz, xy) of each local DOF at each point
         B[:, 0, :, 0::2] = g[..., 0]
         B[:, 1, :, 1::2] = g[..., 1]
         B[:, 3, :, 0::2] = g[..., 1]
         B[:, 3, :, 1::2] = g[..., 0]
-        D = D.reshape(M, 4, 4)
-        lam = lam.reshape(M)
-        DB = (D @ B.reshape(M, 4, nq * nb)).reshape(M, 4, nq, nb)
+        DB = (D @ B.reshape(e, 4, nq * nb)).reshape(e, 4, nq, nb)
         Bw = B * w[:, None, :, None]
-        k_loc = Bw.reshape(M, 4 * nq, nb).transpose(0, 2, 1) @ DB.reshape(M, 4 * nq, nb)
-        phi = np.stack([np.ones_like(xq[0]), xq[0], xq[1]])  # (3, M, nq)
-        phiw = (phi * w).transpose(1, 2, 0)
-        kug_loc = DB[:, 2].transpose(0, 2, 1) @ phiw
-        phi_e = phi.transpose(1, 2, 0)  # (M, nq, 3)
-        k_gg = D[:, 2, 2, None, None] * (phiw.transpose(0, 2, 1) @ phi_e)
-        # Projected volumetric part, on every element (lambda = 0 where the law is anisotropic).
-        area = w.sum(axis=1)
-        xc = (w * xq[0]).sum(axis=1) / area
-        yc = (w * xq[1]).sum(axis=1) / area
-        q = np.stack([np.ones_like(xq[0]), xq[0] - xc[:, None], xq[1] - yc[:, None]], axis=-1)
-        qwt = (q * w[:, :, None]).transpose(0, 2, 1)
-        mm = qwt @ q
-        gu = qwt @ (B[:, 0] + B[:, 1])  # (M, 3, nb)
-        gg = qwt @ phi_e
-        minv = np.linalg.inv(mm) * lam[:, None, None]
-        mgu = minv @ gu
-        k_loc += gu.transpose(0, 2, 1) @ mgu
-        kug_loc += mgu.transpose(0, 2, 1) @ gg
-        k_gg += gg.transpose(0, 2, 1) @ (minv @ gg)
-        ri, bi = slice(0, nb - 2), slice(nb - 2, nb)
-        kbb_inv = np.linalg.inv(k_loc[:, bi, bi])
-        kbr = k_loc[:, bi, ri]
-        kbg = kug_loc[:, bi, :]
-        xr, xg = kbb_inv @ kbr, kbb_inv @ kbg
-        k_rr = k_loc[:, ri, ri] - kbr.transpose(0, 2, 1) @ xr
-        k_rg = kug_loc[:, ri, :] - kbr.transpose(0, 2, 1) @ xg
-        k_gg = k_gg - kbg.transpose(0, 2, 1) @ xg
+        k_loc = Bw.reshape(e, 4 * nq, nb).transpose(0, 2, 1) @ DB.reshape(e, 4 * nq, nb)
+        phi = np.stack([np.ones_like(xq[0]), xq[0], xq[1]])  # (3, e, nq)
+        phiw = (phi * w).transpose(1, 2, 0)  # (e, nq, 3)
+        kug = DB[:, 2].transpose(0, 2, 1) @ phiw
+        phi_phi = phiw.transpose(0, 2, 1) @ phi.transpose(1, 2, 0)
+        phi_div = phiw.transpose(0, 2, 1) @ (B[:, 0] + B[:, 1])
+        return k_loc, kug, phi_phi, phi_div, inv
+
+    def _element_blocks(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray):
+        """Element blocks of all triangles (M = m nel), the projected volumetric part included.
+
+        Returns ``k_loc`` (M, nb, nb), ``kug`` (M, nb, 3), ``k_gg`` (M, 3, 3), ``phi_phi``
+        (M, 3, 3) and the inverse Jacobian at the quadrature points (M, nq, 2, 2).
+        """
+        m, nel, nb = x6.shape[0], self.nel, self.nb
+        M, nq = m * nel, self.W.size
+        k_loc, kug = np.empty((m, nel, nb, nb)), np.empty((m, nel, nb, 3))
+        phi_phi, phi_div = np.empty((m, nel, 3, 3)), np.empty((m, nel, 3, nb))
+        inv = np.empty((m, nel, nq, 2, 2))
+        for idx, blocks in ((self.affine, self._affine_blocks), (self.curved, self._curved_blocks)):
+            if idx.size == 0:
+                continue
+            got = blocks(x6[:, idx].reshape(-1, 6, 2), D[:, idx].reshape(-1, 4, 4))
+            for out, v in zip((k_loc, kug, phi_phi, phi_div), got[:4], strict=True):
+                out[:, idx] = v.reshape((m, idx.size) + v.shape[1:])
+            inv[:, idx] = got[4].reshape(m, idx.size, -1, 2, 2)
+        k_loc, kug = k_loc.reshape(M, nb, nb), kug.reshape(M, nb, 3)
+        phi_phi, phi_div = phi_phi.reshape(M, 3, 3), phi_div.reshape(M, 3, nb)
+        k_gg = D.reshape(M, 4, 4)[:, 2, 2, None, None] * phi_phi
+        _add_volumetric(k_loc, kug, k_gg, phi_phi, phi_div, lam.reshape(M))
+        return k_loc, kug, k_gg, phi_phi, inv.reshape(M, nq, 2, 2)
+
+    def assemble(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray, ez: np.ndarray) -> dict:
+        """The condensed operators of ``m`` designs (``element.assemble``'s algebra, batched).
+
+        ``x6`` (m, nel, 6, 2) node positions; ``D`` (m, nel, 4, 4), ``lam`` and ``ez`` (m, nel)
+        the region laws per triangle. Straight-sided triangles take their blocks from the
+        reference integrals (:meth:`_affine_blocks`), curved ones by quadrature.
+        """
+        m, nel, nb = x6.shape[0], self.nel, self.nb
+        k_loc, kug_loc, k_gg, phi_phi, inv = self._element_blocks(x6, D, lam)
+        k_rr, k_rg, k_gg, xr, xg = _condense(k_loc, kug_loc, k_gg)
         nr = nb - 2
-        flat = k_rr.reshape(m, -1)[:, self.entries]
-        data = np.stack([np.bincount(self.slot, weights=f, minlength=self.nnz) for f in flat])  # (m, nnz)
+        data = np.ascontiguousarray((self.scatter_k @ k_rr.reshape(m, -1).T).T)  # (m, nnz)
         k_ug = self.scatter_g @ k_rg.reshape(m, nel * nr, 3).transpose(1, 0, 2).reshape(nel * nr, 3 * m)
         k_ug = k_ug.reshape(self.n, m, 3).transpose(1, 0, 2)  # (m, n, 3)
         f, area, xl, yl = self._lumen_load(x6)
-        wz = (ez.reshape(M, 1) * w).reshape(m, -1)
-        ybar = (wz * xq[1].reshape(m, -1)).sum(axis=1) / wz.sum(axis=1)
+        ez_moments = ez.reshape(m, nel, 1) * phi_phi[:, 0].reshape(m, nel, 3)
+        ybar = ez_moments[..., 2].sum(axis=1) / ez_moments[..., 0].sum(axis=1)
+        xq = np.einsum("mekI,kq->Imeq", x6, self.Ng)
         return {
             "data": data, "K_ug": k_ug, "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1), "f": f,
-            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar, "B": B.reshape(m, nel, 4, nq, nb),
-            "xq": xq.reshape(2, m, nel, nq), "D": D.reshape(m, nel, 4, 4), "lam": lam.reshape(m, nel),
+            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar,
+            "inv": inv.reshape(m, nel, -1, 2, 2), "xq": xq,
             "xr": xr.reshape(m, nel, 2, nr), "xg": xg.reshape(m, nel, 2, 3),
         }  # fmt: skip
 
@@ -285,6 +359,80 @@ class _Kernel:
         return kff, self.factor
 
 
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Batched outer products ``a b^T`` of (M, p) and (M, q): (M, p, q)."""
+    return a[:, :, None] * b[:, None, :]
+
+
+def _inv2(a00, a01, a10, a11):
+    """Entries of the inverses of batched 2 x 2 matrices given by their entries."""
+    det = a00 * a11 - a01 * a10
+    return a11 / det, -a01 / det, -a10 / det, a00 / det
+
+
+def _add_volumetric(k_loc, kug, k_gg, phi_phi, phi_div, lam) -> None:
+    """Add lambda * P(tr eps)^2, P onto P1 per element, in place (explicit small-matrix algebra).
+
+    With phi = (1, x, y), the P1 pressures q = (1, x - xc, y - yc) = T phi have the
+    block-diagonal Gram matrix diag(A, C), A = int 1, C the centred second moments; so
+    ``k_loc += gu^T M^-1 gu`` and its ``kug``/``k_gg`` kin are sums of outer products.
+    """
+    area = phi_phi[:, 0, 0]
+    c = phi_phi[:, 0, 1:] / area[:, None]  # centroid (M, 2)
+    gg = phi_phi.copy()
+    gg[:, 1:] -= c[:, :, None] * phi_phi[:, :1]  # T phi_phi: rows (q_k, phi_l)
+    gu = phi_div.copy()
+    gu[:, 1:] -= c[:, :, None] * phi_div[:, :1]
+    i00, i01, i10, i11 = _inv2(gg[:, 1, 1], gg[:, 1, 2], gg[:, 2, 1], gg[:, 2, 2])
+    # The centred block C = (T phi_phi T^T)[1:, 1:] = gg[1:, 1:] (the shift of the columns adds 0).
+    lam_a = lam / area
+    vu = (
+        np.stack(
+            [
+                i00[:, None] * gu[:, 1] + i01[:, None] * gu[:, 2],
+                i10[:, None] * gu[:, 1] + i11[:, None] * gu[:, 2],
+            ],
+            axis=1,
+        )
+        * lam[:, None, None]
+    )
+    vg = (
+        np.stack(
+            [
+                i00[:, None] * gg[:, 1] + i01[:, None] * gg[:, 2],
+                i10[:, None] * gg[:, 1] + i11[:, None] * gg[:, 2],
+            ],
+            axis=1,
+        )
+        * lam[:, None, None]
+    )
+    vu0, vg0 = gu[:, 0] * lam_a[:, None], gg[:, 0] * lam_a[:, None]
+    k_loc += _outer(gu[:, 0], vu0) + _outer(gu[:, 1], vu[:, 0]) + _outer(gu[:, 2], vu[:, 1])
+    kug += _outer(vu0, gg[:, 0]) + _outer(vu[:, 0], gg[:, 1]) + _outer(vu[:, 1], gg[:, 2])
+    k_gg += _outer(gg[:, 0], vg0) + _outer(gg[:, 1], vg[:, 0]) + _outer(gg[:, 2], vg[:, 1])
+
+
+def _condense(k_loc, kug, k_gg):
+    """Static condensation of the two bubble DOFs (the last local DOFs), explicit 2 x 2 algebra.
+
+    Returns the retained blocks ``k_rr``, ``k_rg``, ``k_gg`` and the bubble maps ``xr``
+    (M, 2, nr), ``xg`` (M, 2, 3): bubbles = -(xr u_r + xg g).
+    """
+    nr = k_loc.shape[1] - 2
+    i00, i01, i10, i11 = _inv2(
+        k_loc[:, nr, nr], k_loc[:, nr, nr + 1], k_loc[:, nr + 1, nr], k_loc[:, nr + 1, nr + 1]
+    )
+    kbr, kbg = k_loc[:, nr:, :nr], kug[:, nr:]
+    xr = np.stack([i00[:, None] * kbr[:, 0] + i01[:, None] * kbr[:, 1],
+                   i10[:, None] * kbr[:, 0] + i11[:, None] * kbr[:, 1]], axis=1)  # fmt: skip
+    xg = np.stack([i00[:, None] * kbg[:, 0] + i01[:, None] * kbg[:, 1],
+                   i10[:, None] * kbg[:, 0] + i11[:, None] * kbg[:, 1]], axis=1)  # fmt: skip
+    k_rr = k_loc[:, :nr, :nr] - _outer(kbr[:, 0], xr[:, 0]) - _outer(kbr[:, 1], xr[:, 1])
+    k_rg = kug[:, :nr] - _outer(kbr[:, 0], xg[:, 0]) - _outer(kbr[:, 1], xg[:, 1])
+    k_gg = k_gg - _outer(kbg[:, 0], xg[:, 0]) - _outer(kbg[:, 1], xg[:, 1])
+    return k_rr, k_rg, k_gg, xr, xg
+
+
 _KERNELS: dict[str, _Kernel] = {}
 
 
@@ -295,6 +443,26 @@ def _kernel(template) -> _Kernel:
             _KERNELS.pop(next(iter(_KERNELS)))
         _KERNELS[key] = _Kernel(template)
     return _KERNELS[key]
+
+
+def _silicone_range(kernel: _Kernel, ue_r, xr, xg, inv, g, x, y) -> tuple[float, float]:
+    """(smallest, largest) principal strain over the silicone triangles' quadrature points.
+
+    ``ue_r`` (e, nb - 2) retained DOFs of the silicone triangles; ``xr``, ``xg`` their bubble
+    maps, ``inv`` (e, nq, 2, 2) inverse Jacobians, ``x``, ``y`` (e, nq) the points; ``g`` the
+    global strains.
+    """
+    if ue_r.shape[0] == 0:
+        return (0.0, 0.0)
+    ue = np.concatenate([ue_r, -(np.einsum("ebr,er->eb", xr, ue_r) + xg @ g)], axis=1)
+    ns, nq = kernel.dphi.shape[0], kernel.W.size
+    # Reference gradients d u_c / d X_j, then physical ones d u_c / d x_I = sum_j (.)_j inv[j, I].
+    ref = (ue.reshape(-1, ns, 2).transpose(0, 2, 1) @ kernel.dphi.reshape(ns, 2 * nq)).reshape(-1, 2, 2, nq)
+    grad = np.einsum("ecjq,eqjI->ceIq", ref, inv)
+    exx, eyy, exy = grad[0, :, 0], grad[1, :, 1], 0.5 * (grad[0, :, 1] + grad[1, :, 0])
+    ezz = g[0] + g[1] * x + g[2] * y
+    mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
+    return (float(np.minimum(mean - radius, ezz).min()), float(np.maximum(mean + radius, ezz).max()))
 
 
 def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
@@ -318,11 +486,10 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
     xl, yl = ops["centroid"][j]
     cap = ops["area"][j] * np.array([1.0, xl, yl])
     t0 = _tick("solve", t0)
-    nr = kernel.nb - 2
-    rdofs = kernel.dofs[:nr].T
-    B, xr, xg = ops["B"][j], ops["xr"][j], ops["xg"][j]
-    x, y = ops["xq"][:, j]
-    sil = kernel.silicone
+    sil = kernel.silicone_elements
+    rdofs = kernel.dofs[: kernel.nb - 2, sil].T
+    xr, xg, inv = ops["xr"][j][sil], ops["xg"][j][sil], ops["inv"][j][sil]
+    x, y = ops["xq"][:, j][:, sil]
     out = {}
     for ld in loads:
         f_g = cap.copy()
@@ -332,14 +499,7 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
             u[free] = x_p
         g = np.linalg.solve(k_sec, f_g)
         u[free] -= x_g @ g
-        ue_r = u[rdofs]
-        ue = np.concatenate([ue_r, -(np.einsum("ebr,er->eb", xr, ue_r) + xg @ g)], axis=1)
-        strain = (B[sil] @ ue[sil][:, None, :, None])[..., 0].transpose(1, 0, 2)  # (4, e, nq)
-        exx, eyy, exy = strain[0], strain[1], 0.5 * strain[3]
-        ezz = g[0] + g[1] * x[sil] + g[2] * y[sil]
-        mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
-        rng = (float(np.minimum(mean - radius, ezz).min()), float(np.maximum(mean + radius, ezz).max()))
-        out[ld] = (g, float(ops["f"][j] @ u), rng if exx.size else (0.0, 0.0))
+        out[ld] = (g, float(ops["f"][j] @ u), _silicone_range(kernel, u[rdofs], xr, xg, inv, g, x, y))
     _tick("post", t0)
     return k_sec, out, backward
 
