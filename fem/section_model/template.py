@@ -180,6 +180,20 @@ class SectionTemplate:
     laplace_ib: sparse.csr_matrix
     laplace_ii: object = dataclasses.field(repr=False)
 
+    @functools.cached_property
+    def curve_plan(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+        """Per curve with nodes: (curve, its nodes, its corners, which nodes are not corners,
+        the corners' order by template parameter) — the morph's per-curve bookkeeping, once."""
+        plan = []
+        for c in range(self.on_curve.shape[1]):
+            nodes = np.flatnonzero(self.on_curve[:, c])
+            if nodes.size == 0:
+                continue
+            corner = self.corners[np.flatnonzero(self.on_curve[self.corners, c])]
+            order = np.argsort(self.params[corner, c])
+            plan.append((c, nodes, corner, ~np.isin(nodes, self.corners), order))
+        return plan
+
 
 _FREE = ("coil_outer_radius", "coil_inner_radius", "channel_outer_radius", "channel_inner_radius",
          "tube_a", "lumen_a", "lumen_b")  # fmt: skip
@@ -373,29 +387,20 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
     new_params[k, c1] = _param(new[c1], cx, cy)
     new_params[k, c2] = _param(new[c2], cx, cy)
     # 2. other curve nodes: parameter shift interpolated between the curve's corners.
-    for c in range(nc):
-        nodes = np.flatnonzero(on[:, c])
-        if nodes.size == 0:
-            continue
-        kc = np.flatnonzero(on[k, c])
+    for c, nodes, corner, free, order in template.curve_plan:
         t_old = params[nodes, c]
+        ta = params[corner, c][order]
         if old[c, 0] == _CONIC:
-            ta = params[k[kc], c]
-            shift = np.angle(np.exp(1j * (new_params[k[kc], c] - ta)))
-            if kc.size == 0:
+            if corner.size == 0:
                 new_params[nodes, c] = t_old
                 continue
-            order = np.argsort(ta)
-            delta = np.interp(t_old, ta[order], shift[order], period=2 * np.pi)
-            free = ~np.isin(nodes, k)
+            shift = np.angle(np.exp(1j * (new_params[corner, c][order] - ta)))
+            delta = np.interp(t_old, ta, shift, period=2 * np.pi)
             new_params[nodes[free], c] = t_old[free] + delta[free]
         else:
-            if kc.size < 2:
+            if corner.size < 2:
                 raise MorphError("template", c, "a land line needs two corners")
-            ta = params[k[kc], c]
-            order = np.argsort(ta)
-            free = ~np.isin(nodes, k)
-            new_params[nodes[free], c] = np.interp(t_old[free], ta[order], new_params[k[kc], c][order])
+            new_params[nodes[free], c] = np.interp(t_old[free], ta, new_params[corner, c][order])
     xy = m.points.copy()
     first = np.argmax(on, axis=1)
     b = template.boundary
