@@ -359,11 +359,6 @@ class _Kernel:
         return kff, self.factor
 
 
-def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Batched outer products ``a b^T`` of (M, p) and (M, q): (M, p, q)."""
-    return a[:, :, None] * b[:, None, :]
-
-
 def _inv2(a00, a01, a10, a11):
     """Entries of the inverses of batched 2 x 2 matrices given by their entries."""
     det = a00 * a11 - a01 * a10
@@ -375,7 +370,7 @@ def _add_volumetric(k_loc, kug, k_gg, phi_phi, phi_div, lam) -> None:
 
     With phi = (1, x, y), the P1 pressures q = (1, x - xc, y - yc) = T phi have the
     block-diagonal Gram matrix diag(A, C), A = int 1, C the centred second moments; so
-    ``k_loc += gu^T M^-1 gu`` and its ``kug``/``k_gg`` kin are sums of outer products.
+    ``k_loc += gu^T M^-1 gu`` and its ``kug``/``k_gg`` kin need no batched inverse.
     """
     area = phi_phi[:, 0, 0]
     c = phi_phi[:, 0, 1:] / area[:, None]  # centroid (M, 2)
@@ -386,30 +381,17 @@ def _add_volumetric(k_loc, kug, k_gg, phi_phi, phi_div, lam) -> None:
     i00, i01, i10, i11 = _inv2(gg[:, 1, 1], gg[:, 1, 2], gg[:, 2, 1], gg[:, 2, 2])
     # The centred block C = (T phi_phi T^T)[1:, 1:] = gg[1:, 1:] (the shift of the columns adds 0).
     lam_a = lam / area
-    vu = (
-        np.stack(
-            [
-                i00[:, None] * gu[:, 1] + i01[:, None] * gu[:, 2],
-                i10[:, None] * gu[:, 1] + i11[:, None] * gu[:, 2],
-            ],
-            axis=1,
-        )
-        * lam[:, None, None]
-    )
-    vg = (
-        np.stack(
-            [
-                i00[:, None] * gg[:, 1] + i01[:, None] * gg[:, 2],
-                i10[:, None] * gg[:, 1] + i11[:, None] * gg[:, 2],
-            ],
-            axis=1,
-        )
-        * lam[:, None, None]
-    )
-    vu0, vg0 = gu[:, 0] * lam_a[:, None], gg[:, 0] * lam_a[:, None]
-    k_loc += _outer(gu[:, 0], vu0) + _outer(gu[:, 1], vu[:, 0]) + _outer(gu[:, 2], vu[:, 1])
-    kug += _outer(vu0, gg[:, 0]) + _outer(vu[:, 0], gg[:, 1]) + _outer(vu[:, 1], gg[:, 2])
-    k_gg += _outer(gg[:, 0], vg0) + _outer(gg[:, 1], vg[:, 0]) + _outer(gg[:, 2], vg[:, 1])
+    # M^-1 applied to the rows of [gu | gg]: row 0 / area, rows 1-2 by the centred block's inverse.
+    rows = np.concatenate([gu, gg], axis=2)  # (M, 3, nb + 3)
+    v = np.empty_like(rows)
+    v[:, 0] = rows[:, 0] * lam_a[:, None]
+    v[:, 1] = (i00[:, None] * rows[:, 1] + i01[:, None] * rows[:, 2]) * lam[:, None]
+    v[:, 2] = (i10[:, None] * rows[:, 1] + i11[:, None] * rows[:, 2]) * lam[:, None]
+    nb = gu.shape[2]
+    vu, vg = v[:, :, :nb], v[:, :, nb:]
+    k_loc += gu.transpose(0, 2, 1) @ vu
+    kug += vu.transpose(0, 2, 1) @ gg
+    k_gg += gg.transpose(0, 2, 1) @ vg
 
 
 def _condense(k_loc, kug, k_gg):
@@ -427,9 +409,10 @@ def _condense(k_loc, kug, k_gg):
                    i10[:, None] * kbr[:, 0] + i11[:, None] * kbr[:, 1]], axis=1)  # fmt: skip
     xg = np.stack([i00[:, None] * kbg[:, 0] + i01[:, None] * kbg[:, 1],
                    i10[:, None] * kbg[:, 0] + i11[:, None] * kbg[:, 1]], axis=1)  # fmt: skip
-    k_rr = k_loc[:, :nr, :nr] - _outer(kbr[:, 0], xr[:, 0]) - _outer(kbr[:, 1], xr[:, 1])
-    k_rg = kug[:, :nr] - _outer(kbr[:, 0], xg[:, 0]) - _outer(kbr[:, 1], xg[:, 1])
-    k_gg = k_gg - _outer(kbg[:, 0], xg[:, 0]) - _outer(kbg[:, 1], xg[:, 1])
+    kbr_t = kbr.transpose(0, 2, 1)
+    k_rr = k_loc[:, :nr, :nr] - kbr_t @ xr
+    k_rg = kug[:, :nr] - kbr_t @ xg
+    k_gg = k_gg - kbg.transpose(0, 2, 1) @ xg
     return k_rr, k_rg, k_gg, xr, xg
 
 
