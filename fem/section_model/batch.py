@@ -319,7 +319,7 @@ class _Kernel:
         return {
             "data": data, "K_ug": k_ug, "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1), "f": f,
             "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar,
-            "inv": inv.reshape(m, nel, -1, 2, 2), "xq": xq,
+            "inv": inv.reshape(m, nel, -1, 2, 2).transpose(0, 3, 4, 1, 2), "xq": xq,
             "xr": xr.reshape(m, nel, 2, nr), "xg": xg.reshape(m, nel, 2, 3),
         }  # fmt: skip
 
@@ -432,17 +432,21 @@ def _silicone_range(kernel: _Kernel, ue_r, xr, xg, inv, g, x, y) -> tuple[float,
     """(smallest, largest) principal strain over the silicone triangles' quadrature points.
 
     ``ue_r`` (e, nb - 2) retained DOFs of the silicone triangles; ``xr``, ``xg`` their bubble
-    maps, ``inv`` (e, nq, 2, 2) inverse Jacobians, ``x``, ``y`` (e, nq) the points; ``g`` the
+    maps, ``inv`` (2, 2, e, nq) inverse Jacobians, ``x``, ``y`` (e, nq) the points; ``g`` the
     global strains.
     """
     if ue_r.shape[0] == 0:
         return (0.0, 0.0)
-    ue = np.concatenate([ue_r, -(np.einsum("ebr,er->eb", xr, ue_r) + xg @ g)], axis=1)
+    ue = np.concatenate([ue_r, -((xr @ ue_r[:, :, None])[..., 0] + xg @ g)], axis=1)
     ns, nq = kernel.dphi.shape[0], kernel.W.size
-    # Reference gradients d u_c / d X_j, then physical ones d u_c / d x_I = sum_j (.)_j inv[j, I].
+    # Reference gradients d u_c / d X_j (c, j, e, q), then physical ones d u_c / d x_I = sum_j (.)_j inv[j, I].
     ref = (ue.reshape(-1, ns, 2).transpose(0, 2, 1) @ kernel.dphi.reshape(ns, 2 * nq)).reshape(-1, 2, 2, nq)
-    grad = np.einsum("ecjq,eqjI->ceIq", ref, inv)
-    exx, eyy, exy = grad[0, :, 0], grad[1, :, 1], 0.5 * (grad[0, :, 1] + grad[1, :, 0])
+    ref = ref.transpose(1, 2, 0, 3)
+    exx = ref[0, 0] * inv[0, 0] + ref[0, 1] * inv[1, 0]
+    eyy = ref[1, 0] * inv[0, 1] + ref[1, 1] * inv[1, 1]
+    exy = 0.5 * (
+        ref[0, 0] * inv[0, 1] + ref[0, 1] * inv[1, 1] + ref[1, 0] * inv[0, 0] + ref[1, 1] * inv[1, 0]
+    )
     ezz = g[0] + g[1] * x + g[2] * y
     mean, radius = 0.5 * (exx + eyy), np.sqrt((0.5 * (exx - eyy)) ** 2 + exy**2)
     return (float(np.minimum(mean - radius, ezz).min()), float(np.maximum(mean + radius, ezz).max()))
@@ -471,7 +475,7 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
     t0 = _tick("solve", t0)
     sil = kernel.silicone_elements
     rdofs = kernel.dofs[: kernel.nb - 2, sil].T
-    xr, xg, inv = ops["xr"][j][sil], ops["xg"][j][sil], ops["inv"][j][sil]
+    xr, xg, inv = ops["xr"][j][sil], ops["xg"][j][sil], ops["inv"][j][:, :, sil]
     x, y = ops["xq"][:, j][:, sil]
     out = {}
     for ld in loads:
