@@ -85,7 +85,6 @@ class _Kernel:
             raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
         self.nb, self.nel, self.N = nb, nel, basis.N
         self.n = basis.N - basis.interior_dofs.size
-        self.dofs = dofs
         X, W = basis.X, basis.W
         self.W = W
         scalar = ElementTriCCR()
@@ -98,23 +97,42 @@ class _Kernel:
         dr = np.stack([1 - 4 * lam0, 4 * r - 1, 0 * r, 4 * (lam0 - r), 4 * s, -4 * s])
         ds = np.stack([1 - 4 * lam0, 0 * r, 4 * s - 1, -4 * r, 4 * r, 4 * (lam0 - s)])
         self.dNg = np.stack([dr, ds], axis=1)  # (6, 2, nq)
-        tri = self.tri = np.ascontiguousarray(mesh.t.T)  # scikit-fem's vertex order (sorted), not the mesh's
+        self._triangles(m, mesh, dofs)
+        self._reference(X, W)
+        self.pinned = _rigid_pins(basis, mesh)
+        self._pattern()
+        self._lumen(m, mesh)
+        self.factor = None
+
+    def _triangles(self, m, mesh, dofs) -> None:
+        """Per-triangle tables, the triangles reordered: straight-sided first, then curved.
+
+        ``rank[t]`` is where the mesh's triangle ``t`` went; ``n_affine`` triangles are straight.
+        """
+        nel = self.nel
+        tri = np.ascontiguousarray(mesh.t.T)  # scikit-fem's vertex order (sorted), not the mesh's
         nv = np.int64(m.points.shape[0])
         ce = np.sort(m.curved_edges, axis=1) @ np.array([nv, 1])
         order = np.argsort(ce)
-        self.edge_curved = np.full((nel, 3), -1)
+        edge_curved = np.full((nel, 3), -1)
         for j, (a, b) in enumerate(((0, 1), (1, 2), (2, 0))):
             e = np.sort(tri[:, [a, b]], axis=1) @ np.array([nv, 1])
             pos = np.clip(np.searchsorted(ce, e, sorter=order), 0, max(ce.size - 1, 0))
             hit = ce[order[pos]] == e if ce.size else np.zeros(nel, bool)
-            self.edge_curved[hit, j] = order[pos[hit]]
-        self.silicone = np.isin(m.labels, (TUBE, FILLER))
+            edge_curved[hit, j] = order[pos[hit]]
+        bent = (edge_curved >= 0).any(axis=1)
+        perm = np.concatenate([np.flatnonzero(~bent), np.flatnonzero(bent)])
+        self.rank = np.empty(nel, dtype=np.int64)
+        self.rank[perm] = np.arange(nel)
+        self.n_affine = int((~bent).sum())
+        self.tri, self.edge_curved, self.dofs = tri[perm], edge_curved[perm], dofs[:, perm]
+        self.labels = m.labels[perm]
+        self.silicone = np.isin(self.labels, (TUBE, FILLER))
         self.silicone_elements = np.flatnonzero(self.silicone)
-        self.curved = np.flatnonzero((self.edge_curved >= 0).any(axis=1))
-        self.affine = np.flatnonzero((self.edge_curved < 0).all(axis=1))
-        self._reference(X, W)
-        # Sparse pattern of the free-free block and the scatter into it.
-        self.pinned = _rigid_pins(basis, mesh)
+
+    def _pattern(self) -> None:
+        """Sparse pattern of the free-free block and the scatters into it."""
+        nb, nel, dofs = self.nb, self.nel, self.dofs
         free = np.setdiff1d(np.arange(self.n), self.pinned)
         self.free = free
         where = np.full(self.n, -1)
@@ -127,7 +145,7 @@ class _Kernel:
         uniq, slot = np.unique(key[ok], return_inverse=True)
         self.indices = (uniq % free.size).astype(np.int32)
         self.indptr = np.searchsorted(uniq // free.size, np.arange(free.size + 1)).astype(np.int32)
-        self.entries, self.slot, self.nnz = np.flatnonzero(ok), slot, uniq.size
+        self.nnz = uniq.size
         # The LDL factorisation reads the upper triangle in CSC: for a symmetric matrix, the
         # CSR rows of its lower triangle (column <= row).
         row_of = np.repeat(np.arange(free.size), np.diff(self.indptr))
@@ -136,14 +154,12 @@ class _Kernel:
         self.indptr_lower = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
         nr = nb - 2
         self.scatter_k = sparse.csr_matrix(
-            (np.ones(self.entries.size), (slot, self.entries)), shape=(self.nnz, nel * nr * nr)
+            (np.ones(slot.size), (slot, np.flatnonzero(ok))), shape=(self.nnz, nel * nr * nr)
         )
         rdofs = dofs[: nb - 2].T.ravel()
         self.scatter_g = sparse.csr_matrix(
             (np.ones(rdofs.size), (rdofs, np.arange(rdofs.size))), shape=(self.n, rdofs.size)
         )
-        self._lumen(m, mesh)
-        self.factor = None
 
     def _lumen(self, m, mesh) -> None:
         t = mesh.t
@@ -154,7 +170,7 @@ class _Kernel:
         order = np.argsort(keys)
         want = le[:, 0].astype(np.int64) * nv + le[:, 1]
         hit = order[np.searchsorted(keys[order], want)]
-        self.l_elems, self.l_which = hit % self.nel, hit // self.nel
+        self.l_elems, self.l_which = self.rank[hit % self.nel], hit // self.nel
         s, ws = np.polynomial.legendre.leggauss(4)
         self.l_s, self.l_ws = 0.5 * (s + 1), 0.5 * ws
         start = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])[self.l_which]
@@ -194,21 +210,27 @@ class _Kernel:
 
         On an affine triangle the Jacobian is constant, so every block is a fixed
         combination of these integrals (taken with the curved triangles' quadrature,
-        hence the same numbers as quadrature on the mapped triangle, to round-off).
+        hence the same numbers as quadrature on the mapped triangle, to round-off),
+        laid out so that each block is one matrix product with per-element coefficients.
         """
         r, s = X
         psi = np.stack([np.ones_like(r), r, s])  # (3, nq): 1, r, s
         dphi = self.dphi  # (ns, 2, nq)
-        ns = dphi.shape[0]
-        # Gradient Gram matrices: R[(j, k), (s, t)] = int dphi_s/dX_j dphi_t/dX_k.
-        self.ref_grad = np.einsum("sjq,tkq,q->jkst", dphi, dphi, W).reshape(4, ns * ns)
-        # S[j, (s, m)] = int dphi_s/dX_j psi_m; M[m, n] = int psi_m psi_n.
-        self.ref_grad_psi = np.einsum("sjq,mq,q->jsm", dphi, psi, W).reshape(2, ns * 3)
-        self.ref_mass = np.einsum("mq,nq,q->mn", psi, psi, W)
+        i2, i3 = np.eye(2), np.eye(3)
+        # R[j, k, s, t] = int dphi_s/dX_j dphi_t/dX_k, spread over the DOF components (c, d):
+        # k_loc[(s, c), (t, d)] = sum_jk F[c, d, j, k] R[j, k, s, t].
+        grad = np.einsum("sjq,tkq,q->jkst", dphi, dphi, W)
+        self.ref_stiff = np.einsum("cC,dD,jkst->cdjksCtD", i2, i2, grad).reshape(16, -1)
+        # S[j, s, m] = int dphi_s/dX_j psi_m: kug[(s, c), k] and phi_div[k, (s, c)] are
+        # sum_jm P[c, k, j, m] S[j, s, m] with per-element P.
+        gpsi = np.einsum("sjq,mq,q->jsm", dphi, psi, W)
+        self.ref_kug = np.einsum("cC,kK,jsm->ckjmsCK", i2, i3, gpsi).reshape(36, -1)
+        self.ref_div = np.einsum("cC,kK,jsm->ckjmKsC", i2, i3, gpsi).reshape(36, -1)
+        self.ref_mass = np.einsum("mq,nq,q->mn", psi, psi, W).reshape(9)  # int psi_m psi_n
         # Strain component p of local DOF (scalar s, component c) is sum_I sel[c, p, I] d phi_s / dx_I.
         sel = np.zeros((2, 4, 2))
         sel[0, 0, 0] = sel[1, 1, 1] = sel[0, 3, 1] = sel[1, 3, 0] = 1.0
-        self.sel = sel
+        self.sel_zz = sel.transpose(1, 0, 2).reshape(4, 4)  # sigma_zz row of D -> (c, I)
         # E[(c, d, I, J)] = sum_pq sel[c, p, I] sel[d, q, J] D[p, q], as one product with D (16,).
         self.sel2 = np.einsum("cpI,dqJ->pqcdIJ", sel, sel).reshape(16, 16)
 
@@ -219,30 +241,30 @@ class _Kernel:
         (e, nb, 3), ``phi_phi`` = int phi phi^T (e, 3, 3) with phi = (1, x, y),
         ``phi_div`` = int phi div (e, 3, nb), and the inverse Jacobian (e, 2, 2).
         """
-        e, ns = x6.shape[0], self.dphi.shape[0]
+        e = x6.shape[0]
         x0 = x6[:, 0]
         J = (x6[:, 1:3] - x0[:, None]).transpose(0, 2, 1)  # J[I, j] = dx_I / dX_j
         det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
         inv = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1),
                         np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2) / det[:, None, None]  # fmt: skip
-        adet = np.abs(det)
+        adet = np.abs(det)[:, None]
         invT = inv.transpose(0, 2, 1)  # (e, I, j)
-        C = (invT[:, :, None, :, None] * invT[:, None, :, None, :]).reshape(e, 4, 4) * adet[:, None, None]
+        C = (invT[:, :, None, :, None] * invT[:, None, :, None, :]).reshape(e, 4, 4)  # (IJ, jk)
         E = (D.reshape(e, 16) @ self.sel2).reshape(e, 4, 4)  # (e, (c, d), (I, J))
-        k = ((E @ C).reshape(e * 4, 4) @ self.ref_grad).reshape(e, 2, 2, ns, ns)
-        k_loc = k.transpose(0, 3, 1, 4, 2).reshape(e, 2 * ns, 2 * ns)
+        k_loc = (((E @ C).reshape(e, 16) * adet) @ self.ref_stiff).reshape(e, self.nb, self.nb)
         # phi = A psi with psi = (1, r, s): A = [[1, 0, 0], [x0, J0.], [y0, J1.]].
         A = np.zeros((e, 3, 3))
         A[:, 0, 0] = 1.0
         A[:, 1:, 0] = x0
         A[:, 1:, 1:] = J
-        Sinv = (invT @ self.ref_grad_psi).reshape(e, 2, ns, 3)  # (e, I, s, m)
-        H = (A @ Sinv.transpose(0, 3, 1, 2).reshape(e, 3, 2 * ns)).reshape(e, 3, 2, ns)
-        H *= adet[:, None, None, None]  # H[k, I, s] = int phi_k d phi_s / dx_I
-        e2 = np.einsum("mp,cpI->mcI", D[:, 2], self.sel)
-        kug = np.einsum("mcI,mkIs->msck", e2, H).reshape(e, 2 * ns, 3)
-        phi_div = H.transpose(0, 1, 3, 2).reshape(e, 3, 2 * ns)
-        phi_phi = (A @ self.ref_mass @ A.transpose(0, 2, 1)) * adet[:, None, None]
+        # sigma_zz of DOF (s, c) = sum_I e2[c, I] d phi_s / dx_I; div of (s, c) = d phi_s / dx_c.
+        e2inv = (D[:, 2] @ self.sel_zz).reshape(e, 2, 2) @ invT  # (e, c, j)
+        G = np.stack([e2inv, inv.transpose(0, 2, 1)], axis=1)  # (e, 2, c, j)
+        P = (G[:, :, :, None, :, None] * A[:, None, None, :, None, :]).reshape(e, 2, 36) * adet[:, :, None]
+        kug = (P[:, 0] @ self.ref_kug).reshape(e, self.nb, 3)
+        phi_div = (P[:, 1] @ self.ref_div).reshape(e, 3, self.nb)
+        AA = (A[:, :, None, :, None] * A[:, None, :, None, :]).reshape(e, 9, 9)
+        phi_phi = ((AA @ self.ref_mass) * adet).reshape(e, 3, 3)
         return k_loc, kug, phi_phi, phi_div, inv
 
     def _curved_blocks(self, x6: np.ndarray, D: np.ndarray):
@@ -280,20 +302,18 @@ class _Kernel:
         Returns ``k_loc`` (M, nb, nb), ``kug`` (M, nb, 3), ``k_gg`` (M, 3, 3), ``phi_phi``
         (M, 3, 3) and the inverse Jacobian at the quadrature points (M, nq, 2, 2).
         """
-        m, nel, nb = x6.shape[0], self.nel, self.nb
-        M, nq = m * nel, self.W.size
-        k_loc, kug = np.empty((m, nel, nb, nb)), np.empty((m, nel, nb, 3))
-        phi_phi, phi_div = np.empty((m, nel, 3, 3)), np.empty((m, nel, 3, nb))
-        inv = np.empty((m, nel, nq, 2, 2))
-        for idx, blocks in ((self.affine, self._affine_blocks), (self.curved, self._curved_blocks)):
-            if idx.size == 0:
-                continue
-            got = blocks(x6[:, idx].reshape(-1, 6, 2), D[:, idx].reshape(-1, 4, 4))
-            for out, v in zip((k_loc, kug, phi_phi, phi_div), got[:4], strict=True):
-                out[:, idx] = v.reshape((m, idx.size) + v.shape[1:])
-            inv[:, idx] = got[4].reshape(m, idx.size, -1, 2, 2)
-        k_loc, kug = k_loc.reshape(M, nb, nb), kug.reshape(M, nb, 3)
-        phi_phi, phi_div = phi_phi.reshape(M, 3, 3), phi_div.reshape(M, 3, nb)
+        m, nel = x6.shape[0], self.nel
+        M, nq, na = m * nel, self.W.size, self.n_affine
+        parts = []  # the straight triangles are the first n_affine of every design, the curved the rest
+        for part, blocks in ((slice(0, na), self._affine_blocks), (slice(na, nel), self._curved_blocks)):
+            k = len(range(nel)[part])
+            if k:
+                got = blocks(x6[:, part].reshape(-1, 6, 2), D[:, part].reshape(-1, 4, 4))
+                inv = np.broadcast_to(got[4][:, None], (m * k, nq, 2, 2)) if got[4].ndim == 3 else got[4]
+                parts.append([v.reshape((m, k) + v.shape[1:]) for v in (*got[:4], inv)])
+        k_loc, kug, phi_phi, phi_div, inv = (
+            np.concatenate(vs, axis=1).reshape((M,) + vs[0].shape[2:]) for vs in zip(*parts, strict=True)
+        )
         k_gg = D.reshape(M, 4, 4)[:, 2, 2, None, None] * phi_phi
         _add_volumetric(k_loc, kug, k_gg, phi_phi, phi_div, lam.reshape(M))
         return k_loc, kug, k_gg, phi_phi, inv.reshape(M, nq, 2, 2)
@@ -606,7 +626,7 @@ def section_models(
     for members in chunks:
         t0 = time.perf_counter()
         kernel = _kernel(members[0][5])
-        labels = kernel.template.mesh.labels
+        labels = kernel.labels
         keys = sorted({int(k) for k in np.unique(labels)})
         table = np.searchsorted(keys, labels)
         D = np.stack([np.stack([m[2][k].D for k in keys])[table] for m in members])
