@@ -20,6 +20,9 @@ In one run:
    result writing): the sweep's wall time x 2 workers minus the in-process
    section time.
 
+The process runs with one BLAS/OpenMP thread (unless the environment says otherwise),
+as the sweep's worker processes do, so that the CPU clock of the time split is one core's.
+
 Run: ``python benchmarks/bench_section.py [--designs N]`` (``make bench``).
 """
 
@@ -157,6 +160,10 @@ def main() -> None:
     ap.add_argument("--skip-sweep", action="store_true", help="only the per-design part")
     ap.add_argument("--split", type=int, default=1000, help="designs of the in-process time split")
     args = ap.parse_args()
+    import os
+
+    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+        os.environ.setdefault(var, "1")  # before NumPy is imported: one thread, like a sweep worker
     if not args.skip_fem:
         per_design()
     in_process = split(args.split) if args.split else None
