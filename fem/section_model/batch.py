@@ -152,6 +152,7 @@ class _Kernel:
         self.lower = self.indices <= row_of
         count = np.bincount(row_of[self.lower], minlength=free.size)
         self.indptr_lower = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
+        self.lower_at, self.indices_lower = np.flatnonzero(self.lower), self.indices[self.lower]
         nr = nb - 2
         self.scatter_k = sparse.csr_matrix(
             (np.ones(slot.size), (slot, np.flatnonzero(ok))), shape=(self.nnz, nel * nr * nr)
@@ -370,7 +371,7 @@ class _Kernel:
         n = self.free.size
         kff = sparse.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
         upper = sparse.csc_matrix(
-            (data[self.lower], self.indices[self.lower], self.indptr_lower), shape=(n, n)
+            (data.take(self.lower_at), self.indices_lower, self.indptr_lower), shape=(n, n)
         )
         if self.factor is None:
             self.factor = qdldl.Solver(upper, upper=True)
