@@ -552,6 +552,45 @@ def _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segm
     )
 
 
+def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts) -> None:
+    """Assemble a chunk of designs sharing a template at once and solve each; results in place."""
+    t0 = time.perf_counter()
+    kernel = _kernel(members[0][5])
+    labels = kernel.labels
+    keys = sorted({int(k) for k in np.unique(labels)})
+    table = np.searchsorted(keys, labels)
+    D = np.stack([np.stack([m[2][k].D for k in keys])[table] for m in members])
+    lam = np.stack([np.array([m[2][k].lam for k in keys])[table] for m in members])
+    ez = np.stack([np.array([m[2][k].axial_modulus for k in keys])[table] for m in members])
+    ops = kernel.assemble(kernel.geometry([m[4] for m in members]), D, lam, ez)
+    share = (_tick("assembly", t0) - t0) / len(members)
+    for j, (i, d, laws, extra, mesh, _) in enumerate(members):
+        t1 = time.perf_counter()
+        try:
+            k_sec, out, backward = _solve_one(kernel, ops, j, loads, extra)
+            r = _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts,
+                        share + mesh.seconds + time.perf_counter() - t1)  # fmt: skip
+            results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
+        except Exception as exc:
+            raise_pending_stop()
+            results[i] = exc
+
+
+def _solve_alone(d, mesher: str, loads, mesh_size, segments, opts):
+    """A design solved by the per-design section model (its :class:`BatchItem` or its exception)."""
+    from softcath.fem.section_model.api import section_model
+    from softcath.fem.section_model.strain import silicone_strain_range
+
+    try:
+        r = section_model(d, loads=loads, mesh_size=mesh_size, segments=segments, mesher=mesher,
+                          keep_fields=True, **opts)  # fmt: skip
+        strains = {ld: silicone_strain_range(r, ld) for ld in loads}
+        return BatchItem(dataclasses.replace(r, fields=None), strains)
+    except Exception as exc:
+        raise_pending_stop()
+        return exc
+
+
 def section_models(
     designs: Sequence,
     *,
@@ -581,10 +620,9 @@ def section_models(
     from softcath.design.errors import DesignError
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.limits import check_section_budget
-    from softcath.fem.section_model.api import COIL_BENDING, section_model
+    from softcath.fem.section_model.api import COIL_BENDING
     from softcath.fem.section_model.coil_models import coil_terms
     from softcath.fem.section_model.laws import laws_from_design
-    from softcath.fem.section_model.strain import silicone_strain_range
     from softcath.fem.section_model.template import log_fallback, morph, section_template
 
     loads = tuple(ld for ld in LOADS if ld in tuple(loads))
@@ -625,33 +663,7 @@ def section_models(
     # sharing a template would otherwise need ~100 GB at once.
     chunks = [m[k : k + CHUNK] for m in groups.values() for k in range(0, len(m), CHUNK)]
     for members in chunks:
-        t0 = time.perf_counter()
-        kernel = _kernel(members[0][5])
-        labels = kernel.labels
-        keys = sorted({int(k) for k in np.unique(labels)})
-        table = np.searchsorted(keys, labels)
-        D = np.stack([np.stack([m[2][k].D for k in keys])[table] for m in members])
-        lam = np.stack([np.array([m[2][k].lam for k in keys])[table] for m in members])
-        ez = np.stack([np.array([m[2][k].axial_modulus for k in keys])[table] for m in members])
-        ops = kernel.assemble(kernel.geometry([m[4] for m in members]), D, lam, ez)
-        share = (_tick("assembly", t0) - t0) / len(members)
-        for j, (i, d, laws, extra, mesh, _) in enumerate(members):
-            t1 = time.perf_counter()
-            try:
-                k_sec, out, backward = _solve_one(kernel, ops, j, loads, extra)
-                r = _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts,
-                            share + mesh.seconds + time.perf_counter() - t1)  # fmt: skip
-                results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
-            except Exception as exc:
-                raise_pending_stop()
-                results[i] = exc
+        _solve_chunk(members, results, loads, mesh_size, segments, opts)
     for i, mesher in alone.items():
-        try:
-            r = section_model(designs[i], loads=loads, mesh_size=mesh_size, segments=segments, mesher=mesher,
-                              keep_fields=True, **opts)  # fmt: skip
-            strains = {ld: silicone_strain_range(r, ld) for ld in loads}
-            results[i] = BatchItem(dataclasses.replace(r, fields=None), strains)
-        except Exception as exc:
-            raise_pending_stop()
-            results[i] = exc
+        results[i] = _solve_alone(designs[i], mesher, loads, mesh_size, segments, opts)
     return results
