@@ -10,6 +10,14 @@ refactorises numerically, :func:`qdldl.Solver.update`). The element kernel then 
 all designs of a template at once, and each design's four right-hand sides (three unit
 global strains, the unit lumen pressure) share one factorisation.
 
+The kernel orders a template's triangles straight-sided first. A straight-sided triangle
+has a constant Jacobian, so its blocks are reference-element integrals (same quadrature
+rule) times inverse-Jacobian products and moduli, one matrix product per block
+(:meth:`_Kernel._affine_blocks`); the triangles with a curved edge keep isoparametric
+quadrature (:meth:`_Kernel._curved_blocks`). Pressure projection and bubble condensation
+use closed-form 2 x 2 inverses (tests/fem/section_model/test_fast_assembly.py: equal to
+scikit-fem's quadrature assembly to 1e-10).
+
 The answers are :func:`~softcath.fem.section_model.section_model`'s on the same
 (template) mesh, to round-off (tests/fem/section_model/test_batch.py).
 """
