@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.design.load_cases import LOADS
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
@@ -40,9 +41,6 @@ __all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "LOADS
 
 log = logging.getLogger(__name__)
 
-#: "lumen": pressure on the lumen wall and the cap (the real load); "cap": on the cap face only
-#: (the end-cap force of the paper's formula).
-LOADS = ("lumen", "cap")
 SILICONE_LABELS = (TUBE, FILLER)
 
 

@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.load_cases import LOADS
 from softcath.studies.report.html import figure, fmt, note, table
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
 #: Silicone Poisson ratios of the demo's nu plot (tube and filler together).
 NU_SWEEP = (0.45, 0.46, 0.47, 0.48, 0.49, 0.495, 0.498, 0.499, 0.4995, 0.4999)
-LOADS = ("cap", "lumen")
 #: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be trusted.
 VIEW_PRESSURE_MPA = 0.5
 

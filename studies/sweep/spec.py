@@ -48,6 +48,7 @@ from pathlib import Path
 from typing import Any
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
@@ -56,7 +57,6 @@ EVALUATORS = ("analytic", "section", "section-nonlinear", "fem", "nonlinear")
 SECTION_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
-LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
     "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
     "section",
