@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.adapter import geometry_from_design, laws_from_design, silicone_parameters
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
 from softcath.fem.post import tip_pose
@@ -156,7 +156,7 @@ def check(
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
     check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
     geometry = geometry_from_design(d)
-    laws = laws_from_design(d, coil_modulus=coil_modulus)
+    laws = fem_laws_from_design(d, coil_modulus=coil_modulus)
     silicones = silicone_parameters(d)
     for name, used in silicones.items():
         if used["capped"]:
