@@ -33,8 +33,8 @@ from softcath.fem.nonlinear.post import (
     bend_angles,
     curvature_variation,
     max_principal_strain,
+    measured_tip_pose,
     midspan_bend,
-    tip_pose,
 )
 
 __all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "LOADS"]
@@ -305,10 +305,10 @@ def bend_curve(
     its_all = np.array([s.iterations for s in res.steps])
     pick = np.array([int(np.argmin(np.abs(lam - f))) for f in p / p_max])
     cum = np.cumsum(its_all)[pick]
-    poses = [tip_pose(model.body.nodes, res.displacements[k], model.end) for k in pick]
+    poses = [measured_tip_pose(model.body.nodes, res.displacements[k], model.end) for k in pick]
     theta = angles_all[pick]
     length = cmesh.length
-    arc = np.array([ps.arc_length for ps in poses])
+    arc = np.array([ps.arc_length_mm for ps in poses])
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.where(arc > 0, theta / arc, 0.0)
     axis = model.axial_centroid(w)
@@ -335,8 +335,8 @@ def bend_curve(
         midspan=w,
         midspan_axis=axis,
         elongation=arc / length - 1.0,
-        tip_x=np.array([ps.tip_x for ps in poses]),
-        tip_y=np.array([ps.tip_y for ps in poses]),
+        tip_x=np.array([ps.x_mm for ps in poses]),
+        tip_y=np.array([ps.y_mm for ps in poses]),
         linear_bend_angle=lin,
         analytic_bend_angle=np.asarray(ana, float),
         newton_iterations=np.diff(np.concatenate([[0], cum])),
