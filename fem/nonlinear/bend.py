@@ -23,7 +23,7 @@ from softcath.design.load_cases import LOADS
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
-from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
 from softcath.fem.nonlinear.meshes import dofs_of_facets
 from softcath.fem.nonlinear.newton import NonlinearResult, solve
@@ -272,15 +272,15 @@ def bend_curve(
     from softcath import analytic
 
     if load not in LOADS:
-        raise NonlinearError(f"load = {load!r}: must be one of {LOADS}")
+        raise SettingError("load", load, f"must be one of {LOADS}")
     p = np.atleast_1d(np.asarray(pressures, float))
     if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
-        raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
+        raise SettingError("pressures", p.tolist(), "must be finite, > 0 MPa and strictly increasing")
     w = tuple(float(x) for x in np.ravel(midspan))
     if len(w) != 2 or not (0.0 <= w[0] < w[1] <= 1.0):
-        raise NonlinearError(f"midspan = {midspan!r}: must be (start, end) with 0 <= start < end <= 1")
+        raise SettingError("midspan", midspan, "must be (start, end) with 0 <= start < end <= 1")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
-        raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
+        raise SettingError("substeps", substeps, "must be an integer >= 1")
     t0 = time.perf_counter()
     cmesh = (
         mesh
