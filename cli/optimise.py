@@ -20,6 +20,7 @@ from softcath.cli.options import (
     add_pressure_list,
     add_progress,
     add_seed,
+    model_name,
     parse_pressure_list,
 )
 
@@ -35,7 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
     )
-    p.add_argument("--model", default="section", choices=("paper", "section", "section-nonlinear"),
+    p.add_argument("--model", default="section", type=model_name, choices=("paper", "section", "section-nonlinear"),
                    help="model tier evaluating every candidate (default section)")  # fmt: skip
     p.add_argument("--load", default=None, choices=("cap", "lumen"),
                    help="load case (default: lumen; cap for the paper's formula)")  # fmt: skip

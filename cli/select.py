@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out, add_seed
+from softcath.cli.options import add_out, add_seed, model_name
 
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
@@ -33,6 +33,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--model",
         default=None,
+        type=model_name,
         choices=("paper", "section", "section-nonlinear", "fem"),
         help="model behind bend_angle_deg, max_strain, ... (default: section-nonlinear, then section, if the "
         "sweep has it, else paper)",
@@ -59,7 +60,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     robust.add_argument("--ranges", default=None, metavar="FILE", help="ranges TOML (as softcath predict's)")
     robust.add_argument("--samples", type=int, default=32, help="samples per design (default 32)")
     add_seed(robust, what="seed of the sample")
-    robust.add_argument("--robust-model", default=None, choices=("paper", "section", "section-nonlinear"),
+    robust.add_argument("--robust-model", default=None, type=model_name, choices=("paper", "section", "section-nonlinear"),
                         help="model of the re-evaluation (default: section; paper for a paper selection)")  # fmt: skip
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
     robust.add_argument("--no-progress", action="store_true", help="hide the progress bar")

@@ -83,7 +83,7 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     if ref_col not in df or df[ref_col].notna().sum() == 0:
         raise DataError(
             f"{root}: the sweep has no 3-D FEM curvature ({ref_col}); run it with evaluators = "
-            '["analytic", "fem"]'
+            '["paper", "fem"]'
         )
     manifest = json.loads((root / "sweep.json").read_text(encoding="utf-8"))
     designs = pd.read_csv(root / "designs.csv")

@@ -14,11 +14,12 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
+from softcath.studies.tiers import tier_name
 
-__all__ = ["EVALUATOR_OF", "Variable", "Problem", "parse_variable", "make_problem"]
+__all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
 
-#: Model tier -> the sweep evaluator that computes its columns.
-EVALUATOR_OF = {"paper": "analytic", "section": "section", "section-nonlinear": "section-nonlinear"}
+#: The model tiers a search can run (:mod:`softcath.studies.tiers`; a tier's sweep evaluator has its name).
+MODELS = ("paper", "section", "section-nonlinear")
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,7 @@ class Problem:
     objectives, constraints
         Parsed expressions (one objective: a single-objective search; several: a Pareto set).
     model
-        Model tier (a key of :data:`EVALUATOR_OF`).
+        Model tier (one of :data:`MODELS`).
     load
         Load case the expressions read (``cap`` or ``lumen``).
     pressures_MPa
@@ -67,7 +68,7 @@ class Problem:
 
     @property
     def evaluator(self) -> str:
-        return EVALUATOR_OF[self.model]
+        return self.model
 
     @property
     def paths(self) -> tuple[str, ...]:
@@ -118,9 +119,8 @@ def make_problem(
     """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
     from softcath.studies.sweep.variants import check_path
 
-    if model not in EVALUATOR_OF:
-        raise DesignError("model", model, f"must be one of {', '.join(EVALUATOR_OF)}")
-    if EVALUATOR_OF[model] not in _available_evaluators():
+    model = tier_name(model, allowed=MODELS)
+    if model not in _available_evaluators():
         raise DesignError(
             "model", model, "this installation's sweep has no such evaluator yet; use section or paper"
         )

@@ -14,6 +14,7 @@ from softcath.studies.predict.ranges import (
     chosen_ranges,
 )
 from softcath.studies.predict.tier import TierPrediction, predict_tier
+from softcath.studies.tiers import tier_name
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -126,9 +127,8 @@ def predict(
     lumen otherwise); ``samples`` sets the paper and section tiers'
     sample size, ``fem_samples`` the 3-D FEM's (defaults: :data:`DEFAULT_SAMPLES`).
     """
-    for name in (model, *compare):
-        if name not in TIERS:
-            raise DesignError("model", name, f"must be one of {', '.join(TIERS)}")
+    model = tier_name(model, allowed=TIERS)
+    compare = tuple(tier_name(name, allowed=TIERS) for name in compare)
     check_predict_inputs(
         samples=samples, fem_samples=fem_samples, seed=seed, measured_gain=measured_gain,
         tiers=(model, *compare),

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.studies.tiers import TIERS
+
 __all__ = [
     "parity_plot",
     "tiers_parity_plot",
@@ -410,9 +412,7 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.set_ylabel(objs[1])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    model = {"paper": "paper's formula", "section": "section model", "fem": "3-D FEM"}.get(
-        selection.get("model")
-    )
+    model = TIERS[selection["model"]].short_label if selection.get("model") in TIERS else None
     ax.set_title(f"Selection ({model + ', ' if model else ''}{selection.get('load')} load)")
     return _save(fig, path)
 

@@ -121,7 +121,7 @@ def _failed_frame(task: dict, exc: BaseException):
     reason = f"task failed: {type(exc).__name__}: {exc}"
     log.warning("sweep task %s failed: %s", task["task_id"], reason)
     try:
-        frame = evaluate_task(dict(task, evaluators=["analytic"]))
+        frame = evaluate_task(dict(task, evaluators=["paper"]))
     except Exception:  # even the analytic path fails: rows with the reason and no values
         raise_pending_stop()
         return evaluate_task(dict(task, fail_reason=reason))
