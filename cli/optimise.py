@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     with _as_options():
         problem = make_problem(
             table, variables=args.vary, objectives=args.objective, constraints=args.constraint,
-            model=args.model, load=load, pressures_MPa=pressures,
+            model=args.model, load=load, pressures=pressures,
         )  # fmt: skip
         robust = None
         if args.robust is not None:
@@ -115,7 +115,7 @@ def _flag(parameter: str) -> str:
     """The command-line option behind a library parameter name."""
     head, _, rest = parameter.partition(".")
     flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
-            "pressures_MPa": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
+            "pressures": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
             "samples": "--samples", "seed": "--seed", "robust": "--robust", "workers": "--workers",
             "ranges": "--robust-vary/--ranges", "backend": "--workers/--scheduler"}.get(head)  # fmt: skip
     return f"{flag} {rest}".strip() if flag else parameter

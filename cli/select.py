@@ -153,7 +153,7 @@ def _recheck(args: argparse.Namespace, sel, df):
         return sel
     spec, base_table = _manifest(args, "the large-bend re-check (or give --no-recheck)")
     return recheck_large_bends(
-        sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], constraints=big, workers=args.workers
+        sel, base_table=base_table, pressures=spec["pressures_MPa"], constraints=big, workers=args.workers
     )
 
 
@@ -174,7 +174,7 @@ def _robust(args: argparse.Namespace, sel):
     try:
         ranges = sweep_ranges(spec.get("base", ""), base_table, args.vary, args.ranges)
         return robust_select(
-            sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], probability=args.robust,
+            sel, base_table=base_table, pressures=spec["pressures_MPa"], probability=args.robust,
             ranges=ranges, samples=args.samples, seed=args.seed, model=args.robust_model,
             workers=args.workers, progress=not args.no_progress,
         )  # fmt: skip

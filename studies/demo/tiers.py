@@ -53,7 +53,7 @@ def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, f
     return _save(fig, path)
 
 
-def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE_MPA) -> str:
+def tip_view(result, *, load: str = "lumen", pressure: float = VIEW_PRESSURE_MPA) -> str:
     """The 3-D FEM's deformed tip as a rotatable inline view (empty if ``result`` carries no solution)."""
     solution = getattr(result, "solution", None)
     if solution is None or load not in getattr(solution, "unit", {}):
@@ -61,10 +61,10 @@ def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE
     from softcath.fem.export import to_grid
     from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 
-    view = surface_of_grid(to_grid(solution, load, pressure_MPa))
+    view = surface_of_grid(to_grid(solution, load, pressure))
     return "<h3 id='fem-3d'>The deformed tip in 3-D</h3>" + tip_view_fragment(
         view,
-        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure_MPa:g} MPa, "
+        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure:g} MPa, "
         "cut along the bending plane (the cut face towards you), coloured by the largest principal strain.",
     )
 

@@ -113,7 +113,7 @@ def make_problem(
     constraints: Sequence[str] = (),
     model: str = "section",
     load: str = "lumen",
-    pressures_MPa: Sequence[float] = (0.5,),
+    pressures: Sequence[float] = (0.5,),
     section_options: Mapping[str, Any] | None = None,
 ) -> Problem:
     """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
@@ -143,15 +143,15 @@ def make_problem(
     objs = tuple(parse_objective(o) for o in objectives)
     cons = tuple(parse_constraint(c) for c in constraints)
     ps = set()
-    for p in pressures_MPa:
+    for p in pressures:
         if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p) or p < 0:
-            raise DesignError("pressures_MPa", p, "must be finite numbers >= 0")
+            raise DesignError("pressures", p, "must be finite numbers >= 0")
         ps.add(float(p))
     for item in (*objs, *cons):
         if item.where and item.where.startswith("p="):
             ps.add(float(item.where.split("=", 1)[1]))
     if not any(p > 0 for p in ps):
-        raise DesignError("pressures_MPa", sorted(ps), "must include a pressure > 0")
+        raise DesignError("pressures", sorted(ps), "must include a pressure > 0")
     return Problem(
         base_table=base_table,
         variables=vs,
