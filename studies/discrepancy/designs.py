@@ -76,7 +76,7 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     from softcath.studies.sweep.variants import build_variant
 
     if reference != "fem":
-        raise DataError(f"--reference {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
+        raise DataError(f"reference = {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
     root = Path(sweep_dir)
     df = read_results(root)
     ref_col = "curvature_fem_per_mm"
