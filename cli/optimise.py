@@ -113,6 +113,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _flag(parameter: str) -> str:
     """The command-line option behind a library parameter name."""
+    if parameter.partition(" ")[0] == "vary":  # a robust range: "vary PATH [low|high]"
+        return f"--robust-vary{parameter[4:]}"
     head, _, rest = parameter.partition(".")
     flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
             "pressures": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",

@@ -118,8 +118,11 @@ def as_options(names: dict[str, str]) -> Iterator[None]:
     try:
         yield
     except DesignError as exc:
+        head, _, rest = exc.parameter.partition(" ")  # "vary tube.h low": the option and its item
         if exc.parameter in names:
             raise DesignError(names[exc.parameter], exc.value, exc.bound) from None
+        if rest and head in names:
+            raise DesignError(f"{names[head]} {rest}", exc.value, exc.bound) from None
         raise
 
 

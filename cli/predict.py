@@ -35,7 +35,8 @@ from softcath.cli.options import (
 
 #: The library's parameter names as this command's options.
 _OPTIONS = {"samples": "--samples", "fem_samples": "--fem-samples", "seed": "--seed",
-            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model"}  # fmt: skip
+            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model",
+            "vary": "--vary"}  # fmt: skip
 
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
 

@@ -187,4 +187,7 @@ def _robust(args: argparse.Namespace, sel):
             "model": "--robust-model",
             "workers": "--workers",
         }
+        head, _, rest = exc.parameter.partition(" ")
+        if head == "vary":  # a range given with --vary: "vary PATH [low|high]"
+            raise DesignError(f"--vary {rest}".strip(), exc.value, exc.bound) from None
         raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None

@@ -86,7 +86,9 @@ def resolve_ranges(
     """The ranges to vary: each ``--vary`` item, or (none given) the ranges file's defaults."""
     ranges = chosen_ranges(design_ref, base_table(design_ref), vary, ranges_file)
     if ranges is None:
-        raise DesignError("--vary", [], f"no ranges file for design {design_ref!s}: give --vary or --ranges")
+        raise DesignError(
+            "vary", [], f"no ranges file for design {design_ref!s}: give ranges to vary or a ranges file"
+        )
     return ranges
 
 
