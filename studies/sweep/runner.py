@@ -200,11 +200,9 @@ def _dask(tasks, client):
 
 
 def _check_options(workers, dask_local, scheduler) -> None:
-    chosen = [
-        n for n, v in (("--workers", workers), ("--dask-local", dask_local), ("--scheduler", scheduler)) if v
-    ]
+    chosen = [n for n, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler)) if v]
     if len(chosen) > 1:
-        raise DesignError("backend", " ".join(chosen), "choose one of --workers, --dask-local, --scheduler")
+        raise DesignError("backend", " ".join(chosen), "choose one of workers, dask_local, scheduler")
     for name, v in (("workers", workers), ("dask_local", dask_local)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
             raise DesignError(name, v, "must be an integer >= 1")
