@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out
+from softcath.cli.options import add_design, add_out, model_name
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
 
@@ -29,6 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--model",
+        type=model_name,
         choices=("paper", "section"),
         default="paper",
         help="paper: the paper's formula (default); section: the 2-D section model (3-D-FEM grade)",

@@ -20,6 +20,7 @@ from softcath.cli.options import (
     add_pressure_list,
     add_progress,
     add_seed,
+    model_name,
     parse_pressure_list,
 )
 
@@ -35,7 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
     )
-    p.add_argument("--model", default="section", choices=("paper", "section", "section-nonlinear"),
+    p.add_argument("--model", default="section", type=model_name, choices=("paper", "section", "section-nonlinear"),
                    help="model tier evaluating every candidate (default section)")  # fmt: skip
     p.add_argument("--load", default=None, choices=("cap", "lumen"),
                    help="load case (default: lumen; cap for the paper's formula)")  # fmt: skip
@@ -70,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     with _as_options():
         problem = make_problem(
             table, variables=args.vary, objectives=args.objective, constraints=args.constraint,
-            model=args.model, load=load, pressures_MPa=pressures,
+            model=args.model, load=load, pressures=pressures,
         )  # fmt: skip
         robust = None
         if args.robust is not None:
@@ -112,9 +113,11 @@ def run(args: argparse.Namespace) -> int:
 
 def _flag(parameter: str) -> str:
     """The command-line option behind a library parameter name."""
+    if parameter.partition(" ")[0] == "vary":  # a robust range: "vary PATH [low|high]"
+        return f"--robust-vary{parameter[4:]}"
     head, _, rest = parameter.partition(".")
     flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
-            "pressures_MPa": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
+            "pressures": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
             "samples": "--samples", "seed": "--seed", "robust": "--robust", "workers": "--workers",
             "ranges": "--robust-vary/--ranges", "backend": "--workers/--scheduler"}.get(head)  # fmt: skip
     return f"{flag} {rest}".strip() if flag else parameter

@@ -23,18 +23,27 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_progress, add_seed, as_options, parse_pressure_list
+from softcath.cli.options import (
+    add_design,
+    add_out,
+    add_progress,
+    add_seed,
+    as_options,
+    model_name,
+    parse_pressure_list,
+)
 
 #: The library's parameter names as this command's options.
 _OPTIONS = {"samples": "--samples", "fem_samples": "--fem-samples", "seed": "--seed",
-            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model"}  # fmt: skip
+            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model",
+            "vary": "--vary"}  # fmt: skip
 
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_design(p)
-    p.add_argument("--model", choices=("paper", "section", "fem"), default="section",
+    p.add_argument("--model", type=model_name, choices=("paper", "section", "fem"), default="section",
                    help="model tier (default section)")  # fmt: skip
     p.add_argument("--compare", default="", metavar="TIER,TIER",
                    help="also run these tiers (e.g. paper,section,fem) and draw them in one picture")  # fmt: skip
@@ -73,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.predict.plot import band_picture
     from softcath.studies.predict.workflow import check_predict_inputs
 
-    compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
+    compare = tuple(model_name(t.strip()) for t in args.compare.split(",") if t.strip())
     # Everything that can be checked is checked before the output folder or any run.
     pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
     measured = _nonlinear_inputs(args)

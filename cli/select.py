@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out, add_seed
+from softcath.cli.options import add_out, add_seed, model_name
 
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
@@ -33,6 +33,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--model",
         default=None,
+        type=model_name,
         choices=("paper", "section", "section-nonlinear", "fem"),
         help="model behind bend_angle_deg, max_strain, ... (default: section-nonlinear, then section, if the "
         "sweep has it, else paper)",
@@ -59,7 +60,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     robust.add_argument("--ranges", default=None, metavar="FILE", help="ranges TOML (as softcath predict's)")
     robust.add_argument("--samples", type=int, default=32, help="samples per design (default 32)")
     add_seed(robust, what="seed of the sample")
-    robust.add_argument("--robust-model", default=None, choices=("paper", "section", "section-nonlinear"),
+    robust.add_argument("--robust-model", default=None, type=model_name, choices=("paper", "section", "section-nonlinear"),
                         help="model of the re-evaluation (default: section; paper for a paper selection)")  # fmt: skip
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
     robust.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -152,7 +153,7 @@ def _recheck(args: argparse.Namespace, sel, df):
         return sel
     spec, base_table = _manifest(args, "the large-bend re-check (or give --no-recheck)")
     return recheck_large_bends(
-        sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], constraints=big, workers=args.workers
+        sel, base_table=base_table, pressures=spec["pressures_MPa"], constraints=big, workers=args.workers
     )
 
 
@@ -173,7 +174,7 @@ def _robust(args: argparse.Namespace, sel):
     try:
         ranges = sweep_ranges(spec.get("base", ""), base_table, args.vary, args.ranges)
         return robust_select(
-            sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], probability=args.robust,
+            sel, base_table=base_table, pressures=spec["pressures_MPa"], probability=args.robust,
             ranges=ranges, samples=args.samples, seed=args.seed, model=args.robust_model,
             workers=args.workers, progress=not args.no_progress,
         )  # fmt: skip
@@ -186,4 +187,7 @@ def _robust(args: argparse.Namespace, sel):
             "model": "--robust-model",
             "workers": "--workers",
         }
+        head, _, rest = exc.parameter.partition(" ")
+        if head == "vary":  # a range given with --vary: "vary PATH [low|high]"
+            raise DesignError(f"--vary {rest}".strip(), exc.value, exc.bound) from None
         raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None

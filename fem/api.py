@@ -14,11 +14,11 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from softcath.analytic.pose import tip_pose
 from softcath.design.errors import DesignError
-from softcath.fem.adapter import geometry_from_design, laws_from_design, silicone_parameters
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
-from softcath.fem.post import tip_pose
 
 __all__ = ["FemCase", "FemResult", "check", "check_assembly"]
 
@@ -156,7 +156,7 @@ def check(
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
     check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
     geometry = geometry_from_design(d)
-    laws = laws_from_design(d, coil_modulus=coil_modulus)
+    laws = fem_laws_from_design(d, coil_modulus=coil_modulus)
     silicones = silicone_parameters(d)
     for name, used in silicones.items():
         if used["capped"]:
@@ -178,7 +178,7 @@ def check(
         ref = analytic.response(d, p, load=ld)
         kappa = fit.curvature_per_mm * p
         eps = fit.elongation * p
-        theta, tx, ty = tip_pose(kappa, eps, length=length)
+        tx, ty, theta = tip_pose(kappa, length * (1.0 + eps))
         for i, pi in enumerate(p):
             a_k, a_e = float(ref.curvature[i]), float(ref.elongation[i])
             cases.append(

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 from softcath.fem.elasticity import ElasticProblem
 from softcath.fem.geometry import FILLER, REGIONS, TUBE, TipGeometry
 from softcath.fem.lumen_load import pressure_facets
@@ -29,7 +30,6 @@ log = logging.getLogger(__name__)
 
 #: ``cap``: pressure on the cap's inner face only (the paper's end-cap force);
 #: ``lumen``: pressure on the lumen wall and the cap (the real load; :mod:`softcath.fem.lumen_load`).
-LOADS = ("cap", "lumen")
 SILICONE = (TUBE, FILLER)
 
 

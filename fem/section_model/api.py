@@ -155,7 +155,7 @@ def section_model(
         One of :data:`COIL_BENDING`; ``resolved`` sets the coils' axial moduli
         itself and needs ``coil_modulus="tension"``.
     poisson_cap, silicone_poisson, poisson
-        Poisson-ratio options (``softcath.fem.section_model.laws.laws_from_design``).
+        Poisson-ratio options (``softcath.fem.section_model.laws.section_laws_from_design``).
     keep_fields
         Keep the mesh, operator and displacement fields (for pictures).
     """
@@ -164,7 +164,7 @@ def section_model(
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.section_model.coil_models import coil_terms
     from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve
 
@@ -175,7 +175,7 @@ def section_model(
     d = design_pkg.resolve(design)
     t0 = time.perf_counter()
     geometry = geometry_from_design(d)
-    laws = laws_from_design(
+    laws = section_laws_from_design(
         d, coil_modulus=coil_modulus, poisson_cap=poisson_cap, silicone_poisson=silicone_poisson,
         poisson=poisson,
     )  # fmt: skip

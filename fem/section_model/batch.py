@@ -415,7 +415,7 @@ def section_models(
     from softcath.fem.limits import check_section_budget
     from softcath.fem.section_model.api import COIL_BENDING, section_model
     from softcath.fem.section_model.coil_models import coil_terms
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.strain import silicone_strain_range
     from softcath.fem.section_model.template import log_fallback, morph, section_template
 
@@ -434,7 +434,7 @@ def section_models(
                 continue
             g = geometry_from_design(d)
             check_section_budget(coil_outer_radius=g.coil_outer_radius, mesh_size=mesh_size)
-            laws = laws_from_design(d, coil_modulus=coil_modulus)
+            laws = section_laws_from_design(d, coil_modulus=coil_modulus)
             laws, extra = coil_terms(d, coil_bending, laws)
         except Exception as exc:  # reported per design by the caller
             raise_pending_stop()

@@ -156,12 +156,12 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
     from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve
 
     mesh_opts = {k: options.pop(k) for k in ("mesh_size", "segments")}
-    laws = laws_from_design(d, coil_modulus="tension", **options)
+    laws = section_laws_from_design(d, coil_modulus="tension", **options)
     laws, extra = coil_terms(d, "resolved" if coil_model == "resolved" else "annulus", laws)
     geometry = geometry_from_design(d)
     mesh = catheter_section_mesh(geometry, **mesh_opts)

@@ -30,7 +30,7 @@ name = "demo"
 base = "paper"
 pressures_MPa = {sorted({*DEMO_PRESSURES_MPA, DEMO_SELECT_PRESSURE_MPA})}
 loads = ["cap", "lumen"]
-evaluators = ["analytic", "section"]
+evaluators = ["paper", "section"]
 
 [sweep.feasibility]
 max_strain = {DEMO_MAX_STRAIN}

@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.load_cases import LOADS
 from softcath.studies.report.html_blocks import figure, fmt, note, table
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
 #: Silicone Poisson ratios of the demo's nu plot (tube and filler together).
 NU_SWEEP = (0.45, 0.46, 0.47, 0.48, 0.49, 0.495, 0.498, 0.499, 0.4995, 0.4999)
-LOADS = ("cap", "lumen")
 #: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be trusted.
 VIEW_PRESSURE_MPA = 0.5
 
@@ -53,7 +53,7 @@ def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, f
     return _save(fig, path)
 
 
-def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE_MPA) -> str:
+def tip_view(result, *, load: str = "lumen", pressure: float = VIEW_PRESSURE_MPA) -> str:
     """The 3-D FEM's deformed tip as a rotatable inline view (empty if ``result`` carries no solution)."""
     solution = getattr(result, "solution", None)
     if solution is None or load not in getattr(solution, "unit", {}):
@@ -61,10 +61,10 @@ def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE
     from softcath.fem.export import to_grid
     from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 
-    view = surface_of_grid(to_grid(solution, load, pressure_MPa))
+    view = surface_of_grid(to_grid(solution, load, pressure))
     return "<h3 id='fem-3d'>The deformed tip in 3-D</h3>" + tip_view_fragment(
         view,
-        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure_MPa:g} MPa, "
+        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure:g} MPa, "
         "cut along the bending plane (the cut face towards you), coloured by the largest principal strain.",
     )
 

@@ -218,7 +218,7 @@ def run_workflow(
     *,
     reference: str = "measured",
     fem: Callable[..., Any] | pd.DataFrame | None = None,
-    pressures_MPa: np.ndarray | None = None,
+    pressures: np.ndarray | None = None,
     margin: float | None = None,
     min_share: float = 0.05,
     max_effects: int = 3,
@@ -242,10 +242,10 @@ def run_workflow(
     reference
         ``"measured"`` or ``"fem"``.
     fem
-        For ``"fem"`` without ``data``: a callable ``fem(design, pressures_MPa)``
+        For ``"fem"`` without ``data``: a callable ``fem(design, pressures)``
         returning curvatures (1/mm), or a precomputed table.
-    pressures_MPa
-        Pressures for the ``fem`` callable (default 12 points over 0..2 MPa).
+    pressures
+        Pressures [MPa] for the ``fem`` callable (default 12 points over 0..2 MPa).
     margin, min_share, max_effects
         Decision rule, see :func:`softcath.studies.discrepancy.naming.name_effects`.
         ``margin`` defaults to 0.05, and to 0.12 on quasi-static measured points
@@ -274,9 +274,7 @@ def run_workflow(
         if margin is None and prep.static:
             margin = QUASI_STATIC_MARGIN
     else:
-        prep, cands, notes, fixed_gain, context = _fem_reference_points(
-            data, d, fem, pressures_MPa, candidates
-        )
+        prep, cands, notes, fixed_gain, context = _fem_reference_points(data, d, fem, pressures, candidates)
     if margin is None:
         margin = DEFAULT_MARGIN
     for c in cands:

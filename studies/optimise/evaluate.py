@@ -153,7 +153,7 @@ class Scores:
 
 
 def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Sequence[str]) -> list[dict]:
-    n_tasks = 1 if tuple(evaluators) == ("analytic",) else max(1, min(slots, len(variants)))
+    n_tasks = 1 if tuple(evaluators) == ("paper",) else max(1, min(slots, len(variants)))
     size = max(1, math.ceil(len(variants) / n_tasks))
     paths = sorted({p for v in variants for p in v})
     return [
@@ -177,13 +177,13 @@ def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Seque
 def run_variants(problem: Problem, variants: list[dict], backend: Backend, evaluators=None, model=None):
     """The merged results table of ``variants`` (design ids 0..n−1) with ``model``'s columns.
 
-    ``evaluators`` default to the analytic one and ``problem``'s; ``model`` to ``problem.model``.
+    ``evaluators`` default to the paper's formula and ``problem``'s; ``model`` to ``problem.model``.
     """
     import pandas as pd
 
     from softcath.studies.sweep.results import add_derived_columns, model_columns
 
-    evaluators = evaluators or sorted({"analytic", problem.evaluator})
+    evaluators = evaluators or sorted({"paper", problem.evaluator})
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))
     df = pd.concat(frames, ignore_index=True)
     df = add_derived_columns(df, max_strain=math.inf, p_max=max(problem.pressures_MPa))

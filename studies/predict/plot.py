@@ -7,13 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["band_picture", "curve_band_picture"]
+from softcath.studies.tiers import TIERS
 
-_LABELS = {
-    "paper": "paper's formula (eq. 7)",
-    "section": "section model (2-D GPS)",
-    "fem": "3-D linear FEM",
-}
+__all__ = ["band_picture", "curve_band_picture"]
 
 
 def band_picture(
@@ -47,7 +43,8 @@ def band_picture(
         )
         ax.plot([p["p50"]] * 2, [y - 0.22, y + 0.22], color="C0", lw=2)
         ax.plot(t.nominal_gain, y, marker="D", color="k", ms=5)
-        labels.append(f"{_LABELS.get(t.model, t.model)}\n{t.load} load, n = {t.feasible_samples}")
+        label = TIERS[t.model].short_label if t.model in TIERS else t.model
+        labels.append(f"{label}\n{t.load} load, n = {t.feasible_samples}")
     for j, (name, value) in enumerate(points.items()):
         y = rows - 1 - len(tiers) - j
         ax.plot(value, y, marker="o", color="C2", ms=7)

@@ -14,6 +14,7 @@ from softcath.studies.predict.ranges import (
     chosen_ranges,
 )
 from softcath.studies.predict.tier import TierPrediction, predict_tier
+from softcath.studies.tiers import tier_name
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -85,7 +86,9 @@ def resolve_ranges(
     """The ranges to vary: each ``--vary`` item, or (none given) the ranges file's defaults."""
     ranges = chosen_ranges(design_ref, base_table(design_ref), vary, ranges_file)
     if ranges is None:
-        raise DesignError("--vary", [], f"no ranges file for design {design_ref!s}: give --vary or --ranges")
+        raise DesignError(
+            "vary", [], f"no ranges file for design {design_ref!s}: give ranges to vary or a ranges file"
+        )
     return ranges
 
 
@@ -126,9 +129,8 @@ def predict(
     lumen otherwise); ``samples`` sets the paper and section tiers'
     sample size, ``fem_samples`` the 3-D FEM's (defaults: :data:`DEFAULT_SAMPLES`).
     """
-    for name in (model, *compare):
-        if name not in TIERS:
-            raise DesignError("model", name, f"must be one of {', '.join(TIERS)}")
+    model = tier_name(model, allowed=TIERS)
+    compare = tuple(tier_name(name, allowed=TIERS) for name in compare)
     check_predict_inputs(
         samples=samples, fem_samples=fem_samples, seed=seed, measured_gain=measured_gain,
         tiers=(model, *compare),

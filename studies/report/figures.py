@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.studies.tiers import TIERS
+
 __all__ = [
     "parity_plot",
     "tiers_parity_plot",
@@ -318,7 +320,9 @@ def sensitivity(df, params: list[str], lhs: bool, path: Path) -> tuple[Path | No
         ax.bar(pos + 0.2, s1, width=0.4, label="RBD-FAST S1")
     ax.set_xticks(pos, params, rotation=20)
     ax.axhline(0, color="k", lw=0.8)
-    ax.set_ylabel(f"sensitivity of {'section' if section else 'analytic'} κ at p_max ({load})")
+    ax.set_ylabel(
+        f"sensitivity of {TIERS['section' if section else 'paper'].short_label} κ at p_max ({load})"
+    )
     ax.legend()
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
@@ -410,9 +414,7 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.set_ylabel(objs[1])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    model = {"paper": "paper's formula", "section": "section model", "fem": "3-D FEM"}.get(
-        selection.get("model")
-    )
+    model = TIERS[selection["model"]].short_label if selection.get("model") in TIERS else None
     ax.set_title(f"Selection ({model + ', ' if model else ''}{selection.get('load')} load)")
     return _save(fig, path)
 
@@ -443,7 +445,11 @@ def bend_curves(df, path: Path, *, max_designs: int = 6) -> Path | None:
                     p, np.degrees(g["bend_angle_fem_rad"].to_numpy(float)), "--", color=c, label="linear FEM"
                 )
             ax.plot(
-                p, np.degrees(g["bend_angle_analytic_rad"].to_numpy(float)), ":", color=c, label="analytic"
+                p,
+                np.degrees(g["bend_angle_analytic_rad"].to_numpy(float)),
+                ":",
+                color=c,
+                label=TIERS["paper"].short_label,
             )
         ax.set_title(f"{load} load")
         ax.set_xlabel("pressure [MPa]")

@@ -19,6 +19,7 @@ import numpy as np
 from softcath.design.errors import DataError
 from softcath.studies.report import figures
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
+from softcath.studies.tiers import TIERS
 
 __all__ = ["write_report", "sweep_sections", "design_of"]
 
@@ -66,9 +67,6 @@ def design_of(sweep_dir: str | Path, design_id: int):
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
-_MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
-
-
 def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
     path = sweep_dir / "selection.json"
     if not path.is_file():
@@ -95,7 +93,7 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     out = (
         "<p>"
         + (
-            f"Model <b>{esc(_MODEL_NAMES.get(sel['model'], 'the table as given'))}</b>, l"
+            f"Model <b>{esc(TIERS[sel['model']].label if sel['model'] in TIERS else 'the table as given')}</b>, l"
             if "model" in sel
             else "L"
         )

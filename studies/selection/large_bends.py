@@ -57,7 +57,7 @@ def recheck_large_bends(
     selection: Selection,
     *,
     base_table: Mapping[str, Any],
-    pressures_MPa: Sequence[float],
+    pressures: Sequence[float],
     constraints: Sequence[str],
     workers: int | None = None,
 ) -> Selection:
@@ -71,7 +71,7 @@ def recheck_large_bends(
     cons = tuple(parse_constraint(c) for c in selection.constraints)
     problem = Problem(
         base_table=base_table, variables=(), objectives=objs, constraints=cons, model="section-nonlinear",
-        load=selection.load, pressures_MPa=tuple(sorted(set(pressures_MPa))),
+        load=selection.load, pressures_MPa=tuple(sorted(set(pressures))),
     )  # fmt: skip
     swept = {p for r in selection.ranked for p in r["parameters"]}
     params = [

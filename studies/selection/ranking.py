@@ -134,7 +134,7 @@ def select(
     cons = [parse_constraint(c) for c in constraints]
     objs = [parse_objective(o) for o in objectives]
     if not objs:
-        raise SelectionError("give at least one --objective, e.g. 'maximise bend_per_MPa_deg'")
+        raise SelectionError("give at least one objective, e.g. 'maximise bend_per_MPa_deg'")
     df, model, load, note = resolve_model(df, model, load)
     check_columns([*cons, *objs], df.columns)
     loads = sorted(set(df["load"]))

@@ -44,7 +44,7 @@ def robust_select(
     selection: Selection,
     *,
     base_table: Mapping[str, Any],
-    pressures_MPa: Sequence[float],
+    pressures: Sequence[float],
     probability: float,
     ranges: Sequence,
     samples: int = 32,
@@ -76,7 +76,7 @@ def robust_select(
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
     problem = Problem(base_table=base_table, variables=(), objectives=objs, constraints=cons, model=model,
-                      load=selection.load, pressures_MPa=tuple(sorted(set(pressures_MPa))))  # fmt: skip
+                      load=selection.load, pressures_MPa=tuple(sorted(set(pressures))))  # fmt: skip
     designs = [{k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
                for r in selection.ranked]  # fmt: skip
     scores = []

@@ -298,7 +298,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
                         fem_cols[load][f"fem_{k}"][i, j] = row[k]
 
     nl_cols = {load: {k: _nan_block(n_d, n_p) for k in _NONLINEAR_KEYS} for load in loads}
-    if "nonlinear" in task["evaluators"]:
+    if "fem-nonlinear" in task["evaluators"]:
         for i in ok:
             for load in loads:
                 try:

@@ -121,7 +121,7 @@ def _failed_frame(task: dict, exc: BaseException):
     reason = f"task failed: {type(exc).__name__}: {exc}"
     log.warning("sweep task %s failed: %s", task["task_id"], reason)
     try:
-        frame = evaluate_task(dict(task, evaluators=["analytic"]))
+        frame = evaluate_task(dict(task, evaluators=["paper"]))
     except Exception:  # even the analytic path fails: rows with the reason and no values
         raise_pending_stop()
         return evaluate_task(dict(task, fail_reason=reason))
@@ -185,11 +185,9 @@ def _pool(tasks, workers: int):
 
 
 def _check_options(workers, dask_local, scheduler) -> None:
-    chosen = [
-        n for n, v in (("--workers", workers), ("--dask-local", dask_local), ("--scheduler", scheduler)) if v
-    ]
+    chosen = [n for n, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler)) if v]
     if len(chosen) > 1:
-        raise DesignError("backend", " ".join(chosen), "choose one of --workers, --dask-local, --scheduler")
+        raise DesignError("backend", " ".join(chosen), "choose one of workers, dask_local, scheduler")
     for name, v in (("workers", workers), ("dask_local", dask_local)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
             raise DesignError(name, v, "must be an integer >= 1")

@@ -7,9 +7,11 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["analytic"]      # and/or "section" (2-D section model, ~0.2 s/design),
+    evaluators = ["paper"]         # and/or "section" (2-D section model, ~0.2 s/design),
                                    # "section-nonlinear" (finite-strain section model, ~1 s/design
-                                   # and load: large bends), "fem", "nonlinear" (finite-strain FEM, slow)
+                                   # and load: large bends), "fem", "fem-nonlinear" (finite-strain
+                                   # FEM, slow); the names of softcath.studies.tiers ("analytic" and
+                                   # "nonlinear" still read, with a deprecation warning)
     seed = 7                       # Latin hypercube seed
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
@@ -48,15 +50,19 @@ from pathlib import Path
 from typing import Any
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
+from softcath.studies.tiers import TIERS, tier_name
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
-EVALUATORS = ("analytic", "section", "section-nonlinear", "fem", "nonlinear")
+EVALUATORS = tuple(TIERS)
+#: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
+#: tier names, so a sweep directory from then still resumes under the new names.
+_FINGERPRINT_NAMES = {"paper": "analytic", "fem-nonlinear": "nonlinear"}
 #: Designs per task at most when the section model runs (~0.2 s each): tasks of a few seconds.
 SECTION_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
-LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
     "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
     "section",
@@ -105,8 +111,8 @@ class SweepSpec:
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
-        From ``("analytic", "section", "section-nonlinear", "fem", "nonlinear")``: the analytic
-        model always runs; ``section-nonlinear`` is the finite-strain section model (~1 s per design
+        Tier names (:data:`softcath.studies.tiers.TIERS`) from ``("paper", "section",
+        "section-nonlinear", "fem", "fem-nonlinear")``: the paper's formula always runs; ``section-nonlinear`` is the finite-strain section model (~1 s per design
         and load).
     n_samples
         Latin-hypercube sample size (0 when no parameter is ``lhs``).
@@ -141,7 +147,7 @@ class SweepSpec:
 
     @property
     def uses_fem(self) -> bool:
-        return "fem" in self.evaluators or "nonlinear" in self.evaluators
+        return "fem" in self.evaluators or "fem-nonlinear" in self.evaluators
 
     @property
     def uses_section(self) -> bool:
@@ -165,7 +171,7 @@ class SweepSpec:
             "parameters": [(p.path, p.kind, list(p.values), p.bounds) for p in self.parameters],
             "pressures_MPa": self.pressures_MPa,
             "loads": self.loads,
-            "evaluators": self.evaluators,
+            "evaluators": tuple(_FINGERPRINT_NAMES.get(e, e) for e in self.evaluators),
             "n_samples": self.n_samples,
             "seed": self.seed,
             "chunk_size": self.effective_chunk_size,
@@ -310,10 +316,11 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
     loads = sweep.get("loads", ["cap", "lumen"])
     if not isinstance(loads, list) or not loads or any(x not in LOADS for x in loads):
         raise DesignError("sweep.loads", loads, f"must be a non-empty list from {list(LOADS)}")
-    evaluators = sweep.get("evaluators", ["analytic"])
-    if not isinstance(evaluators, list) or not evaluators or any(x not in EVALUATORS for x in evaluators):
+    evaluators = sweep.get("evaluators", ["paper"])
+    if not isinstance(evaluators, list) or not evaluators:
         raise DesignError("sweep.evaluators", evaluators, f"must be a non-empty list from {list(EVALUATORS)}")
-    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "analytic")
+    evaluators = [tier_name(x, parameter="sweep.evaluators") for x in evaluators]
+    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "paper")
 
     seed = sweep.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:

@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 from softcath.fem.section_model.finite_strain.lumen import LumenWall, lumen_volume
 from softcath.fem.section_model.finite_strain.residual import internal, with_globals
@@ -37,10 +38,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: ``lumen``: follower pressure on the deformed lumen wall plus the cap force on the
-#: deformed lumen (the real load); ``cap``: the cap force alone (the paper's load).
-LOADS = ("lumen", "cap")
-
 
 class SectionConvergenceError(DesignError):
     """Newton did not converge; names the last load reached."""
@@ -55,6 +52,10 @@ class SectionConvergenceError(DesignError):
 @dataclass(frozen=True)
 class Loading:
     """Loads at unit factor: a lumen pressure [MPa] of kind ``load`` and end moments [N mm].
+
+    Both loads of :data:`~softcath.design.load_cases.LOADS` act on the deformed configuration:
+    ``lumen`` is a follower pressure on the deformed lumen wall plus the cap force on the
+    deformed lumen.
 
     The moments (M_1, M_2) do work on the section's turning rate lambda k; they are
     for verification (Rivlin's flexure), the catheter's loads are pressures.

@@ -17,7 +17,7 @@ from softcath.fem.section_model.bilinear import annulus_fibres, bend_curve
 from softcath.fem.section_model.coil_models import helix_stiffness
 from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
-from softcath.fem.section_model.laws import laws_from_design
+from softcath.fem.section_model.laws import section_laws_from_design
 from softcath.fem.section_model.mesh import disk_section_mesh
 from softcath.fem.section_model.solve import solve
 
@@ -82,7 +82,7 @@ def test_meshed_bimodular_annulus_against_quadrature(paper, ratio, tol):
         mesh_size=0.02,
         segments=40,
     )
-    op = assemble(mesh, {COIL: laws_from_design(paper)[COIL]})
+    op = assemble(mesh, {COIL: section_laws_from_design(paper)[COIL]})
     et = design.coil_stiffness(paper.coil).axial_modulus_tension
     fib = annulus_fibres(op, mesh.labels, COIL, compression_modulus=ratio * et, initial_tension=0.0)
     k_rest = solve(op, ("cap",)).stiffness - fib.linear_stiffness(fib.tension_modulus)

@@ -17,7 +17,9 @@ def design_file(tmp_path):
 
 
 def test_design_file_without_ranges_or_vary_is_refused(design_file):
-    with pytest.raises(DesignError, match=r"no ranges file for design .*mine\.toml: give --vary or --ranges"):
+    with pytest.raises(
+        DesignError, match=r"no ranges file for design .*mine\.toml: give ranges to vary or a ranges file"
+    ):
         resolve_ranges(design_file)
 
 

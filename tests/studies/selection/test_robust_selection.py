@@ -39,7 +39,7 @@ def sweep(tmp_path_factory):
 def _robust(sweep, seed=0):
     out, spec = sweep
     sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
-    return sel, robust_select(sel, base_table=spec.base_table, pressures_MPa=spec.pressures_MPa,
+    return sel, robust_select(sel, base_table=spec.base_table, pressures=spec.pressures_MPa,
                               probability=0.9, ranges=RANGES, samples=24, seed=seed)  # fmt: skip
 
 
@@ -101,7 +101,7 @@ def test_work_beyond_two_hours_or_absurd_samples_is_refused_before_any_run(sweep
     sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
     kw = {
         "base_table": spec.base_table,
-        "pressures_MPa": spec.pressures_MPa,
+        "pressures": spec.pressures_MPa,
         "probability": 0.9,
         "ranges": RANGES,
     }
