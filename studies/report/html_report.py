@@ -148,38 +148,9 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     factorial = [p["path"] for p in spec["parameters"] if p["kind"] != "lhs"]
     lhs = any(p["kind"] == "lhs" for p in spec["parameters"])
     fem = figures.has_fem(df)
-    per = df.drop_duplicates("design_id")
-    n_ok = int((per.status == "ok").sum())
-    sections: list[tuple[str, str]] = []
+    sections: list[tuple[str, str]] = [("Overview", _overview_html(spec, df.drop_duplicates("design_id")))]
 
-    kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
-    overview = (
-        f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
-        f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
-        f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
-        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.</p>"
-        "<p>Loads: <b>cap</b> is the paper's model (end-cap force only); <b>lumen</b> adds the pressure on "
-        "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
-        "unconfined tube.</p>"
-    )
-    sections.append(("Overview", overview))
-
-    ppath = figures.parity_plot(df, fig_dir / "parity.png")
-    if ppath:
-        ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
-        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
-                 for load, g in ok.groupby("load")]  # fmt: skip
-        body = figure(
-            prefix + ppath.name,
-            "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
-            "the same load (left) and against the paper's formula, the analytic cap load (right).",
-        )
-        body += table(
-            ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
-        )
-    else:
-        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
-                    "no parity plot.")  # fmt: skip
+    ppath, body = _parity_html(df, fig_dir, prefix)
     if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
         sections.append(("Analytic vs FEM", body))
 
@@ -205,28 +176,74 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     if hpath:
         sections.append(("Heat maps", figure(prefix + hpath.name, esc(caption))))
 
-    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
-    if spath:
-        body = figure(
-            prefix + spath.name,
-            f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
-            "at p_max to each parameter: "
-            "standardised regression coefficients"
-            + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
-        )
-        body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
-        sections.append(("Sensitivity", body))
+    sensitivity = _sensitivity_html(df, params, lhs, fig_dir, prefix)
+    if sensitivity:
+        sections.append(("Sensitivity", sensitivity))
 
     sections.append(("Renders", _renders(df, sweep_dir, fig_dir, prefix, fem)))
-
-    fails = figures.failed_summary(df)
-    if fails:
-        body = table(["reason", "designs", "design ids"], fails, left=1)
-    else:
-        body = "<p class='ok'>No failed designs.</p>"
-    sections.append(("Failed designs", body))
+    sections.append(("Failed designs", _failed_html(df)))
     sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
     return sections
+
+
+def _overview_html(spec: dict, per) -> str:
+    """The overview paragraph: the sweep, its designs (``per``: one row per design) and the loads."""
+    n_ok = int((per.status == "ok").sum())
+    kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
+    return (
+        f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
+        f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
+        f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
+        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.</p>"
+        "<p>Loads: <b>cap</b> is the paper's model (end-cap force only); <b>lumen</b> adds the pressure on "
+        "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
+        "unconfined tube.</p>"
+    )
+
+
+def _parity_html(df, fig_dir: Path, prefix: str):
+    """The FEM-vs-analytic parity plot's path (``None`` without FEM results) and its HTML."""
+    ppath = figures.parity_plot(df, fig_dir / "parity.png")
+    if ppath:
+        ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
+        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
+                 for load, g in ok.groupby("load")]  # fmt: skip
+        body = figure(
+            prefix + ppath.name,
+            "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
+            "the same load (left) and against the paper's formula, the analytic cap load (right).",
+        )
+        body += table(
+            ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
+        )
+    else:
+        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
+                    "no parity plot.")  # fmt: skip
+    return ppath, body
+
+
+def _sensitivity_html(df, params: list[str], lhs: bool, fig_dir: Path, prefix: str) -> str | None:
+    """The sensitivity figure and table (HTML), or ``None`` when there is nothing to show."""
+    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
+    if not spath:
+        return None
+    body = figure(
+        prefix + spath.name,
+        f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+        "at p_max to each parameter: "
+        "standardised regression coefficients"
+        + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+    )
+    body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
+    return body
+
+
+def _failed_html(df) -> str:
+    """The failed designs grouped by reason (HTML table), or a line saying there are none."""
+    fails = figures.failed_summary(df)
+    if fails:
+        return table(["reason", "designs", "design ids"], fails, left=1)
+    return "<p class='ok'>No failed designs.</p>"
 
 
 def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
