@@ -137,9 +137,11 @@ def _check_grid(grid: int, free: tuple[str, ...]) -> None:
     grid_max = _grid_max(len(free))
     if not 1 <= grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
         raise design.DesignError(
-            "--grid", grid, f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
-            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)"
-        )  # fmt: skip
+            "--grid",
+            grid,
+            f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
+            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)",
+        )
 
 
 def _read_measurement(path: Path, low_pass: bool):

@@ -204,9 +204,13 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     from softcath.studies.model_validity import check_finite_columns, warn_linear_range
 
     r = section_model(
-        d, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
-        **mesh, **coil_opts,
-    )  # fmt: skip
+        d,
+        silicone_poisson=args.poisson,
+        keep_fields=not args.no_png,
+        mesher=args.mesher,
+        **mesh,
+        **coil_opts,
+    )
     ld = args.load
     full = r.to_json()
     doc = {
@@ -216,23 +220,54 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
         "elongation_per_MPa": r.elongation_per_MPa[ld],
         "lumen_area_change_mm2_per_MPa": r.lumen_area_change_mm2_per_MPa[ld],
         "fem_formula_ratio": r.fem_formula_ratio[ld],
-        **{k: full[k] for k in ("EA_N", "EI_N_mm2", "EI_lateral_N_mm2", "coupling_N_mm", "neutral_axis_mm",
-                                "axial_centroid_mm", "lumen_area_mm2", "poisson_ratio_silicone",
-                                "coil_modulus", "coil_bending", "mesh_size_mm", "segments", "dofs",
-                                "n_triangles", "seconds", "mesh_seconds", "backward_error", "stiffness")},
+        **{
+            k: full[k]
+            for k in (
+                "EA_N",
+                "EI_N_mm2",
+                "EI_lateral_N_mm2",
+                "coupling_N_mm",
+                "neutral_axis_mm",
+                "axial_centroid_mm",
+                "lumen_area_mm2",
+                "poisson_ratio_silicone",
+                "coil_modulus",
+                "coil_bending",
+                "mesh_size_mm",
+                "segments",
+                "dofs",
+                "n_triangles",
+                "seconds",
+                "mesh_seconds",
+                "backward_error",
+                "stiffness",
+            )
+        },
         "assembly": full["assembly"],
         "axial_groups": full["axial_groups"],
-        "loads": {k: full[k] for k in ("curvature_per_mm_per_MPa", "elongation_per_MPa",
-                                       "lumen_area_change_mm2_per_MPa", "fem_formula_ratio")},
-    }  # fmt: skip
+        "loads": {
+            k: full[k]
+            for k in (
+                "curvature_per_mm_per_MPa",
+                "elongation_per_MPa",
+                "lumen_area_change_mm2_per_MPa",
+                "fem_formula_ratio",
+            )
+        },
+    }
     curve = None
     if placement is not None:
         from softcath.fem.section_model.bilinear import bend_curve
 
         curve = bend_curve(
-            d, pressures, load=ld, coil_model=placement, initial_tension=f0,
-            silicone_poisson=args.poisson, **mesh,
-        )  # fmt: skip
+            d,
+            pressures,
+            load=ld,
+            coil_model=placement,
+            initial_tension=f0,
+            silicone_poisson=args.poisson,
+            **mesh,
+        )
         doc["coil_bound"] = curve.to_json()
     resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
     columns = {
@@ -251,8 +286,15 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
             w.writerow(
                 ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
             )
-            for row in zip(resp.pressure, resp.curvature, resp.elongation, resp.bend_angle, resp.tip_x,
-                           resp.tip_y, strict=True):  # fmt: skip
+            for row in zip(
+                resp.pressure,
+                resp.curvature,
+                resp.elongation,
+                resp.bend_angle,
+                resp.tip_x,
+                resp.tip_y,
+                strict=True,
+            ):
                 w.writerow([f"{v:.10g}" for v in row])
         if not args.no_png:
             p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1

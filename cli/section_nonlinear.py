@@ -53,10 +53,16 @@ def run_nonlinear(args: argparse.Namespace) -> int:
 
         measured = read_measurement_csv(args.measured, missing="drop")
     c = section_curve(
-        d, sorted({float(p) for p in pressures}), load=args.load, mesh_size=args.mesh_size,
-        segments=args.segments, silicone_poisson=args.poisson, hoop_cap=args.hoop_cap, mesher=args.mesher,
+        d,
+        sorted({float(p) for p in pressures}),
+        load=args.load,
+        mesh_size=args.mesh_size,
+        segments=args.segments,
+        silicone_poisson=args.poisson,
+        hoop_cap=args.hoop_cap,
+        mesher=args.mesher,
         progress=True,
-    )  # fmt: skip
+    )
     p90 = c.pressure_for_angle(math.pi / 2)
     doc = {
         "design": c.design_name,

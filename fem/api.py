@@ -157,10 +157,17 @@ def check(
     silicones = silicone_parameters(d)
     _warn_capped_poisson(silicones)
     sol = run_tip(
-        geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
-        axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
+        geometry,
+        laws,
+        loads=loads,
+        mesh_size=mesh_size,
+        mesher=mesher,
+        axial_ratio=axial_ratio,
+        use_cache=use_cache,
+        method=method,
+        progress=progress,
         assembly=d.assembly,
-    )  # fmt: skip
+    )
     cases = []
     for ld in loads:
         cases.extend(_load_cases(d, sol, ld, p, geometry.length))
@@ -168,7 +175,14 @@ def check(
 
 
 def _fem_result(
-    d, sol: TipSolution, geometry, cases: tuple[FemCase, ...], first_load: str, mesh_size, coil_modulus, silicones
+    d,
+    sol: TipSolution,
+    geometry,
+    cases: tuple[FemCase, ...],
+    first_load: str,
+    mesh_size,
+    coil_modulus,
+    silicones,
 ) -> FemResult:
     """The :class:`FemResult` of a solved tip: its cases and the mesh, solver and material facts."""
     q = sol.mesh.quality
@@ -211,8 +225,10 @@ def _warn_capped_poisson(silicones: dict) -> None:
                 "%s silicone Poisson ratio %r is solved as %g (the linear FEM's cap; nearly "
                 "incompressible silicone comes out too compliant): fem.json states both; "
                 "`softcath section` takes nu up to 0.49999",
-                name, used["poisson_ratio_design"], used["poisson_ratio_used"],
-            )  # fmt: skip
+                name,
+                used["poisson_ratio_design"],
+                used["poisson_ratio_used"],
+            )
 
 
 def _load_cases(d, sol: TipSolution, ld: str, p: np.ndarray, length: float) -> list[FemCase]:
@@ -258,9 +274,11 @@ def check_assembly(assembly) -> None:
     for key, _, _ in INTERFACES:
         if getattr(assembly, key) != "bonded":
             raise DesignError(
-                f"assembly.{key}", getattr(assembly, key), "the finite-strain FEM models bonded interfaces only; "
+                f"assembly.{key}",
+                getattr(assembly, key),
+                "the finite-strain FEM models bonded interfaces only; "
                 "the linear FEM and the section model take sliding ones",
-            )  # fmt: skip
+            )
     if assembly.proximal != "clamped":
         raise DesignError(
             "assembly.proximal", assembly.proximal, "the finite-strain FEM models a clamped base only"

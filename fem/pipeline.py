@@ -128,7 +128,9 @@ def run_tip(
     mesh, mesh_seconds = _tip_mesh(geometry, mesh_size, mesher, axial_ratio, use_cache, as_built)
     say("assembling")
     t1 = time.perf_counter()
-    problem, rhs, tags = _assemble_problem(mesh, geometry, laws, loads, assembly if as_built else None, method)
+    problem, rhs, tags = _assemble_problem(
+        mesh, geometry, laws, loads, assembly if as_built else None, method
+    )
     assemble_seconds = time.perf_counter() - t1
     say("solving")
     t2 = time.perf_counter()

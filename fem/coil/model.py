@@ -157,7 +157,7 @@ def _rigid_plate(nodes: np.ndarray, tied: np.ndarray, free: np.ndarray, centre: 
     p = 6 * len(free)  # plate DOFs: U (p..p+2), Θ (p+3..p+5)
     for j in tied:
         rx, ry, rz = nodes[j] - centre
-        # u = U + Θ × r ; θ = Θ
+        # u = U + Θ × r ; θ = Θ (fmt: skip keeps one row of the rigid-body map per line)
         entries = [
             (0, 0, 1.0), (0, 4, rz), (0, 5, -ry),
             (1, 1, 1.0), (1, 5, rx), (1, 3, -rz),

@@ -170,9 +170,12 @@ def section_model(
     t0 = time.perf_counter()
     geometry = geometry_from_design(d)
     laws = section_laws_from_design(
-        d, coil_modulus=coil_modulus, poisson_cap=poisson_cap, silicone_poisson=silicone_poisson,
+        d,
+        coil_modulus=coil_modulus,
+        poisson_cap=poisson_cap,
+        silicone_poisson=silicone_poisson,
         poisson=poisson,
-    )  # fmt: skip
+    )
     laws, extra = coil_terms(d, coil_bending, laws)
     mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments, mesher=mesher)
     solved = _solve_section(d, mesh, laws, loads, sum(extra.values()))

@@ -19,7 +19,6 @@ from softcath.fem.section_model.element import SectionOperator
 __all__ = ["LOADS", "LoadSolution", "SectionSolution", "solve"]
 
 
-
 @dataclass(frozen=True)
 class LoadSolution:
     """Response to 1 MPa of one load case.

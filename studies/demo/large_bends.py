@@ -102,9 +102,11 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
         + _bend_curve_html(c, f1, f2)
     )
     ctx.shared["large_bends"] = {
-        "pressure": float(c.pressure[-1]), "angle_deg": float(np.degrees(c.bend_angle[-1])), "ratio": ratio,
+        "pressure": float(c.pressure[-1]),
+        "angle_deg": float(np.degrees(c.bend_angle[-1])),
+        "ratio": ratio,
         "strain_over_at": over[0] if over else None,
-    }  # fmt: skip
+    }
     ctx.shared["large_bends"]["p90_MPa"] = tiers["p90"]
     return SectionOutput(html, (f0, f1, f2))
 
@@ -115,9 +117,7 @@ def _three_tiers_only(ctx: DemoContext) -> SectionOutput:
     rows90, _ = four_tiers(ctx.design, None, f0)
     return SectionOutput(
         "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
-        + figure(
-            f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models."
-        )
+        + figure(f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models.")
         + _table90(rows90),
         (f0,),
     )
@@ -156,14 +156,17 @@ def _bend_curve_html(c, f1, f2) -> str:
     rows = [
         (p, np.degrees(a), np.degrees(lin), np.degrees(ana), e, int(it))
         for p, a, lin, ana, e, it in zip(
-            c.pressure, c.bend_angle, c.linear_bend_angle, c.analytic_bend_angle, c.max_strain,
-            c.newton_iterations, strict=True,
+            c.pressure,
+            c.bend_angle,
+            c.linear_bend_angle,
+            c.analytic_bend_angle,
+            c.max_strain,
+            c.newton_iterations,
+            strict=True,
         )
-    ]  # fmt: skip
+    ]
     return (
-        figure(
-            f1.name, "Bend angle vs lumen pressure: finite-strain FEM, linear FEM, analytic (lumen load)."
-        )
+        figure(f1.name, "Bend angle vs lumen pressure: finite-strain FEM, linear FEM, analytic (lumen load).")
         + table(
             [
                 "p [MPa]",
@@ -174,7 +177,7 @@ def _bend_curve_html(c, f1, f2) -> str:
                 "Newton iterations",
             ],
             rows,
-        )  # fmt: skip
+        )
         + figure(
             f2.name,
             f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its undeformed "

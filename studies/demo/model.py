@@ -42,7 +42,7 @@ def section_model(ctx: DemoContext) -> SectionOutput:
                 ("lumen wall too", kl, el, np.degrees(lumen.bend_angle[-1])),
             ],
             left=1,
-        )  # fmt: skip
+        )
         + f"<p>A 90° bend needs {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2)))} MPa under the "
         f"cap load and {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2, load='lumen')))} MPa if the "
         "lumen-wall term acts unconfined.</p>"

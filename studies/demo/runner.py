@@ -37,9 +37,17 @@ def default_data() -> Path:
     return data / "bench_hysteresis.csv"
 
 
-def run_sections(sections: Sequence[Section], out_dir: str | Path, *, design_ref: str = "paper",
-                 data_csv: str | Path | None = None, workers: int = 2, only: tuple[str, ...] | None = None,
-                 progress: bool = True, fem: bool = True) -> DemoResult:  # fmt: skip
+def run_sections(
+    sections: Sequence[Section],
+    out_dir: str | Path,
+    *,
+    design_ref: str = "paper",
+    data_csv: str | Path | None = None,
+    workers: int = 2,
+    only: tuple[str, ...] | None = None,
+    progress: bool = True,
+    fem: bool = True,
+) -> DemoResult:
     """Run ``sections`` into ``out_dir`` and write ``out_dir/index.html`` and ``out_dir/demo.json``.
 
     Parameters
@@ -79,8 +87,9 @@ def run_sections(sections: Sequence[Section], out_dir: str | Path, *, design_ref
         except Exception as exc:  # one section's failure must not lose the others
             raise_pending_stop()
             log.error("demo section %s failed: %s: %s", key, type(exc).__name__, exc, exc_info=True)
-            res = SectionOutput(note(f"<b>This section failed:</b> {esc(type(exc).__name__)}: {esc(exc)}"),
-                                status="failed")  # fmt: skip
+            res = SectionOutput(
+                note(f"<b>This section failed:</b> {esc(type(exc).__name__)}: {esc(exc)}"), status="failed"
+            )
         secs = time.perf_counter() - t
         records.append({"key": key, "title": title, "status": res.status, "seconds": round(secs, 2)})
         badge = {

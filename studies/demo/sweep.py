@@ -104,8 +104,16 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
         if r is None or s.empty:
             continue
         ks = float(s.curvature_section_per_mm.iloc[0])
-        out.append((load, ks, r["curvature_per_mm"], r["curvature_per_mm"] / ks - 1,
-                    float(s.max_strain_section.iloc[0]), r["max_strain"]))  # fmt: skip
+        out.append(
+            (
+                load,
+                ks,
+                r["curvature_per_mm"],
+                r["curvature_per_mm"] / ks - 1,
+                float(s.max_strain_section.iloc[0]),
+                r["max_strain"],
+            )
+        )
     ctx.shared["chosen_check"] = {"design_id": did, "rows": out}
     return (
         f"<h3>The chosen design checked by the 3-D FEM</h3><p>Design {did} at {fmt(p)} MPa ({seconds:.0f} s):</p>"
@@ -120,5 +128,5 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
             ],
             out,
             left=1,
-        )  # fmt: skip
+        )
     )

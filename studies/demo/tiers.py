@@ -126,15 +126,27 @@ def _tiers_table(k_f: float, e_f: float, sm, fem: dict | None, fem_seconds: floa
     """The introduction and the table of the three tiers' gains (HTML)."""
     body = [
         ["paper's formula (eq. 7, cap force)", k_f, k_f, e_f, e_f, 1.0, 1.0, "closed form", "—"],
-        ["section model (2-D)", *_per_load(sm.curvature_per_mm_per_MPa), *_per_load(sm.elongation_per_MPa),
-         *_per_load(sm.fem_formula_ratio), sm.dofs, f"{sm.seconds:.2f}"],
-    ]  # fmt: skip
+        [
+            "section model (2-D)",
+            *_per_load(sm.curvature_per_mm_per_MPa),
+            *_per_load(sm.elongation_per_MPa),
+            *_per_load(sm.fem_formula_ratio),
+            sm.dofs,
+            f"{sm.seconds:.2f}",
+        ],
+    ]
     if fem:
         kf_ = {ld: r["curvature_per_mm"] for ld, r in fem.items()}
         body.append(
-            ["3-D FEM (linear, mid-span)", *_per_load(kf_), *_per_load({ld: r["elongation"] for ld, r in fem.items()}),
-             *(v / k_f for v in _per_load(kf_)), int(fem["cap"]["dofs"]), f"{fem_seconds:.1f}"]
-        )  # fmt: skip
+            [
+                "3-D FEM (linear, mid-span)",
+                *_per_load(kf_),
+                *_per_load({ld: r["elongation"] for ld, r in fem.items()}),
+                *(v / k_f for v in _per_load(kf_)),
+                int(fem["cap"]["dofs"]),
+                f"{fem_seconds:.1f}",
+            ]
+        )
     return (
         "<p>Three models of the same tip, per MPa of pressure. The <b>paper's formula</b> is the composite "
         "beam under the end-cap force (eq. 7), the paper's prediction for either load. The <b>section "
@@ -156,7 +168,7 @@ def _tiers_table(k_f: float, e_f: float, sm, fem: dict | None, fem_seconds: floa
             ],
             body,
             left=1,
-        )  # fmt: skip
+        )
     )
 
 
@@ -189,9 +201,13 @@ def _nu_dependence(d, out_dir: Path, k_f: float, fem: dict | None) -> tuple[str,
             kappa[ld].append(r.curvature_per_mm_per_MPa[ld])
     nu_design = float(d.tube.material.poisson_ratio)
     fpath = nu_plot(
-        out_dir / "tiers_nu.png", NU_SWEEP, kappa, formula=k_f,
-        fem={ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None, fem_nu=nu_design,
-    )  # fmt: skip
+        out_dir / "tiers_nu.png",
+        NU_SWEEP,
+        kappa,
+        formula=k_f,
+        fem={ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None,
+        fem_nu=nu_design,
+    )
     i49, last = NU_SWEEP.index(0.49), len(NU_SWEEP) - 1
     html = figure(
         fpath.name,

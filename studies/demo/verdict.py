@@ -23,10 +23,12 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
     if tiers:
         lines.append(
             "Section model (2-D, FEM-grade): κ/p = "
-            + ", ".join(f"{fmt(k, 3)} ({ld} load, {fmt(k / tiers['formula'], 3)}× the formula)"
-                        for ld, k in tiers["section"].items())
+            + ", ".join(
+                f"{fmt(k, 3)} ({ld} load, {fmt(k / tiers['formula'], 3)}× the formula)"
+                for ld, k in tiers["section"].items()
+            )
             + " 1/(mm MPa)."
-        )  # fmt: skip
+        )
     fem_ratios = ctx.shared.get("fem")
     if fem_ratios:
         lines.append(
@@ -39,10 +41,13 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
         lines.append(
             f"Finite strain: {fmt(big['angle_deg'], 3)}° at {fmt(big['pressure'])} MPa, {fmt(big['ratio'], 3)}× the "
             "linear FEM"
-            + (f"; silicone strain above {fmt(DEMO_MAX_STRAIN)} from {fmt(big['strain_over_at'])} MPa"
-               if big["strain_over_at"] is not None else "")
+            + (
+                f"; silicone strain above {fmt(DEMO_MAX_STRAIN)} from {fmt(big['strain_over_at'])} MPa"
+                if big["strain_over_at"] is not None
+                else ""
+            )
             + "."
-        )  # fmt: skip
+        )
     cal = ctx.shared.get("calibration")
     if cal is not None:
         lines.append(f"Calibration to the bench data cuts the curvature error {fmt(cal.ratio)}-fold.")

@@ -37,9 +37,13 @@ def _parity(result) -> str:
                 sel = [r for r in t if r["load"] == load and r["heldout"] == held]
                 if sel:
                     ax.scatter(
-                        [r[key] for r in sel], [r["reference_gain"] for r in sel], marker=marker, c=colour,
-                        s=22, label=f"{load}, {'held-out' if held else 'training'}",
-                    )  # fmt: skip
+                        [r[key] for r in sel],
+                        [r["reference_gain"] for r in sel],
+                        marker=marker,
+                        c=colour,
+                        s=22,
+                        label=f"{load}, {'held-out' if held else 'training'}",
+                    )
         ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
         ax.set_xlabel("model κ/p [1/(mm MPa)]")
         ax.set_title(title, fontsize=10)

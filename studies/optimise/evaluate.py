@@ -79,9 +79,11 @@ def check_work(model: str, base_table: dict, runs: int, *, param: str, value, me
     seconds = runs * each
     if seconds > MAX_WORK_SECONDS:
         raise DesignError(
-            param, value, f"{runs} {model}-model runs would take about {seconds / 3600:.3g} h (~{each:.2g} s "
+            param,
+            value,
+            f"{runs} {model}-model runs would take about {seconds / 3600:.3g} h (~{each:.2g} s "
             f"each); at most {MAX_WORK_SECONDS / 3600:g} h: evaluate fewer designs or samples",
-        )  # fmt: skip
+        )
     return seconds
 
 
@@ -199,9 +201,11 @@ def evaluate_parameters(
     if n == 0:
         return Scores(np.zeros((0, k)), np.zeros((0, m)), np.zeros(0, bool))
     s = robust.samples if robust else 1
-    variants = [dict(p) for p in params] if robust is None else [
-        {**sample, **p} for p in params for sample in robust.values
-    ]  # fmt: skip
+    variants = (
+        [dict(p) for p in params]
+        if robust is None
+        else [{**sample, **p} for p in params for sample in robust.values]
+    )
     df = run_variants(problem, variants, backend)
     check_columns([*problem.objectives, *problem.constraints], df.columns)
     objs, margins, ok = score_table(df, range(len(variants)), problem.objectives, problem.constraints)

@@ -29,9 +29,13 @@ def line_fit(pressure: Sequence[float], curvature: Sequence[float]) -> tuple[flo
 
 
 def finite_strain_point(
-    design_ref, pressures: Sequence[float], *, load: str = "lumen", measured_gain: float | None = None,
+    design_ref,
+    pressures: Sequence[float],
+    *,
+    load: str = "lumen",
+    measured_gain: float | None = None,
     progress: bool = False,
-) -> dict:  # fmt: skip
+) -> dict:
     """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain (JSON-ready)."""
     from softcath import design
     from softcath.fem.nonlinear import bend_curve

@@ -159,18 +159,25 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
     if bpath:
         sections.append(
-            ("Large bends",
-             figure(prefix + bpath.name,
+            (
+                "Large bends",
+                figure(
+                    prefix + bpath.name,
                     "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic (dotted). "
-                    "Where they part, the small-rotation models stop being trustworthy."))
-        )  # fmt: skip
+                    "Where they part, the small-rotation models stop being trustworthy.",
+                ),
+            )
+        )
 
     epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
     sections.append(
-        ("Against each swept parameter",
-         figure(prefix + epath.name, f"{esc(label)} against each swept parameter.") if epath
-         else note("No valid design with a numeric swept parameter."))
-    )  # fmt: skip
+        (
+            "Against each swept parameter",
+            figure(prefix + epath.name, f"{esc(label)} against each swept parameter.")
+            if epath
+            else note("No valid design with a numeric swept parameter."),
+        )
+    )
 
     hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
     if hpath:
@@ -206,8 +213,10 @@ def _parity_html(df, fig_dir: Path, prefix: str):
     ppath = figures.parity_plot(df, fig_dir / "parity.png")
     if ppath:
         ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
-        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
-                 for load, g in ok.groupby("load")]  # fmt: skip
+        stats = [
+            (load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
+            for load, g in ok.groupby("load")
+        ]
         body = figure(
             prefix + ppath.name,
             "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
@@ -217,8 +226,10 @@ def _parity_html(df, fig_dir: Path, prefix: str):
             ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
         )
     else:
-        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
-                    "no parity plot.")  # fmt: skip
+        body = note(
+            "No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
+            "no parity plot."
+        )
     return ppath, body
 
 
@@ -231,8 +242,7 @@ def _sensitivity_html(df, params: list[str], lhs: bool, fig_dir: Path, prefix: s
         prefix + spath.name,
         f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
         "at p_max to each parameter: "
-        "standardised regression coefficients"
-        + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+        "standardised regression coefficients" + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
     )
     body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
     return body
@@ -262,11 +272,17 @@ def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
         "(their agreement), where each ran.",
     )
     body += table(
-        ["load", "rows", "median section / formula", "median FEM / formula", "median |FEM / section − 1|",
-         "max |FEM / section − 1|"],
+        [
+            "load",
+            "rows",
+            "median section / formula",
+            "median FEM / formula",
+            "median |FEM / section − 1|",
+            "max |FEM / section − 1|",
+        ],
         figures.tier_agreement(df),
         left=1,
-    )  # fmt: skip
+    )
     return body
 
 

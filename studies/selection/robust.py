@@ -75,14 +75,24 @@ def robust_select(
     check_work(model, dict(base_table), len(selection.ranked) * samples, param="samples", value=samples)
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
-    problem = Problem(base_table=base_table, variables=(), objectives=objs, constraints=cons, model=model,
-                      load=selection.load, pressures_MPa=tuple(sorted(set(pressures))))  # fmt: skip
-    designs = [{k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
-               for r in selection.ranked]  # fmt: skip
+    problem = Problem(
+        base_table=base_table,
+        variables=(),
+        objectives=objs,
+        constraints=cons,
+        model=model,
+        load=selection.load,
+        pressures_MPa=tuple(sorted(set(pressures))),
+    )
+    designs = [
+        {k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
+        for r in selection.ranked
+    ]
     scores = []
-    with Backend(workers=workers, scheduler=scheduler) as backend, tqdm(
-        total=len(designs), desc="robust select", unit="design", disable=not progress
-    ) as bar:  # fmt: skip
+    with (
+        Backend(workers=workers, scheduler=scheduler) as backend,
+        tqdm(total=len(designs), desc="robust select", unit="design", disable=not progress) as bar,
+    ):
         for d in designs:  # one design (its whole sample) per batch: the bar moves as designs finish
             scores.append(evaluate_parameters(problem, [d], backend, rob))
             bar.update()
@@ -90,12 +100,21 @@ def robust_select(
     for r, s in zip(selection.ranked, scores, strict=True):
         did = r["design_id"]
         probs = {c.text: float(s.probabilities[0, j]) for j, c in enumerate(cons)}
-        pct = {o.text: dict(zip(("p5", "p50", "p95"), map(_num, s.percentiles[0, j]), strict=True))
-               for j, o in enumerate(objs)}  # fmt: skip
-        ok = bool(s.ok[0] and all(p >= probability for p in probs.values())
-                  and all(v["p50"] is not None for v in pct.values()))  # fmt: skip
-        per_design[str(did)] = {"passes": ok, "probabilities": probs, "percentiles": pct,
-                                "buildable_samples": int(s.samples_ok[0])}  # fmt: skip
+        pct = {
+            o.text: dict(zip(("p5", "p50", "p95"), map(_num, s.percentiles[0, j]), strict=True))
+            for j, o in enumerate(objs)
+        }
+        ok = bool(
+            s.ok[0]
+            and all(p >= probability for p in probs.values())
+            and all(v["p50"] is not None for v in pct.values())
+        )
+        per_design[str(did)] = {
+            "passes": ok,
+            "probabilities": probs,
+            "percentiles": pct,
+            "buildable_samples": int(s.samples_ok[0]),
+        }
         if ok:
             passing.append((r, [o.sign * pct[o.text]["p50"] for o in objs]))
     matrix = np.array([v for _, v in passing], float).reshape(len(passing), len(objs))
@@ -107,17 +126,31 @@ def robust_select(
     for rank, k in enumerate(order, start=1):
         r = passing[k][0]
         info = per_design[str(r["design_id"])]
-        ranked.append({**r, "rank": rank, "pareto": bool(front[k]), "nominal_rank": r["rank"],
-                       "objectives": {t: v["p50"] for t, v in info["percentiles"].items()},
-                       "percentiles": info["percentiles"], "probabilities": info["probabilities"]})  # fmt: skip
+        ranked.append(
+            {
+                **r,
+                "rank": rank,
+                "pareto": bool(front[k]),
+                "nominal_rank": r["rank"],
+                "objectives": {t: v["p50"] for t, v in info["percentiles"].items()},
+                "percentiles": info["percentiles"],
+                "probabilities": info["probabilities"],
+            }
+        )
     robust = {
-        **rob.to_json(), "model": model, "left_out": left_out, "n_evaluated": len(designs),
-        "n_passing": len(passing), "designs": per_design,
-    }  # fmt: skip
+        **rob.to_json(),
+        "model": model,
+        "left_out": left_out,
+        "n_evaluated": len(designs),
+        "n_passing": len(passing),
+        "designs": per_design,
+    }
     return dataclasses.replace(
-        selection, ranked=ranked, robust=robust,
+        selection,
+        ranked=ranked,
+        robust=robust,
         pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
-    )  # fmt: skip
+    )
 
 
 def _num(v) -> float | None:

@@ -32,9 +32,19 @@ log = logging.getLogger(__name__)
 
 FEM_UNAVAILABLE = "fem evaluator unavailable"
 _FEM_KEYS = (
-    "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm",
-    "curvature_variation", "max_strain", "residual", "n_elements", "dofs", "mesh_seconds", "solve_seconds",
-)  # fmt: skip
+    "curvature_per_mm",
+    "elongation",
+    "bend_angle_rad",
+    "tip_x_mm",
+    "tip_y_mm",
+    "curvature_variation",
+    "max_strain",
+    "residual",
+    "n_elements",
+    "dofs",
+    "mesh_seconds",
+    "solve_seconds",
+)
 
 
 def fem_check_function():
@@ -253,11 +263,30 @@ def evaluate_task(task: dict) -> pd.DataFrame:
 
     fem_reason = [""] * n_d
     evaluators = task["evaluators"]
-    blocks.append(_fem_blocks(designs, ok, ids, pressures, loads, task.get("mesh_size"), "fem" in evaluators, fem_reason))
-    blocks.append(_nonlinear_blocks(designs, ok, ids, pressures, loads, "fem-nonlinear" in evaluators, fem_reason))
-    blocks.append(_section_blocks(designs, ok, ids, pressures, loads, task.get("section"), "section" in evaluators, fem_reason))
     blocks.append(
-        _section_nonlinear_blocks(designs, ok, ids, pressures, loads, task.get("section"), "section-nonlinear" in evaluators, fem_reason)
+        _fem_blocks(
+            designs, ok, ids, pressures, loads, task.get("mesh_size"), "fem" in evaluators, fem_reason
+        )
+    )
+    blocks.append(
+        _nonlinear_blocks(designs, ok, ids, pressures, loads, "fem-nonlinear" in evaluators, fem_reason)
+    )
+    blocks.append(
+        _section_blocks(
+            designs, ok, ids, pressures, loads, task.get("section"), "section" in evaluators, fem_reason
+        )
+    )
+    blocks.append(
+        _section_nonlinear_blocks(
+            designs,
+            ok,
+            ids,
+            pressures,
+            loads,
+            task.get("section"),
+            "section-nonlinear" in evaluators,
+            fem_reason,
+        )
     )
 
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
@@ -298,10 +327,17 @@ def _analytic_blocks(designs: list, ok: list[int], pressures: np.ndarray, loads:
     n_d, n_p = len(designs), len(pressures)
     per_load: dict[str, dict[str, np.ndarray]] = {}
     for load in loads:
-        block = {k: _nan_block(n_d, n_p) for k in (
-            "curvature_analytic_per_mm", "elongation_analytic", "bend_angle_analytic_rad",
-            "tip_x_analytic_mm", "tip_y_analytic_mm", "max_strain_analytic",
-        )}  # fmt: skip
+        block = {
+            k: _nan_block(n_d, n_p)
+            for k in (
+                "curvature_analytic_per_mm",
+                "elongation_analytic",
+                "bend_angle_analytic_rad",
+                "tip_x_analytic_mm",
+                "tip_y_analytic_mm",
+                "max_strain_analytic",
+            )
+        }
         if ok:
             vals = _analytic([designs[i] for i in ok], pressures, load)
             for k, v in vals.items():
@@ -359,7 +395,9 @@ def _nonlinear_blocks(designs, ok, ids, pressures, loads, enabled: bool, fem_rea
     return nl_cols
 
 
-def _section_blocks(designs, ok, ids, pressures, loads, options, enabled: bool, fem_reason: list[str]) -> dict:
+def _section_blocks(
+    designs, ok, ids, pressures, loads, options, enabled: bool, fem_reason: list[str]
+) -> dict:
     """Section-model columns per load; a design's failure is appended to ``fem_reason``."""
     n_d, n_p = len(designs), len(pressures)
     sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}

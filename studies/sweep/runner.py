@@ -104,14 +104,23 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
 # Failures of the machinery, not of the design: the task is not saved, so a rerun retries it.
 # (ModuleNotFoundError: a cluster worker without softcath installed.)
 _INFRASTRUCTURE = {
-    "BrokenProcessPool", "KilledWorker", "CancelledError", "CommClosedError", "TimeoutError", "ModuleNotFoundError",
-}  # fmt: skip
+    "BrokenProcessPool",
+    "KilledWorker",
+    "CancelledError",
+    "CommClosedError",
+    "TimeoutError",
+    "ModuleNotFoundError",
+}
 
 
 def _outcome(task: dict, exc: BaseException):
     if type(exc).__name__ in _INFRASTRUCTURE:
-        log.warning("sweep task %s lost (%s: %s); it will be retried on the next run", task["task_id"],
-                    type(exc).__name__, exc)  # fmt: skip
+        log.warning(
+            "sweep task %s lost (%s: %s); it will be retried on the next run",
+            task["task_id"],
+            type(exc).__name__,
+            exc,
+        )
         return task, None
     return task, _failed_frame(task, exc)
 
@@ -266,7 +275,9 @@ def run_sweep(
     return summary
 
 
-def _prepared_store(spec: SweepSpec, out_dir: str | Path, variants: list[dict], tasks: list[dict]) -> SweepStore:
+def _prepared_store(
+    spec: SweepSpec, out_dir: str | Path, variants: list[dict], tasks: list[dict]
+) -> SweepStore:
     """The sweep directory, prepared with the manifest and the design table (resumed if it holds this sweep)."""
     import pandas as pd
 
@@ -311,9 +322,13 @@ def _store_results(
 
     evaluated_designs = failed_now = lost = 0
     bar = tqdm(
-        total=total, initial=initial, unit="design", desc=desc,
-        disable=not progress, dynamic_ncols=True,
-    )  # fmt: skip
+        total=total,
+        initial=initial,
+        unit="design",
+        desc=desc,
+        disable=not progress,
+        dynamic_ncols=True,
+    )
     try:
         for task, frame in results:
             if frame is None:

@@ -64,9 +64,17 @@ SECTION_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
 _SWEEP_KEYS = {
-    "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
+    "name",
+    "base",
+    "pressures_MPa",
+    "loads",
+    "evaluators",
+    "seed",
+    "chunk_size",
+    "fem",
+    "feasibility",
     "section",
-}  # fmt: skip
+}
 _TOP_KEYS = {"sweep", "parameters", "sample"}
 
 
@@ -156,8 +164,11 @@ class SweepSpec:
     @property
     def section_options(self) -> dict:
         """Keyword options for ``softcath.fem.section_model.section_model`` (only those set)."""
-        opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending,
-                "mesher": self.section_mesher}  # fmt: skip
+        opts = {
+            "mesh_size": self.section_mesh_size,
+            "coil_bending": self.section_coil_bending,
+            "mesher": self.section_mesher,
+        }
         return {k: v for k, v in opts.items() if v is not None}
 
     @property

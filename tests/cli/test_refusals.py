@@ -201,8 +201,17 @@ def test_record_refuses_non_finite_scales(tmp_path, cli):
             argv = ["record", "--pressure-port", "loop://", "--encoder-port", "loop://", flag, value]
             line = cli(*argv, "--duration", "1", "--out", tmp_path / "r").error_line()
             assert f"{flag} = {value if value != '0' else '0.0'}" in line or f"{flag} = {value}" in line
-    line = cli("record", "--pressure-port", "loop://", "--encoder-port", "loop://", "--duration", "nan",
-               "--out", tmp_path / "r").error_line()  # fmt: skip
+    line = cli(
+        "record",
+        "--pressure-port",
+        "loop://",
+        "--encoder-port",
+        "loop://",
+        "--duration",
+        "nan",
+        "--out",
+        tmp_path / "r",
+    ).error_line()
     assert "--duration = nan" in line
 
 

@@ -278,9 +278,14 @@ def walk(
             state = None
             if rate is not None:  # Euler predictor along the load path's tangent
                 state, new_lu, new_tan = newton(
-                    problem, q + trial * rate, loading, done + trial, tol=tol, max_iter=max_iter,
+                    problem,
+                    q + trial * rate,
+                    loading,
+                    done + trial,
+                    tol=tol,
+                    max_iter=max_iter,
                     pressure=pressures_after(problem, tan, trial * rate),
-                )  # fmt: skip
+                )
             if state is None:
                 state, new_lu, new_tan = newton(problem, q, loading, done + trial, tol=tol, max_iter=max_iter)
             if state is None:

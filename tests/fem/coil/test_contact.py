@@ -39,9 +39,15 @@ def test_active_set_that_cannot_settle_is_an_error():
     k = sp.csr_matrix([[1.0]])
     with pytest.raises(SolverError, match="did not settle"):
         solve_with_contact(
-            _solve, k, np.array([1.0]), sp.csr_matrix([[-1.0]]), np.array([0.1]), np.array([1e3]),
-            active=np.array([False]), max_iterations=1,
-        )  # fmt: skip
+            _solve,
+            k,
+            np.array([1.0]),
+            sp.csr_matrix([[-1.0]]),
+            np.array([0.1]),
+            np.array([1e3]),
+            active=np.array([False]),
+            max_iterations=1,
+        )
 
 
 def test_close_wound_coil_is_bilinear_and_pivots(paper):
