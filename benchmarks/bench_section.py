@@ -81,14 +81,15 @@ def per_design() -> float:
     ):
         f = sum(ts) / len(ts)
         print(
-            f"  {label}: {f:6.2f} s   sweep path (template, batched) {b * 1e3:5.1f} ms  ratio {f / b:6.0f}x   "
-            f"section model on a fresh gmsh mesh {s * 1e3:5.0f} ms  ratio {f / s:5.1f}x"
+            f"  {label}: {f:6.2f} s   sweep path (template, batched) {b * 1e3:5.1f} ms  ratio {f / b:6.0f}x  "
+            f" section model on a fresh gmsh mesh {s * 1e3:5.0f} ms  ratio {f / s:5.1f}x"
         )
     return b
 
 
 def split(n: int) -> float:
-    """In-process time split of the sweep path over ``n`` designs (templates made first); seconds per design."""
+    """In-process time split of the sweep path over ``n`` designs (templates made first); seconds per
+    design."""
     from softcath.fem.section_model.batch import TIMERS, section_models
 
     designs = _variants(n, seed=8)
@@ -102,14 +103,15 @@ def split(n: int) -> float:
     per, cpu = (time.perf_counter() - t) / n, (time.process_time() - c0) / n
     parts = "  ".join(f"{k} {v / n * 1e3:.2f}" for k, v in TIMERS.items())
     print(
-        f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made "
-        f"[{_load()}]: {per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)"
+        f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made [{_load()}]: "
+        f"{per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)"
     )
     return cpu
 
 
 def sweep(n: int, in_process: float | None = None) -> None:
-    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct designs."""
+    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct
+    designs."""
     import tempfile
 
     from softcath.studies.sweep import load_spec, run_sweep

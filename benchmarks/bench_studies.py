@@ -93,7 +93,8 @@ n = {N_BIG}
         f"-> {base / ours:.1f}x faster"
     )
     print(
-        f"  extrapolated to {N_BIG} designs on 1 core: baseline {base * N_BIG:.1f} s, ours {ours * N_BIG:.1f} s"
+        f"  extrapolated to {N_BIG} designs on 1 core: baseline {base * N_BIG:.1f} s, ours "
+        f"{ours * N_BIG:.1f} s"
     )
     t = time.perf_counter()
     c0 = _cpu()

@@ -211,8 +211,8 @@ def run(args: argparse.Namespace) -> int:
     for t in tiers:
         p = t.gain_percentiles
         line = (
-            f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 {p['p5']:.4g}, "
-            f"p50 {p['p50']:.4g}, p95 {p['p95']:.4g} 1/(mm MPa); nominal {t.nominal_gain:.4g}"
+            f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 "
+            f"{p['p5']:.4g}, p50 {p['p50']:.4g}, p95 {p['p95']:.4g} 1/(mm MPa); nominal {t.nominal_gain:.4g}"
         )
         if t.measured is not None:
             m = t.measured
@@ -268,7 +268,8 @@ def _print_nonlinear(nl: dict) -> None:
     for pt in nl["pressures"]:
         b = pt["curvature_percentiles"]
         print(
-            f"  p = {pt['pressure_MPa']:g} MPa: kappa p5 {b['p5']:.4g}, p50 {b['p50']:.4g}, p95 {b['p95']:.4g} 1/mm"
+            f"  p = {pt['pressure_MPa']:g} MPa: kappa p5 {b['p5']:.4g}, p50 {b['p50']:.4g}, p95 "
+            f"{b['p95']:.4g} 1/mm"
         )
     g = nl["gain_line_fit_percentiles"]
     print(f"  line-fit kappa/p p5 {g['p5']:.4g}, p50 {g['p50']:.4g}, p95 {g['p95']:.4g} 1/(mm MPa)")

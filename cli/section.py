@@ -311,7 +311,8 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     )
     if curve is not None:
         print(
-            f"coil-bound ({placement}), initial tension {curve.initial_tension[0]:g}/{curve.initial_tension[1]:g} N: "
+            f"coil-bound ({placement}), initial tension "
+            f"{curve.initial_tension[0]:g}/{curve.initial_tension[1]:g} N: "
             f"threshold {curve.threshold_pressure:.4g} MPa, then {curve.gain_pivoting:.4g} 1/mm per MPa "
             f"(linear {curve.gain_linear:.4g})"
         )

@@ -6,8 +6,8 @@ Columns such as bend_angle_deg, bend_per_MPa_deg, max_strain resolve to one mode
 finite-strain section model when the sweep ran it, else the section model under the lumen load when
 the sweep has section-model columns, else the paper's formula (cap load); --model and --load choose.
 A bend constraint ranked on a linear model whose designs bend past its validity (5 deg) is re-checked
-with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json (ranked list, Pareto
-front, model and load); `softcath report DIR` shows it.
+with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json
+(ranked list, Pareto front, model and load); `softcath report DIR` shows it.
 """
 
 from __future__ import annotations
@@ -47,7 +47,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--load",
         default=None,
         choices=("cap", "lumen"),
-        help="load case to select on (default: lumen for the section model and FEM, cap for the paper's formula)",
+        help=(
+            "load case to select on "
+            "(default: lumen for the section model and FEM, cap for the paper's formula)"
+        ),
     )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
     robust = parser.add_argument_group(
@@ -143,7 +146,8 @@ def run(args: argparse.Namespace) -> int:
             )
             prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in r["probabilities"].items())
             print(
-                f"  #{r['rank']} design {r['design_id']} (nominal #{r['nominal_rank']}): p5/p50/p95 {pct}; {prob}"
+                f"  #{r['rank']} design {r['design_id']} (nominal #{r['nominal_rank']}): p5/p50/p95 {pct}; "
+                f"{prob}"
             )
     print(f"selection: {path}")
     return 0

@@ -9,7 +9,8 @@ axial force and moment the coil transmits, so loads act on them directly. A
 contact pair (k, k + m) then only sees the increment: its gap is planar in
 (x, y) — plane sections of the turns' contact surface stay plane.
 
-**End plates** (``turns`` given; the pictures, and a check of the cell): the first turn is welded to a fixed plate (all its nodes clamped); the last
+**End plates** (``turns`` given; the pictures, and a check of the cell): the first turn is welded to a fixed
+plate (all its nodes clamped); the last
 turn is welded to a free rigid plate whose centre (on the coil axis, at
 z = N·p) carries the load: every node of that turn follows the plate,
 u = U + Θ × (x − X), θ = Θ (a multipoint constraint, eliminated by a

@@ -202,7 +202,8 @@ def _check_coil_options(coil_bending: str, coil_modulus: str) -> None:
 
 @dataclass(frozen=True)
 class _SolvedSection:
-    """A solved section: mesh, operator, solution and the stiffness, curvatures and elongations read off it."""
+    """A solved section: mesh, operator, solution and the stiffness, curvatures and elongations read off
+    it."""
 
     mesh: object
     op: object
@@ -215,7 +216,8 @@ class _SolvedSection:
 
 
 def _solve_section(d, mesh, laws, loads: Sequence[str], extra_bending: float) -> _SolvedSection:
-    """Assemble and solve the section (bonded tip, or the tip as built when its assembly is not the default)."""
+    """Assemble and solve the section (bonded tip, or the tip as built when its assembly is not the
+    default)."""
     from softcath.fem.section_model.element import assemble
     from softcath.fem.section_model.solve import solve
 

@@ -52,9 +52,11 @@ def section_calibration(ctx: DemoContext) -> SectionOutput:
             ],
             left=1,
         )
-        + f"<p>Curvature NRMSE {fmt(res.nrmse_nominal)} → {fmt(res.nrmse_optimized)} (ratio {fmt(res.ratio)}; "
+        + f"<p>Curvature NRMSE {fmt(res.nrmse_nominal)} → {fmt(res.nrmse_optimized)} (ratio "
+        f"{fmt(res.ratio)}; "
         f"the paper reports 20.14). {res.starts_at_optimum}/{res.starts} starts reached the optimum; "
-        f"identifiable: {'yes' if res.identifiable else 'no'}; reachable: {'yes' if res.reachable else 'no'}.</p>"
+        f"identifiable: {'yes' if res.identifiable else 'no'}; reachable: "
+        f"{'yes' if res.reachable else 'no'}.</p>"
         f"<p>{esc(res.message)}</p>"
         + figure(fig.name, "Measured vs nominal vs calibrated curvature.")
         + "<p>What the data add: a shape the model cannot know from the catalogue (the tube is squeezed), "

@@ -180,8 +180,8 @@ def _bend_curve_html(c, f1, f2) -> str:
         )
         + figure(
             f2.name,
-            f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its undeformed "
-            "ghost, coloured by the largest principal stretch strain λ_max − 1.",
+            f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its "
+            "undeformed ghost, coloured by the largest principal stretch strain λ_max − 1.",
         )
     )
 

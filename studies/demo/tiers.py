@@ -21,7 +21,8 @@ __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
 #: Silicone Poisson ratios of the demo's nu plot (tube and filler together).
 NU_SWEEP = (0.45, 0.46, 0.47, 0.48, 0.49, 0.495, 0.498, 0.499, 0.4995, 0.4999)
-#: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be trusted.
+#: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be
+#: trusted.
 VIEW_PRESSURE_MPA = 0.5
 
 
@@ -151,9 +152,9 @@ def _tiers_table(k_f: float, e_f: float, sm, fem: dict | None, fem_seconds: floa
         "<p>Three models of the same tip, per MPa of pressure. The <b>paper's formula</b> is the composite "
         "beam under the end-cap force (eq. 7), the paper's prediction for either load. The <b>section "
         "model</b> solves the as-assembled cross-section in 2-D (generalised plane strain: regions, bonded "
-        "lands, transversely isotropic coils; the Saint-Venant solution of a long tip) under the cap load and "
-        "under the real <b>lumen</b> load (the pressure on the lumen wall too). The <b>3-D FEM</b> solves the "
-        "whole tip; its mid-span curvature is what the section model reproduces.</p>"
+        "lands, transversely isotropic coils; the Saint-Venant solution of a long tip) under the cap load "
+        "and under the real <b>lumen</b> load (the pressure on the lumen wall too). The <b>3-D FEM</b> "
+        "solves the whole tip; its mid-span curvature is what the section model reproduces.</p>"
         + table(
             [
                 "model",
@@ -176,8 +177,8 @@ def _tiers_facts(sm, fem: dict | None, fem_seconds: float | None) -> str:
     """The paragraph of what the table shows (HTML)."""
     facts = [
         f"Under the real lumen load the tip bends {fmt(sm.fem_formula_ratio['lumen'], 3)}× what the paper's "
-        f"formula says (cap load: {fmt(sm.fem_formula_ratio['cap'], 3)}×): the coil confines the silicone, so "
-        "the wall pressure adds to the bending instead of cancelling it."
+        f"formula says (cap load: {fmt(sm.fem_formula_ratio['cap'], 3)}×): the coil confines the silicone, "
+        "so the wall pressure adds to the bending instead of cancelling it."
     ]
     if fem:
         gaps = {ld: sm.curvature_per_mm_per_MPa[ld] / fem[ld]["curvature_per_mm"] - 1 for ld in fem}

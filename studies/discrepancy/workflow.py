@@ -1,7 +1,8 @@
 """``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult.
 
 The steps: check the decision rule, prepare the reference (measured data, or FEM
-points with the design's gain fixed), name effects (:func:`~softcath.studies.discrepancy.naming.name_effects`),
+points with the design's gain fixed), name effects
+(:func:`~softcath.studies.discrepancy.naming.name_effects`),
 then the records (:mod:`softcath.studies.discrepancy.records`).
 """
 

@@ -89,7 +89,8 @@ def check_work(model: str, base_table: dict, runs: int, *, param: str, value, me
 
 @dataclass(frozen=True)
 class Robustness:
-    """Robust evaluation settings: probability ``probability``, ``samples`` variants of ``ranges``, ``seed``."""
+    """Robust evaluation settings: probability ``probability``, ``samples`` variants of ``ranges``,
+    ``seed``."""
 
     probability: float
     samples: int
@@ -107,7 +108,8 @@ class Robustness:
 
 
 def make_robustness(probability: float, ranges: Sequence, *, samples: int = 32, seed: int = 0) -> Robustness:
-    """Checked :class:`Robustness`; model-option ranges (``model.*``) are left out (sweep models have none)."""
+    """Checked :class:`Robustness`; model-option ranges (``model.*``) are left out (sweep models have
+    none)."""
     from softcath.studies.predict.sampling import sample_values, unit_sample
 
     if isinstance(probability, bool) or not isinstance(probability, (int, float)) or not 0 < probability < 1:

@@ -36,7 +36,8 @@ def finite_strain_point(
     measured_gain: float | None = None,
     progress: bool = False,
 ) -> dict:
-    """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain (JSON-ready)."""
+    """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain
+    (JSON-ready)."""
     from softcath import design
     from softcath.fem.nonlinear import bend_curve
 

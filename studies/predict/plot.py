@@ -20,7 +20,8 @@ def band_picture(
     points: Mapping[str, float] | None = None,
     title: str = "",
 ) -> Path:
-    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled gains."""
+    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled
+    gains."""
     import matplotlib
 
     matplotlib.use("Agg")

@@ -1,4 +1,5 @@
-"""The sweep report's interactive page, ``explore.html``: parity with hover, parallel coordinates, Pareto clicks.
+"""The sweep report's interactive page, ``explore.html``: parity with hover, parallel coordinates, Pareto
+clicks.
 
 Beside the static ``index.html`` (kept for print) in the same folder, with
 ``plotly.min.js`` written once there. The parity plot's hover shows each

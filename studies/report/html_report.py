@@ -82,7 +82,8 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
         return _selection_body(sel, fig_dir, prefix)
     except (KeyError, TypeError, AttributeError, IndexError, ValueError) as exc:
         raise DataError(
-            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite it"
+            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite "
+            "it"
         ) from None
 
 
@@ -93,7 +94,8 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     out = (
         "<p>"
         + (
-            f"Model <b>{esc(TIERS[sel['model']].label if sel['model'] in TIERS else 'the table as given')}</b>, l"
+            f"Model <b>{esc(TIERS[sel['model']].label if sel['model'] in TIERS else 'the table as given')}"
+            "</b>, l"
             if "model" in sel
             else "L"
         )
@@ -106,7 +108,8 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     rb = sel.get("robust")
     if rb:
         out += (
-            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked designs "
+            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked "
+            "designs "
             f"meet every constraint with probability ≥ {fmt(rb['P'])} over {rb['samples']} samples of "
             + ", ".join(f"<code>{esc(r['path'])}</code>" for r in rb["ranges"])
             + "; the ranking below is on the objectives' p50.</p>"
@@ -163,8 +166,8 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
                 "Large bends",
                 figure(
                     prefix + bpath.name,
-                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic (dotted). "
-                    "Where they part, the small-rotation models stop being trustworthy.",
+                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic "
+                    "(dotted). Where they part, the small-rotation models stop being trustworthy.",
                 ),
             )
         )
@@ -240,7 +243,8 @@ def _sensitivity_html(df, params: list[str], lhs: bool, fig_dir: Path, prefix: s
         return None
     body = figure(
         prefix + spath.name,
-        f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+        "Sensitivity of the "
+        f"{'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
         "at p_max to each parameter: "
         "standardised regression coefficients" + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
     )
@@ -268,8 +272,8 @@ def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
     body = figure(
         prefix + tpath.name,
         "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
-        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section model "
-        "(their agreement), where each ran.",
+        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section "
+        "model (their agreement), where each ran.",
     )
     body += table(
         [

@@ -128,7 +128,8 @@ def _winners_table(opt: dict) -> str:
             for w in best
         ]
         out += (
-            f"<p>Robust: probability P = {fmt(opt['robust']['P'])} over {opt['robust']['samples']} samples of "
+            f"<p>Robust: probability P = {fmt(opt['robust']['P'])} over {opt['robust']['samples']} samples "
+            "of "
             + ", ".join(f"<code>{esc(r['path'])}</code>" for r in opt["robust"]["ranges"])
             + ".</p>"
             + table(head, rows, left=1)
@@ -158,7 +159,8 @@ def _winners_table(opt: dict) -> str:
 
 
 def write_optimum_report(out_dir: str | Path) -> Path:
-    """Write ``out_dir/index.html`` (and ``plotly.min.js``, ``convergence.png``) for an optimisation folder."""
+    """Write ``out_dir/index.html`` (and ``plotly.min.js``, ``convergence.png``) for an optimisation
+    folder."""
     out_dir = Path(out_dir)
     opt, hist = _read(out_dir)
     ia.write_plotly_js(out_dir)

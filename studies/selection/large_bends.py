@@ -112,9 +112,10 @@ def recheck_large_bends(
         )
     dropped = [r["design_id"] for i, r in enumerate(selection.ranked) if r not in [p[0] for p in passing]]
     note = (
-        f"{'; '.join(constraints)}: bends past {LINEAR_BEND_LIMIT_DEG:g} deg are beyond the {selection.model} "
-        f"model's validity; the {len(selection.ranked)} ranked designs were re-checked with the finite-strain "
-        f"section model ({len(passing)} still pass)"
+        f"{'; '.join(constraints)}: bends past {LINEAR_BEND_LIMIT_DEG:g} deg are beyond the "
+        f"{selection.model} "
+        f"model's validity; the {len(selection.ranked)} ranked designs were re-checked with the "
+        f"finite-strain section model ({len(passing)} still pass)"
     )
     recheck = {
         "model": "section-nonlinear",

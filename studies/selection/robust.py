@@ -31,7 +31,8 @@ __all__ = ["sweep_ranges", "robust_select"]
 def sweep_ranges(
     base: str, base_table: Mapping[str, Any], vary: Sequence[str] = (), ranges_file: str | Path | None = None
 ) -> list:
-    """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's) defaults."""
+    """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's)
+    defaults."""
     from softcath.studies.predict.ranges import chosen_ranges
 
     ranges = chosen_ranges(base, base_table, vary, ranges_file)

@@ -1,4 +1,5 @@
-"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised), section model and FEM.
+"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised), section model and
+FEM.
 
 A task is a plain dict (picklable, so the same function runs in a local
 process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
@@ -181,7 +182,8 @@ _NONLINEAR_KEYS = {
 
 
 def _nonlinear_columns(design, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
-    """Finite-strain bend angle [rad], curvature [1/mm] and max silicone strain at ``pressures`` (0 MPa: 0)."""
+    """Finite-strain bend angle [rad], curvature [1/mm] and max silicone strain at ``pressures`` (0 MPa:
+    0)."""
     from softcath.fem.nonlinear import bend_curve
 
     positive = np.unique(pressures[pressures > 0])

@@ -242,7 +242,8 @@ def _bend_per_mpa(df) -> None:
 
 
 def _over_formula(df, kappa: np.ndarray) -> np.ndarray:
-    """``kappa`` over the paper's formula (the analytic cap-load curvature of the same design and pressure)."""
+    """``kappa`` over the paper's formula (the analytic cap-load curvature of the same design and
+    pressure)."""
     import pandas as pd
 
     cap = df[df["load"] == "cap"]

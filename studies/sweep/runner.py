@@ -278,7 +278,8 @@ def run_sweep(
 def _prepared_store(
     spec: SweepSpec, out_dir: str | Path, variants: list[dict], tasks: list[dict]
 ) -> SweepStore:
-    """The sweep directory, prepared with the manifest and the design table (resumed if it holds this sweep)."""
+    """The sweep directory, prepared with the manifest and the design table (resumed if it holds this
+    sweep)."""
     import pandas as pd
 
     store = SweepStore(out_dir)

@@ -120,8 +120,8 @@ class SweepSpec:
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
         Tier names (:data:`softcath.studies.tiers.TIERS`) from ``("paper", "section",
-        "section-nonlinear", "fem", "fem-nonlinear")``: the paper's formula always runs; ``section-nonlinear`` is the finite-strain section model (~1 s per design
-        and load).
+        "section-nonlinear", "fem", "fem-nonlinear")``: the paper's formula always runs;
+        ``section-nonlinear`` is the finite-strain section model (~1 s per design and load).
     n_samples
         Latin-hypercube sample size (0 when no parameter is ``lhs``).
     seed

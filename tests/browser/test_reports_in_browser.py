@@ -1,4 +1,5 @@
-"""The HTML reports as a user sees them: opened in headless Chromium (Debian's, driven by Playwright), offline.
+"""The HTML reports as a user sees them: opened in headless Chromium (Debian's, driven by Playwright),
+offline.
 
 Each page must load with every image decoded, no console error or page error,
 the sections it promises, and no network request (all are blocked and
@@ -358,7 +359,8 @@ def test_interactive_charts_respond_offline(browser, tmp_path):
 
 @pytest.mark.slow
 def test_sweep_explore_page(browser, tmp_path, spec_writer):
-    """`softcath report` after a two-objective select: explore.html's parity, parallel coordinates and Pareto."""
+    """`softcath report` after a two-objective select: explore.html's parity, parallel coordinates and
+    Pareto."""
     spec = spec_writer(
         """
         [sweep]

@@ -1,4 +1,5 @@
-"""``softcath predict --nonlinear``: finite-strain curve bands and a measured curve compared point by point."""
+"""``softcath predict --nonlinear``: finite-strain curve bands and a measured curve compared point by
+point."""
 
 from __future__ import annotations
 

@@ -154,7 +154,8 @@ def load_vector(problem: Problem, q: np.ndarray, loading: Loading) -> np.ndarray
 
 
 def _load_blocks(problem: Problem, u: np.ndarray, g: np.ndarray, loading: Loading, factor: float):
-    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force norm."""
+    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force
+    norm."""
     r_g = np.zeros((1, N_GLOBAL))
     k_g = np.zeros((1, N_GLOBAL, N_GLOBAL))
     blocks = []

@@ -1,4 +1,5 @@
-"""softcath.studies.optimise: known optima of the paper's formula, seeds, invalid designs, backends, the FEM re-check."""
+"""softcath.studies.optimise: known optima of the paper's formula, seeds, invalid designs, backends, the FEM
+re-check."""
 
 from __future__ import annotations
 
@@ -87,7 +88,8 @@ def test_pareto_set_is_nondominated(table):
 
 
 def test_robust_constraint_holds_with_probability(table):
-    """Robust: the winner meets its cap on at least P of the silicone lots, and is reported with p5/p50/p95."""
+    """Robust: the winner meets its cap on at least P of the silicone lots, and is reported with
+    p5/p50/p95."""
     ranges = [
         Range(E_TUBE.replace("medical_silicone_tubing", "ecoflex_00_30"), low=0.05, high=0.2),
         Range("materials.medical_silicone_tubing.poisson_ratio", low=0.45, high=0.49),

@@ -1,4 +1,5 @@
-"""The sweep's ``section-nonlinear`` evaluator, and select's re-check of large bends ranked on a linear model."""
+"""The sweep's ``section-nonlinear`` evaluator, and select's re-check of large bends ranked on a linear
+model."""
 
 from __future__ import annotations
 
