@@ -61,9 +61,7 @@ def robust_select(
     that value); the result's ``robust`` records P, the samples, the ranges,
     the model and every design's probabilities and percentiles.
     """
-    from tqdm import tqdm
-
-    from softcath.studies.optimise import Backend, Problem, evaluate_parameters, make_robustness
+    from softcath.studies.optimise import Problem, make_robustness
 
     model = model or (selection.model if selection.model in ("paper", "section-nonlinear") else "section")
     swept = {p for r in selection.ranked for p in r["parameters"]}
@@ -89,6 +87,35 @@ def robust_select(
         {k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
         for r in selection.ranked
     ]
+    scores = _robust_scores(problem, designs, rob, workers, scheduler, progress)
+    per_design, passing = _judge_designs(selection.ranked, scores, objs, cons, probability)
+    matrix = np.array([v for _, v in passing], float).reshape(len(passing), len(objs))
+    front = pareto_front(matrix)
+    order = sorted(
+        range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
+    )
+    robust = {
+        **rob.to_json(),
+        "model": model,
+        "left_out": left_out,
+        "n_evaluated": len(designs),
+        "n_passing": len(passing),
+        "designs": per_design,
+    }
+    return dataclasses.replace(
+        selection,
+        ranked=_robust_ranked(passing, order, front, per_design),
+        robust=robust,
+        pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
+    )
+
+
+def _robust_scores(problem, designs: list[dict], rob, workers, scheduler, progress: bool) -> list:
+    """Each design's robust score: its whole sample evaluated in one batch (the bar moves per design)."""
+    from tqdm import tqdm
+
+    from softcath.studies.optimise import Backend, evaluate_parameters
+
     scores = []
     with (
         Backend(workers=workers, scheduler=scheduler) as backend,
@@ -97,8 +124,14 @@ def robust_select(
         for d in designs:  # one design (its whole sample) per batch: the bar moves as designs finish
             scores.append(evaluate_parameters(problem, [d], backend, rob))
             bar.update()
+    return scores
+
+
+def _judge_designs(ranked: list[dict], scores: list, objs, cons, probability: float):
+    """Per design (by id): passes, probabilities, percentiles and buildable samples; and the passing
+    designs with their signed median objectives."""
     per_design, passing = {}, []
-    for r, s in zip(selection.ranked, scores, strict=True):
+    for r, s in zip(ranked, scores, strict=True):
         did = r["design_id"]
         probs = {c.text: float(s.probabilities[0, j]) for j, c in enumerate(cons)}
         pct = {
@@ -118,11 +151,12 @@ def robust_select(
         }
         if ok:
             passing.append((r, [o.sign * pct[o.text]["p50"] for o in objs]))
-    matrix = np.array([v for _, v in passing], float).reshape(len(passing), len(objs))
-    front = pareto_front(matrix)
-    order = sorted(
-        range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
-    )
+    return per_design, passing
+
+
+def _robust_ranked(passing: list, order: list[int], front, per_design: dict) -> list[dict]:
+    """The passing designs in robust ``order``, with their nominal rank, medians, percentiles and
+    probabilities."""
     ranked = []
     for rank, k in enumerate(order, start=1):
         r = passing[k][0]
@@ -138,20 +172,7 @@ def robust_select(
                 "probabilities": info["probabilities"],
             }
         )
-    robust = {
-        **rob.to_json(),
-        "model": model,
-        "left_out": left_out,
-        "n_evaluated": len(designs),
-        "n_passing": len(passing),
-        "designs": per_design,
-    }
-    return dataclasses.replace(
-        selection,
-        ranked=ranked,
-        robust=robust,
-        pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
-    )
+    return ranked
 
 
 def _num(v) -> float | None:
