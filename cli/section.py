@@ -212,8 +212,50 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
         **coil_opts,
     )
     ld = args.load
+    doc = _section_doc(r, ld)
+    curve = None
+    if placement is not None:
+        from softcath.fem.section_model.bilinear import bend_curve
+
+        curve = bend_curve(
+            d,
+            pressures,
+            load=ld,
+            coil_model=placement,
+            initial_tension=f0,
+            silicone_poisson=args.poisson,
+            **mesh,
+        )
+        doc["coil_bound"] = curve.to_json()
+    resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
+    columns = {
+        "curvature_per_mm": resp.curvature,
+        "elongation": resp.elongation,
+        "bend_angle_rad": resp.bend_angle,
+    }
+    check_finite_columns(columns, param="--pressure", value=args.pressure)
+    model = "the section model (linear)" if curve is None else "the bilinear section model"
+    warn_linear_range(pressures, resp.bend_angle, elongation=resp.elongation, model=model)
+    wrote = "section.json, section.csv"
+    with Outputs(out) as o:  # all files or none, only on success
+        o.json("section.json", doc)
+        _write_section_csv(o.path("section.csv"), resp)
+        if not args.no_png:
+            p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
+            section_picture(r, o.path("section.png"), load=ld, pressure=p_show)
+            wrote += ", section.png"
+            if curve is not None:
+                _curve_picture(curve, r, o.path("section_curve.png"))
+                wrote += ", section_curve.png"
+    _print_summary(r, ld, curve, placement)
+    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {out}/{wrote}")
+    return 0
+
+
+def _section_doc(r, ld: str) -> dict:
+    """``section.json``: the gains under load ``ld``, the stiffness and mesh facts, every load's gains."""
     full = r.to_json()
-    doc = {
+    return {
         "design": r.design_name,
         "load": ld,
         "curvature_per_mm_per_MPa": r.curvature_per_mm_per_MPa[ld],
@@ -255,54 +297,29 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
             )
         },
     }
-    curve = None
-    if placement is not None:
-        from softcath.fem.section_model.bilinear import bend_curve
 
-        curve = bend_curve(
-            d,
-            pressures,
-            load=ld,
-            coil_model=placement,
-            initial_tension=f0,
-            silicone_poisson=args.poisson,
-            **mesh,
+
+def _write_section_csv(path: Path, resp) -> None:
+    """``section.csv``: curvature, elongation, bend angle and tip position per pressure."""
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
         )
-        doc["coil_bound"] = curve.to_json()
-    resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
-    columns = {
-        "curvature_per_mm": resp.curvature,
-        "elongation": resp.elongation,
-        "bend_angle_rad": resp.bend_angle,
-    }
-    check_finite_columns(columns, param="--pressure", value=args.pressure)
-    model = "the section model (linear)" if curve is None else "the bilinear section model"
-    warn_linear_range(pressures, resp.bend_angle, elongation=resp.elongation, model=model)
-    wrote = "section.json, section.csv"
-    with Outputs(out) as o:  # all files or none, only on success
-        o.json("section.json", doc)
-        with o.path("section.csv").open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(
-                ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
-            )
-            for row in zip(
-                resp.pressure,
-                resp.curvature,
-                resp.elongation,
-                resp.bend_angle,
-                resp.tip_x,
-                resp.tip_y,
-                strict=True,
-            ):
-                w.writerow([f"{v:.10g}" for v in row])
-        if not args.no_png:
-            p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
-            section_picture(r, o.path("section.png"), load=ld, pressure=p_show)
-            wrote += ", section.png"
-            if curve is not None:
-                _curve_picture(curve, r, o.path("section_curve.png"))
-                wrote += ", section_curve.png"
+        for row in zip(
+            resp.pressure,
+            resp.curvature,
+            resp.elongation,
+            resp.bend_angle,
+            resp.tip_x,
+            resp.tip_y,
+            strict=True,
+        ):
+            w.writerow([f"{v:.10g}" for v in row])
+
+
+def _print_summary(r, ld: str, curve, placement) -> None:
+    """The gains, stiffness and, for a coil-bound tip, its threshold and gains, on stdout."""
     print(
         f"{r.design_name}: {ld} load, silicone nu {r.poisson_ratio_silicone:g} -> curvature "
         f"{r.curvature_per_mm_per_MPa[ld]:.4g} 1/mm per MPa ({r.fem_formula_ratio[ld]:.3g}x the paper's "
@@ -316,8 +333,6 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
             f"threshold {curve.threshold_pressure:.4g} MPa, then {curve.gain_pivoting:.4g} 1/mm per MPa "
             f"(linear {curve.gain_linear:.4g})"
         )
-    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {out}/{wrote}")
-    return 0
 
 
 def _curve_response(curve, length_mm: float):
