@@ -129,9 +129,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.atomic import prepare_out_dir
     from softcath.studies.predict import predict
-    from softcath.studies.predict.plot import band_picture
     from softcath.studies.predict.workflow import check_predict_inputs
 
     compare = tuple(model_name(t.strip()) for t in args.compare.split(",") if t.strip())
@@ -189,6 +188,20 @@ def run(args: argparse.Namespace) -> int:
                 measured=measured,
                 progress=not args.no_progress,
             )
+    _write_outputs(out, args, doc, tiers, measured, points)
+    _print_tiers(tiers, doc)
+    if "nonlinear" in doc:
+        _print_nonlinear(doc["nonlinear"])
+    extra = ", curve_band.png" if args.nonlinear else ""
+    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
+    return 0
+
+
+def _write_outputs(out, args: argparse.Namespace, doc: dict, tiers, measured, points: dict) -> None:
+    """``prediction.json``, ``samples.csv``, ``prediction.png`` and, with --nonlinear, ``curve_band.png``."""
+    from softcath.studies.atomic import Outputs
+    from softcath.studies.predict.plot import band_picture
+
     with Outputs(out) as o:  # all files or none
         o.json("prediction.json", doc)
         if args.nonlinear:
@@ -208,6 +221,10 @@ def run(args: argparse.Namespace) -> int:
             points=points,
             title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)",
         )
+
+
+def _print_tiers(tiers, doc: dict) -> None:
+    """Each tier's gain band, measurement and sensitivity, and the finite-strain point, on stdout."""
     for t in tiers:
         p = t.gain_percentiles
         line = (
@@ -231,11 +248,6 @@ def run(args: argparse.Namespace) -> int:
             f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
             f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm"
         )
-    if "nonlinear" in doc:
-        _print_nonlinear(doc["nonlinear"])
-    extra = ", curve_band.png" if args.nonlinear else ""
-    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
-    return 0
 
 
 def _nonlinear_inputs(args: argparse.Namespace):
