@@ -96,26 +96,12 @@ def recheck_large_bends(
     order = sorted(
         range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
     )
-    ranked = []
-    for rank, k in enumerate(order, start=1):
-        r, vals = passing[k]
-        linear = dict(r["objectives"])
-        ranked.append(
-            {
-                **r,
-                "rank": rank,
-                "pareto": bool(front[k]),
-                "linear_rank": r["rank"],
-                "objectives": {o.text: float(v) for o, v in zip(objs, vals, strict=True)},
-                "linear_objectives": linear,
-            }
-        )
+    ranked = _rechecked_ranking(passing, order, front, objs)
     dropped = [r["design_id"] for i, r in enumerate(selection.ranked) if r not in [p[0] for p in passing]]
     note = (
         f"{'; '.join(constraints)}: bends past {LINEAR_BEND_LIMIT_DEG:g} deg are beyond the "
-        f"{selection.model} "
-        f"model's validity; the {len(selection.ranked)} ranked designs were re-checked with the "
-        f"finite-strain section model ({len(passing)} still pass)"
+        f"{selection.model} model's validity; the {len(selection.ranked)} ranked designs were re-checked "
+        f"with the finite-strain section model ({len(passing)} still pass)"
     )
     recheck = {
         "model": "section-nonlinear",
@@ -139,3 +125,23 @@ def recheck_large_bends(
         note="; ".join(x for x in (selection.note, note) if x),
         pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
     )
+
+
+def _rechecked_ranking(passing: list, order: list[int], front, objs) -> list[dict]:
+    """The passing designs in ``order``, with the finite-strain objectives and their linear rank and
+    objectives."""
+    ranked = []
+    for rank, k in enumerate(order, start=1):
+        r, vals = passing[k]
+        linear = dict(r["objectives"])
+        ranked.append(
+            {
+                **r,
+                "rank": rank,
+                "pareto": bool(front[k]),
+                "linear_rank": r["rank"],
+                "objectives": {o.text: float(v) for o, v in zip(objs, vals, strict=True)},
+                "linear_objectives": linear,
+            }
+        )
+    return ranked
