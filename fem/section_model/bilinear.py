@@ -238,11 +238,7 @@ def bend_curve(
     """
     from softcath import design as design_pkg
 
-    if coil_model not in PLACEMENTS:
-        raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")
-    p = np.asarray(pressures, dtype=float).ravel()
-    if p.size == 0 or not np.all(np.isfinite(p)):
-        raise DesignError("pressures", pressures, "must be a non-empty list of finite pressures [MPa]")
+    p = _checked_inputs(coil_model, pressures)
     t0 = time.perf_counter()
     d = design_pkg.resolve(design)
     coils, f0, ec = _coil_sources(d, initial_tension, compression_modulus)
@@ -281,6 +277,16 @@ def bend_curve(
         compression_modulus=tuple(float("nan") if v is None else float(v) for v in ec),
         seconds=time.perf_counter() - t0,
     )
+
+
+def _checked_inputs(coil_model: str, pressures: Sequence[float]) -> np.ndarray:
+    """The pressures as a flat array; :class:`DesignError` for an unknown placement or no finite pressures."""
+    if coil_model not in PLACEMENTS:
+        raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")
+    p = np.asarray(pressures, dtype=float).ravel()
+    if p.size == 0 or not np.all(np.isfinite(p)):
+        raise DesignError("pressures", pressures, "must be a non-empty list of finite pressures [MPa]")
+    return p
 
 
 def _asymptotes(k_rest, fibres: Fibres, f_unit) -> tuple[float, float, float]:
