@@ -37,9 +37,13 @@ def run(args: argparse.Namespace) -> int:
     options = {"workers": "--workers", "dask_local": "--dask-local", "scheduler": "--scheduler"}
     with folder_lock(out, what="sweep"), as_options(options):  # a second sweep into the folder is refused
         s = run_sweep(
-            spec, out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
+            spec,
+            out,
+            workers=args.workers,
+            dask_local=args.dask_local,
+            scheduler=args.scheduler,
             progress=not args.no_progress,
-        )  # fmt: skip
+        )
     print(
         f"sweep {spec.name}: {s.n_designs} designs ({s.ok_designs} ok, {s.failed_designs} failed) "
         f"x {len(spec.pressures_MPa)} pressures x {len(spec.loads)} loads on {s.backend}; "

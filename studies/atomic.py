@@ -230,9 +230,10 @@ def check_outputs(
             full = (base / p).resolve()
             if full != base and base not in full.parents:
                 raise DesignError(
-                    param, str(given), f"leaves the output folder {inside} (give a path inside it, or an "
-                    "absolute path)"
-                )  # fmt: skip
+                    param,
+                    str(given),
+                    f"leaves the output folder {inside} (give a path inside it, or an absolute path)",
+                )
         else:
             full = p.resolve()
         if full in seen:

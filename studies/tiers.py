@@ -62,19 +62,37 @@ class Tier:
 TIERS: dict[str, Tier] = {
     t.name: t
     for t in (
-        Tier("paper", "the paper's formula", "paper's formula (eq. 7)",
-             "composite-beam formula of the paper (eq. 7): microseconds a design", "analytic"),
-        Tier("section", "the section model", "section model (2-D GPS)",
-             "linear 2-D generalised-plane-strain section model: 3-D-FEM-grade curvature, "
-             "~0.2 s a design", "section"),
-        Tier("section-nonlinear", "the finite-strain section model", "finite-strain section model",
-             "finite-strain section model: valid at large bends, ~1 s a design and load",
-             "section_nonlinear"),
+        Tier(
+            "paper",
+            "the paper's formula",
+            "paper's formula (eq. 7)",
+            "composite-beam formula of the paper (eq. 7): microseconds a design",
+            "analytic",
+        ),
+        Tier(
+            "section",
+            "the section model",
+            "section model (2-D GPS)",
+            "linear 2-D generalised-plane-strain section model: 3-D-FEM-grade curvature, ~0.2 s a design",
+            "section",
+        ),
+        Tier(
+            "section-nonlinear",
+            "the finite-strain section model",
+            "finite-strain section model",
+            "finite-strain section model: valid at large bends, ~1 s a design and load",
+            "section_nonlinear",
+        ),
         Tier("fem", "the 3-D FEM", "3-D linear FEM", "3-D linear FEM of the tip: minutes a design", "fem"),
-        Tier("fem-nonlinear", "the 3-D finite-strain FEM", "3-D finite-strain FEM",
-             "3-D finite-strain FEM, hyperelastic silicone: the slowest tier", "nonlinear"),
+        Tier(
+            "fem-nonlinear",
+            "the 3-D finite-strain FEM",
+            "3-D finite-strain FEM",
+            "3-D finite-strain FEM, hyperelastic silicone: the slowest tier",
+            "nonlinear",
+        ),
     )
-}  # fmt: skip
+}
 
 #: Old spellings -> the tier's name (accepted with a deprecation warning in the log).
 ALIASES: dict[str, str] = {"analytic": "paper", "nonlinear": "fem-nonlinear"}

@@ -119,7 +119,8 @@ class BendCurve:
     model: object = field(repr=False, compare=False, default=None)
 
     def departure(self, threshold: float = 0.05) -> dict[str, float | None]:
-        """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by ``threshold``."""
+        """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by
+        ``threshold``."""
         return {
             "linear_fem": departure_angle(self.bend_angle, self.linear_bend_angle, threshold),
             "analytic": departure_angle(self.bend_angle, self.analytic_bend_angle, threshold),

@@ -295,7 +295,8 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
 
 
 def from_tip_mesh(tip_mesh) -> CatheterMesh:
-    """A :class:`CatheterMesh` from the linear FEM's ``softcath.fem.mesh.TipMesh`` (same labels 1–4, its facet tags).
+    """A :class:`CatheterMesh` from the linear FEM's ``softcath.fem.mesh.TipMesh`` (same labels 1–4, its facet
+    tags).
 
     Lets the finite-strain solver run on exactly the mesh of the linear check
     (quadratic ``MeshTet2`` with curved boundary edges when the mesher made them).

@@ -46,7 +46,8 @@ def bend_angle(
     toward: int = 1,
     sign: float = -1.0,
 ) -> float:
-    """Bend angle [rad] of the section at ``end_mask``: rotation of the axis ``axis`` toward ``sign·e_toward``.
+    """Bend angle [rad] of the section at ``end_mask``: rotation of the axis ``axis`` toward
+    ``sign·e_toward``.
 
     Default: the catheter axis z turning toward −y (positive curvature, the
     project's sign convention). Returns atan2(sign·t_toward, t_axis) with t = R e_axis,

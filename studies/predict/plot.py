@@ -20,7 +20,8 @@ def band_picture(
     points: Mapping[str, float] | None = None,
     title: str = "",
 ) -> Path:
-    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled gains."""
+    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled
+    gains."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -36,8 +37,14 @@ def band_picture(
         g = t.gains[np.isfinite(t.gains)]
         p = t.gain_percentiles
         small = g.size < 200
-        ax.scatter(g, y + 0.18 * (rng.random(g.size) - 0.5), s=12 if small else 4, alpha=0.7 if small else 0.25,
-                   color="C0", lw=0)  # fmt: skip
+        ax.scatter(
+            g,
+            y + 0.18 * (rng.random(g.size) - 0.5),
+            s=12 if small else 4,
+            alpha=0.7 if small else 0.25,
+            color="C0",
+            lw=0,
+        )
         ax.add_patch(
             plt.Rectangle((p["p5"], y - 0.22), p["p95"] - p["p5"], 0.44, fill=False, color="C0", lw=1.5)
         )
@@ -80,8 +87,15 @@ def curve_band_picture(nonlinear: Mapping, path: str | Path, *, measured=None, t
     ax.plot(p, band["p50"], "o-", label="p50")
     ax.plot(p, [pt["nominal_curvature_per_mm"] for pt in pts], "d--", label="nominal design")
     if measured is not None:
-        ax.plot(measured.pressure_MPa, measured.curvature_per_mm, ".", ms=2, alpha=0.3, color="0.3",
-                label="measured")  # fmt: skip
+        ax.plot(
+            measured.pressure_MPa,
+            measured.curvature_per_mm,
+            ".",
+            ms=2,
+            alpha=0.3,
+            color="0.3",
+            label="measured",
+        )
         med = nonlinear.get("measured", {}).get("points", [])
         mp = [m["pressure_MPa"] for m in med if m["measured_curvature_per_mm"] is not None]
         mk = [m["measured_curvature_per_mm"] for m in med if m["measured_curvature_per_mm"] is not None]

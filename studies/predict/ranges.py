@@ -27,8 +27,17 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 
-__all__ = ["MODEL_OPTIONS", "SCALES", "Range", "base_table", "check_ranges", "chosen_ranges", "default_ranges", "load_ranges",
-           "parse_vary"]  # fmt: skip
+__all__ = [
+    "MODEL_OPTIONS",
+    "SCALES",
+    "Range",
+    "base_table",
+    "check_ranges",
+    "chosen_ranges",
+    "default_ranges",
+    "load_ranges",
+    "parse_vary",
+]
 
 #: Model options a range may set (path -> allowed levels).
 MODEL_OPTIONS: dict[str, tuple[str, ...]] = {
@@ -84,8 +93,13 @@ class Range:
     def to_json(self) -> dict:
         if self.categorical:
             return {"path": self.path, "levels": list(self.levels), "source": self.source}
-        return {"path": self.path, "low": self.low, "high": self.high, "scale": self.scale,
-                "source": self.source}  # fmt: skip
+        return {
+            "path": self.path,
+            "low": self.low,
+            "high": self.high,
+            "scale": self.scale,
+            "source": self.source,
+        }
 
 
 def _number(name: str, value: Any) -> float:
@@ -202,8 +216,11 @@ def base_table(design_ref: str | Path) -> dict:
     else:
         path = Path(design_ref)
         if not path.is_file():
-            raise DesignError("design", str(design_ref),
-                              f"must be a preset ({', '.join(presets.names())}) or an existing .toml file")  # fmt: skip
+            raise DesignError(
+                "design",
+                str(design_ref),
+                f"must be a preset ({', '.join(presets.names())}) or an existing .toml file",
+            )
         try:
             table = tomllib.loads(path.read_text(encoding="utf-8"))
         except tomllib.TOMLDecodeError as exc:

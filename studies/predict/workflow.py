@@ -42,9 +42,13 @@ MAX_GAIN = 1e3
 
 
 def check_predict_inputs(
-    *, samples: int | None = None, fem_samples: int | None = None, seed: int = 0,
-    measured_gain: float | None = None, tiers: Sequence[str] = TIERS,
-) -> None:  # fmt: skip
+    *,
+    samples: int | None = None,
+    fem_samples: int | None = None,
+    seed: int = 0,
+    measured_gain: float | None = None,
+    tiers: Sequence[str] = TIERS,
+) -> None:
     """Refuse sample sizes, a seed or a measured gain that cannot work, before any work.
 
     Raises
@@ -75,9 +79,10 @@ def check_predict_inputs(
             raise DesignError("measured_gain", measured_gain, "must be finite")
         if abs(measured_gain) > MAX_GAIN:
             raise DesignError(
-                "measured_gain", measured_gain,
+                "measured_gain",
+                measured_gain,
                 f"|gain| must be <= {MAX_GAIN:g} 1/(mm MPa) (curvature per pressure; check the units)",
-            )  # fmt: skip
+            )
 
 
 def resolve_ranges(
@@ -103,10 +108,12 @@ def _check_section_work(table: dict, samples: int) -> None:
     seconds = samples * estimate_section_seconds(dofs)
     if seconds > MAX_WORK_SECONDS:
         raise DesignError(
-            "samples", samples, f"would take about {seconds / 3600:.3g} h with the section model "
+            "samples",
+            samples,
+            f"would take about {seconds / 3600:.3g} h with the section model "
             f"({dofs:.3g} DOFs per variant, ~{estimate_section_seconds(dofs):.2g} s each); at most "
-            f"{MAX_WORK_SECONDS / 3600:g} h: use fewer samples"
-        )  # fmt: skip
+            f"{MAX_WORK_SECONDS / 3600:g} h: use fewer samples",
+        )
 
 
 def predict(
@@ -132,9 +139,12 @@ def predict(
     model = tier_name(model, allowed=TIERS)
     compare = tuple(tier_name(name, allowed=TIERS) for name in compare)
     check_predict_inputs(
-        samples=samples, fem_samples=fem_samples, seed=seed, measured_gain=measured_gain,
+        samples=samples,
+        fem_samples=fem_samples,
+        seed=seed,
+        measured_gain=measured_gain,
         tiers=(model, *compare),
-    )  # fmt: skip
+    )
     table = base_table(design_ref)
     ranges = resolve_ranges(design_ref, vary, ranges_file)
     order = [model] + [t for t in TIERS if t in compare and t != model]
@@ -153,7 +163,7 @@ def predict(
                 seed=seed,
                 measured_gain=measured_gain,
                 progress=progress,
-            )  # fmt: skip
+            )
         )
     doc = {"design": table.get("name", str(design_ref)), **tiers[0].to_json()}
     if len(tiers) > 1:

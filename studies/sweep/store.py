@@ -46,7 +46,8 @@ class SweepStore:
                 ) from None
             if old.get("spec", {}).get("fingerprint") != manifest["spec"]["fingerprint"]:
                 raise DataError(
-                    f"{self.root} holds a different sweep (fingerprint {old.get('spec', {}).get('fingerprint')}, "
+                    f"{self.root} holds a different sweep (fingerprint "
+                    f"{old.get('spec', {}).get('fingerprint')}, "
                     f"this spec is {manifest['spec']['fingerprint']}); use another output folder"
                 )
         else:

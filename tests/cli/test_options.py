@@ -1,4 +1,5 @@
-"""Every command spells DESIGN and ``--out`` the same way, and ``--out`` is honoured where files are written."""
+"""Every command spells DESIGN and ``--out`` the same way, and ``--out`` is honoured where files are
+written."""
 
 from __future__ import annotations
 

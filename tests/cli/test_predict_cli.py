@@ -58,8 +58,16 @@ def test_bad_vary_is_refused_naming_path_and_bound(vary, match):
 
 
 def test_bad_vary_is_one_line_on_the_command_line(tmp_path, capsys):
-    argv = ["predict", "paper", "--model", "paper", "--vary", "materials.medical_silicone_tubing.poisson_ratio=0.45:0.6",
-            "--out", str(tmp_path)]  # fmt: skip
+    argv = [
+        "predict",
+        "paper",
+        "--model",
+        "paper",
+        "--vary",
+        "materials.medical_silicone_tubing.poisson_ratio=0.45:0.6",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err
@@ -102,13 +110,42 @@ def test_model_options_the_tier_lacks_are_listed_not_sampled():
 
 
 def test_cli_end_to_end_writes_json_keys_and_png(tmp_path, capsys):
-    argv = ["predict", "paper", "--model", "section", "--compare", "paper", "--samples", "4", "--seed", "3",
-            "--vary", "materials.medical_silicone_tubing.poisson_ratio", "--vary", "model.coil_modulus=tension,bending",
-            "--measured-gain", "0.388", "--no-progress", "--out", str(tmp_path)]  # fmt: skip
+    argv = [
+        "predict",
+        "paper",
+        "--model",
+        "section",
+        "--compare",
+        "paper",
+        "--samples",
+        "4",
+        "--seed",
+        "3",
+        "--vary",
+        "materials.medical_silicone_tubing.poisson_ratio",
+        "--vary",
+        "model.coil_modulus=tension,bending",
+        "--measured-gain",
+        "0.388",
+        "--no-progress",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 0
     doc = json.loads((tmp_path / "prediction.json").read_text())
-    for key in ("model", "load", "samples", "gain_percentiles", "elongation_percentiles", "measured_gain",
-                "measured_percentile", "measured_in_band", "sensitivity", "ranges", "compare"):  # fmt: skip
+    for key in (
+        "model",
+        "load",
+        "samples",
+        "gain_percentiles",
+        "elongation_percentiles",
+        "measured_gain",
+        "measured_percentile",
+        "measured_in_band",
+        "sensitivity",
+        "ranges",
+        "compare",
+    ):
         assert key in doc, key
     assert (doc["model"], doc["load"], doc["samples"]) == ("section", "lumen", 4)
     assert set(doc["compare"]) == {"section", "paper"} and doc["compare"]["paper"]["load"] == "cap"

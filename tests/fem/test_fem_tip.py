@@ -125,11 +125,24 @@ def test_paper_check_cap_and_lumen(paper):
     assert cap2.curvature_variation < 0.05 and lum.curvature_variation < 0.05
     doc = r.to_json("lumen", 0.1)
     for key in (
-        "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm",
-        "curvature_variation", "max_strain", "load", "pressure_MPa", "n_nodes",
-        "n_elements", "dofs", "mesh_seconds", "solve_seconds", "residual", "analytic",
+        "curvature_per_mm",
+        "elongation",
+        "bend_angle_rad",
+        "tip_x_mm",
+        "tip_y_mm",
+        "curvature_variation",
+        "max_strain",
+        "load",
+        "pressure_MPa",
+        "n_nodes",
+        "n_elements",
+        "dofs",
+        "mesh_seconds",
+        "solve_seconds",
+        "residual",
+        "analytic",
         "ratio_fem_over_analytic",
-    ):  # fmt: skip
+    ):
         assert key in doc
     theta = lum.curvature_per_mm * 5.0 * (1 + lum.elongation)
     assert lum.bend_angle_rad == pytest.approx(theta, rel=1e-12)
@@ -163,8 +176,7 @@ def test_bad_inputs_name_the_parameter(paper):
 def test_mesh_convergence_observed_order(paper, geometry):
     laws = fem_laws_from_design(paper)
     sizes = (0.36, 0.24, 0.16)  # constant ratio 1.5 (layers scale with the size)
-    kappa = [run_tip(geometry, laws, loads=("cap",), mesh_size=h).fits["cap"].curvature_per_mm
-             for h in sizes]  # fmt: skip
+    kappa = [run_tip(geometry, laws, loads=("cap",), mesh_size=h).fits["cap"].curvature_per_mm for h in sizes]
     r = sizes[0] / sizes[1]
     d1, d2 = kappa[0] - kappa[1], kappa[1] - kappa[2]
     order = np.log(abs(d1 / d2)) / np.log(r)

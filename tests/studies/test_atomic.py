@@ -1,4 +1,5 @@
-"""softcath.studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one line."""
+"""softcath.studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one
+line."""
 
 from __future__ import annotations
 

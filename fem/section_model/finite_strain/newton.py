@@ -154,7 +154,8 @@ def load_vector(problem: Problem, q: np.ndarray, loading: Loading) -> np.ndarray
 
 
 def _load_blocks(problem: Problem, u: np.ndarray, g: np.ndarray, loading: Loading, factor: float):
-    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force norm."""
+    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force
+    norm."""
     r_g = np.zeros((1, N_GLOBAL))
     k_g = np.zeros((1, N_GLOBAL, N_GLOBAL))
     blocks = []
@@ -278,9 +279,14 @@ def walk(
             state = None
             if rate is not None:  # Euler predictor along the load path's tangent
                 state, new_lu, new_tan = newton(
-                    problem, q + trial * rate, loading, done + trial, tol=tol, max_iter=max_iter,
+                    problem,
+                    q + trial * rate,
+                    loading,
+                    done + trial,
+                    tol=tol,
+                    max_iter=max_iter,
                     pressure=pressures_after(problem, tan, trial * rate),
-                )  # fmt: skip
+                )
             if state is None:
                 state, new_lu, new_tan = newton(problem, q, loading, done + trial, tol=tol, max_iter=max_iter)
             if state is None:

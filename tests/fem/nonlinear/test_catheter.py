@@ -165,7 +165,8 @@ def test_run_check_writes_json_csv_vtu_series_and_png(tmp_path, paper):
         rows = list(csv.DictReader(fh))
     assert [float(r["pressure_MPa"]) for r in rows] == pytest.approx([0.01, 0.02])
     assert float(rows[-1]["bend_angle_rad"]) == pytest.approx(summary["bend_angle_rad"])
-    # 2 layers: a single z level inside the default mid-span window, so no mid-span curvature (not NaN in JSON)
+    # 2 layers: a single z level inside the default mid-span window, so no mid-span curvature (not NaN in
+    # JSON)
     assert rows[-1]["curvature_mid_per_mm"] == "nan" and summary["curvature_mid_per_mm"] is None
     assert summary["midspan"]["curvature_mid_per_mm"] == [None, None]
     pvd = (tmp_path / "tip_series.pvd").read_text()

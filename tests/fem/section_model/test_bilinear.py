@@ -88,8 +88,9 @@ def test_meshed_bimodular_annulus_against_quadrature(paper, ratio, tol):
     k_rest = solve(op, ("cap",)).stiffness - fib.linear_stiffness(fib.tension_modulus)
     assert np.abs(k_rest).max() < 1e-12  # the coil's axial modulus is all the global block holds
     g, _, _ = solve_fibres(k_rest, fib, np.array([0.0, 0.0, 1e-3]))
-    ei, yn = bimodular_annulus_bending(outer_radius=ro, inner_radius=ri, tension_modulus=et,
-                                       compression_modulus=ratio * et)  # fmt: skip
+    ei, yn = bimodular_annulus_bending(
+        outer_radius=ro, inner_radius=ri, tension_modulus=et, compression_modulus=ratio * et
+    )
     assert 1e-3 / g[2] == pytest.approx(ei, rel=tol)
     assert -g[0] / g[2] == pytest.approx(yn, abs=tol * ro)
 
@@ -105,8 +106,14 @@ def test_ring_and_couple_reproduce_the_resolved_wire(paper, f0):
     k = design.coil_stiffness(coil)
     ea, ei = helix_stiffness(coil)
     r = coil.mean_radius
-    fib = ring_fibres(centre=(0.0, 0.0), radius=r, area=k.area, tension_axial=ea,
-                      compression_modulus=k.axial_modulus_compression, initial_tension=f0)  # fmt: skip
+    fib = ring_fibres(
+        centre=(0.0, 0.0),
+        radius=r,
+        area=k.area,
+        tension_axial=ea,
+        compression_modulus=k.axial_modulus_compression,
+        initial_tension=f0,
+    )
     couple = ei - 0.5 * ea * r**2
     g, kappa = None, []
     for m in moments:
