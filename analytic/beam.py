@@ -31,10 +31,10 @@ from softcath.analytic.pose import tip_pose
 from softcath.analytic.section import design_inputs, section_arrays
 from softcath.design import TipDesign
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 
 __all__ = ["LOADS", "BeamResponse", "gains", "gains_arrays", "response", "response_arrays"]
 
-LOADS = ("cap", "lumen")
 MAX_PRESSURE_MPA = 1e6  # far beyond any hydraulic catheter; keeps products of design numbers finite
 
 

@@ -33,13 +33,19 @@ def pressure_for_bend_angle(design: TipDesign, angle_rad, *, load: str = "cap") 
 
 
 def pressure_for_tip(
-    design: TipDesign, *, tip_x: float, tip_y: float | None = None, load: str = "cap", p_max: float = 50.0
+    design: TipDesign,
+    *,
+    tip_x: float,
+    tip_y: float | None = None,
+    load: str = "cap",
+    max_pressure: float = 50.0,
 ) -> tuple[float, float]:
     """Pressure [MPa] that brings the tip closest to (tip_x, tip_y) [mm].
 
     With only ``tip_x`` (lateral reach) the pressure matching it exactly is
     found by bracketing on the rising branch (θ ≤ π); with both coordinates
     the distance is minimised. Returns (pressure, remaining distance [mm]).
+    The search stays below ``max_pressure`` [MPa].
     """
 
     def dist(p: float) -> float:
@@ -48,7 +54,7 @@ def pressure_for_tip(
         return float(np.hypot(float(r.tip_x) - tip_x, dy))
 
     p_pi = float(pressure_for_bend_angle(design, np.pi * np.sign(tip_x or 1.0), load=load))
-    hi = min(abs(p_pi), p_max) * np.sign(p_pi)
+    hi = min(abs(p_pi), max_pressure) * np.sign(p_pi)
     if tip_y is None:
         x_hi = float(response(design, hi, load).tip_x)
         if abs(tip_x) > abs(x_hi):

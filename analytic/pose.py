@@ -17,14 +17,26 @@ __all__ = ["tip_pose", "pose_matrix"]
 
 
 def tip_pose(curvature, arc_length) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Tip position and bend angle for curvature κ [1/mm] over arc length L [mm].
+    """Tip position and bend angle for curvature κ [1/mm] over arc length L [mm] (eq. 9).
+
+    The one eq. 9 of the package: the 3-D FEM, the section models and the
+    virtual bench take their arc-end pose from here. The pose of a solved mesh's
+    displaced end section is :func:`softcath.fem.nonlinear.post.measured_tip_pose`.
+
+    Parameters
+    ----------
+    curvature
+        κ [1/mm], a number or an array.
+    arc_length
+        L [mm], the deformed arc length L₀(1 + ε); broadcast against ``curvature``.
 
     Returns
     -------
-    tip_x, tip_y
-        Tip position [mm] in the bending plane (frame in the module docstring).
-    theta
-        Bend angle θ = κL [rad].
+    tip_x, tip_y, theta
+        Position first, then orientation, the order of eq. 9's transform
+        (:func:`pose_matrix`): tip position [mm] in the bending plane (frame in
+        the module docstring) and bend angle θ = κL [rad]. A plain tuple of
+        arrays, so the pose of a whole sweep of designs unpacks in one line.
     """
     kappa = np.asarray(curvature, dtype=float)
     length = np.asarray(arc_length, dtype=float)

@@ -33,12 +33,27 @@ from softcath.design.coil_mechanics import coil_stiffness_arrays
 __all__ = ["CompositeSection", "composite_section", "design_inputs", "section_arrays", "INPUT_KEYS"]
 
 INPUT_KEYS = (
-    "coil_od", "coil_id", "coil_wire", "coil_pitch", "coil_E", "coil_nu",
-    "channel_od", "channel_id", "channel_wire", "channel_pitch", "channel_E", "channel_nu",
-    "tube_E", "tube_nu", "filler_E",
-    "a", "a_int", "b_int", "h",
+    "coil_od",
+    "coil_id",
+    "coil_wire",
+    "coil_pitch",
+    "coil_E",
+    "coil_nu",
+    "channel_od",
+    "channel_id",
+    "channel_wire",
+    "channel_pitch",
+    "channel_E",
+    "channel_nu",
+    "tube_E",
+    "tube_nu",
+    "filler_E",
+    "a",
+    "a_int",
+    "b_int",
+    "h",
     "length",
-)  # fmt: skip
+)
 
 
 def design_inputs(design: TipDesign) -> dict[str, float]:
@@ -83,14 +98,21 @@ def section_arrays(inp: dict) -> dict[str, np.ndarray]:
     a, a_int, b_int, h = (np.asarray(inp[k], float) for k in ("a", "a_int", "b_int", "h"))
 
     coil = coil_stiffness_arrays(
-        outer_diameter=inp["coil_od"], inner_diameter=inp["coil_id"], wire_diameter=inp["coil_wire"],
-        pitch=inp["coil_pitch"], youngs_modulus=inp["coil_E"], poisson_ratio=inp["coil_nu"],
-    )  # fmt: skip
+        outer_diameter=inp["coil_od"],
+        inner_diameter=inp["coil_id"],
+        wire_diameter=inp["coil_wire"],
+        pitch=inp["coil_pitch"],
+        youngs_modulus=inp["coil_E"],
+        poisson_ratio=inp["coil_nu"],
+    )
     chan = coil_stiffness_arrays(
-        outer_diameter=inp["channel_od"], inner_diameter=inp["channel_id"],
-        wire_diameter=inp["channel_wire"], pitch=inp["channel_pitch"],
-        youngs_modulus=inp["channel_E"], poisson_ratio=inp["channel_nu"],
-    )  # fmt: skip
+        outer_diameter=inp["channel_od"],
+        inner_diameter=inp["channel_id"],
+        wire_diameter=inp["channel_wire"],
+        pitch=inp["channel_pitch"],
+        youngs_modulus=inp["channel_E"],
+        poisson_ratio=inp["channel_nu"],
+    )
     m_coil = shapes.annulus(r_co, r_in, 0.0)
     m_chan = shapes.annulus(r_c, r_ci, y_c)
     m_tube = shapes.hollow_ellipse(a, b, a_int, b_int, h, y_t)

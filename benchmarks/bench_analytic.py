@@ -107,9 +107,13 @@ def slsqp_multistart(m: Measurement, d: design.TipDesign, starts: list[np.ndarra
     best = (np.inf, None)
     for x0 in starts:
         res = optimize.minimize(
-            objective, x0, method="SLSQP", bounds=[bounds[q] for q in keys],
-            constraints=[{"type": "ineq", "fun": containment}], options={"ftol": 1e-14, "maxiter": 300},
-        )  # fmt: skip
+            objective,
+            x0,
+            method="SLSQP",
+            bounds=[bounds[q] for q in keys],
+            constraints=[{"type": "ineq", "fun": containment}],
+            options={"ftol": 1e-14, "maxiter": 300},
+        )
         shape = dict(zip(keys, res.x, strict=True))
         if _inside(d, shape) and res.fun < best[0]:
             best = (float(res.fun), shape)
@@ -125,10 +129,11 @@ def bench_calibration() -> None:
     r = analytic.response(truth, pr)
     rng = np.random.default_rng(1)
     m = Measurement.from_arrays(
-        time_s=t, pressure_MPa=pr,
+        time_s=t,
+        pressure_MPa=pr,
         curvature_per_mm=r.curvature + 0.002 * rng.standard_normal(t.size),
         arc_length_mm=r.arc_length + 0.002 * rng.standard_normal(t.size),
-    )  # fmt: skip
+    )
     t_ca, res = best_of(lambda: calibrate(m, d), repeat=3)
     # the same feasible grid starts the CasADi multistart used
     bounds = _bounds(d)

@@ -60,14 +60,14 @@ def _solver_vs_skfem() -> None:
     from skfem.helpers import ddot, sym_grad
 
     from softcath import design
-    from softcath.fem.adapter import geometry_from_design, laws_from_design
+    from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
     from softcath.fem.elasticity import ElasticProblem
     from softcath.fem.mesh import mesh_tip
     from softcath.fem.tags import tag_facets
 
     d = design.preset("paper")
     g = geometry_from_design(d)
-    laws = laws_from_design(d)
+    laws = fem_laws_from_design(d)
     m = mesh_tip(g, mesh_size=0.16)
     sk = m.skfem_mesh()
     tags = tag_facets(sk, g)
@@ -120,20 +120,30 @@ def _one_size(h: float) -> None:
     import resource
 
     from softcath import design
-    from softcath.fem.adapter import geometry_from_design, laws_from_design
+    from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
     from softcath.fem.pipeline import run_tip
 
     d = design.preset("paper")
     t = time.perf_counter()
-    sol = run_tip(geometry_from_design(d), laws_from_design(d), loads=("cap",), mesh_size=h,
-                  use_cache=False)  # fmt: skip
+    sol = run_tip(
+        geometry_from_design(d), fem_laws_from_design(d), loads=("cap",), mesh_size=h, use_cache=False
+    )
     total = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(json.dumps({
-        "h": h, "dofs": int(sol.problem.ndofs), "total": total, "mesh": sol.mesh_seconds,
-        "assemble": sol.assemble_seconds, "solve": sol.solve_seconds, "peak_mb": peak,
-        "kappa": sol.fits["cap"].curvature_per_mm,
-    }))  # fmt: skip
+    print(
+        json.dumps(
+            {
+                "h": h,
+                "dofs": int(sol.problem.ndofs),
+                "total": total,
+                "mesh": sol.mesh_seconds,
+                "assemble": sol.assemble_seconds,
+                "solve": sol.solve_seconds,
+                "peak_mb": peak,
+                "kappa": sol.fits["cap"].curvature_per_mm,
+            }
+        )
+    )
 
 
 def _sizes() -> None:
@@ -142,9 +152,12 @@ def _sizes() -> None:
     rows = []
     for h in (0.24, 0.16, 0.11):
         out = subprocess.run(
-            [sys.executable, __file__, "--size", str(h)], capture_output=True, text=True,
-            check=True, cwd=ROOT,
-        )  # fmt: skip
+            [sys.executable, __file__, "--size", str(h)],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=ROOT,
+        )
         r = json.loads(out.stdout.strip().splitlines()[-1])
         rows.append(r)
         print(

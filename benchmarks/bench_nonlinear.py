@@ -17,7 +17,9 @@ first call, NumPy's einsum paths), then the two codes run alternately
 ``--repeat`` times and the best time of each is compared, so neither pays the
 other's start-up nor a burst of load from another process.
 
-Run: ``python benchmarks/bench_nonlinear.py [--cells 3 --length-cells 20 --pressure 0.001 --steps 5 --repeat 3]``.
+Run::
+
+    python benchmarks/bench_nonlinear.py [--cells 3 --length-cells 20 --pressure 0.001 --steps 5 --repeat 3]
 """
 
 from __future__ import annotations

@@ -78,16 +78,21 @@ def per_design() -> float:
     s = sum(t_sec) / len(t_sec)
     b = sum(t_batch) / len(t_batch)
     print(f"per design, both loads, {len(designs)} designs, warm (imports loaded) [{_load()}]:")
-    for label, ts in (("3-D FEM, mesh made each time (like for like)", t_meshed),
-                      ("3-D FEM, mesh from its cache (conservative)", t_cached)):  # fmt: skip
+    for label, ts in (
+        ("3-D FEM, mesh made each time (like for like)", t_meshed),
+        ("3-D FEM, mesh from its cache (conservative)", t_cached),
+    ):
         f = sum(ts) / len(ts)
-        print(f"  {label}: {f:6.2f} s   sweep path (template, batched) {b * 1e3:5.1f} ms  ratio {f / b:6.0f}x   "
-              f"section model on a fresh gmsh mesh {s * 1e3:5.0f} ms  ratio {f / s:5.1f}x")  # fmt: skip
+        print(
+            f"  {label}: {f:6.2f} s   sweep path (template, batched) {b * 1e3:5.1f} ms  ratio {f / b:6.0f}x  "
+            f" section model on a fresh gmsh mesh {s * 1e3:5.0f} ms  ratio {f / s:5.1f}x"
+        )
     return b
 
 
 def split(n: int) -> float:
-    """In-process time split of the sweep path over ``n`` designs (templates made first); seconds per design."""
+    """In-process time split of the sweep path over ``n`` designs (templates made first); seconds per
+    design."""
     from softcath.fem.section_model.batch import TIMERS, section_models
 
     designs = _variants(n, seed=8)
@@ -100,13 +105,16 @@ def split(n: int) -> float:
         section_models(c)
     per, cpu = (time.perf_counter() - t) / n, (time.process_time() - c0) / n
     parts = "  ".join(f"{k} {v / n * 1e3:.2f}" for k, v in TIMERS.items())
-    print(f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made "
-          f"[{_load()}]: {per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)")  # fmt: skip
+    print(
+        f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made [{_load()}]: "
+        f"{per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)"
+    )
     return cpu
 
 
 def sweep(n: int, in_process: float | None = None) -> None:
-    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct designs."""
+    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct
+    designs."""
     import tempfile
 
     from softcath.studies.sweep import load_spec, run_sweep
@@ -138,19 +146,25 @@ n = {n}
         cpu = float(table.groupby("design_id").cpu_seconds.first().mean())
         read = time.perf_counter() - t
     per = wall / n
-    print(f"section sweep (softcath sweep, analytic + section, 2 local workers), {n} designs: {wall:.1f} s "
-          f"({per * 1000:.1f} ms/design wall; {summary}) [{_load()}]")  # fmt: skip
+    print(
+        f"section sweep (softcath sweep, analytic + section, 2 local workers), {n} designs: {wall:.1f} s "
+        f"({per * 1000:.1f} ms/design wall; {summary}) [{_load()}]"
+    )
     for total in (10_000, 100_000):
         label = "measured" if n >= total else f"extrapolated linearly from {n}"
         print(f"  {total:.0e} designs: {per * total / 60:.1f} min ({label})")
     print(f"  target 10^5 in <= 10 min (6 ms/design wall): {'OK' if per * 1e5 <= 600 else 'MISSED'}")
-    print(f"  worker CPU per design (the table's cpu_seconds: analytic + section + task): {cpu * 1e3:.1f} ms; "
-          f"on 2 unshared cores 10^5 designs would take ~{cpu * 1e5 / 2 / 60:.1f} min (CPU-bound estimate)")  # fmt: skip
+    print(
+        f"  worker CPU per design (the table's cpu_seconds: analytic + section + task): {cpu * 1e3:.1f} ms; "
+        f"on 2 unshared cores 10^5 designs would take ~{cpu * 1e5 / 2 / 60:.1f} min (CPU-bound estimate)"
+    )
     print(f"  reading the written table back: {read:.2f} s ({len(table)} rows)")
     if in_process is not None:
-        print(f"  section path in-process {in_process * 1e3:.1f} ms CPU/design; the rest of the worker CPU "
-              f"(analytic model, task building, frames): {(cpu - in_process) * 1e3:.1f} ms; the parent's share "
-              f"(serialisation, writing, progress) is wall - CPU/2: {(per - cpu / 2) * 1e3:.1f} ms/design")  # fmt: skip
+        print(
+            f"  section path in-process {in_process * 1e3:.1f} ms CPU/design; the rest of the worker CPU "
+            f"(analytic model, task building, frames): {(cpu - in_process) * 1e3:.1f} ms; the parent's share "
+            f"(serialisation, writing, progress) is wall - CPU/2: {(per - cpu / 2) * 1e3:.1f} ms/design"
+        )
 
 
 def main() -> None:

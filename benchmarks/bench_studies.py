@@ -88,10 +88,13 @@ n = {N_BIG}
     t = time.perf_counter()
     evaluate_task(task)
     ours = (time.perf_counter() - t) / len(sample)
-    print(f"per design: baseline loop {base * 1e6:.0f} us, our task path {ours * 1e6:.0f} us "
-          f"-> {base / ours:.1f}x faster")  # fmt: skip
     print(
-        f"  extrapolated to {N_BIG} designs on 1 core: baseline {base * N_BIG:.1f} s, ours {ours * N_BIG:.1f} s"
+        f"per design: baseline loop {base * 1e6:.0f} us, our task path {ours * 1e6:.0f} us "
+        f"-> {base / ours:.1f}x faster"
+    )
+    print(
+        f"  extrapolated to {N_BIG} designs on 1 core: baseline {base * N_BIG:.1f} s, ours "
+        f"{ours * N_BIG:.1f} s"
     )
     t = time.perf_counter()
     c0 = _cpu()
@@ -103,10 +106,12 @@ n = {N_BIG}
     per_design = pd.read_parquet(s.results_parquet, columns=["design_id", "cpu_seconds"])
     cpu = _cpu() - c0 + float(per_design.drop_duplicates("design_id").cpu_seconds.sum())
     load = os.getloadavg()[0]
-    print(f"full sweep of {s.n_designs} designs x {len(spec.loads)} loads on {s.backend}: {wall:.1f} s wall "
-          f"(target <= 10 s), {cpu:.1f} CPU-s in all processes (load average {load:.1f} on {os.cpu_count()} "
-          f"cores: an idle machine needs about CPU-s / 2); {s.failed_designs} invalid designs reported; "
-          f"results.csv {s.results_csv.stat().st_size / 1e6:.0f} MB")  # fmt: skip
+    print(
+        f"full sweep of {s.n_designs} designs x {len(spec.loads)} loads on {s.backend}: {wall:.1f} s wall "
+        f"(target <= 10 s), {cpu:.1f} CPU-s in all processes (load average {load:.1f} on {os.cpu_count()} "
+        f"cores: an idle machine needs about CPU-s / 2); {s.failed_designs} invalid designs reported; "
+        f"results.csv {s.results_csv.stat().st_size / 1e6:.0f} MB"
+    )
 
 
 def bench_fem(tmp: Path) -> None:
@@ -135,9 +140,12 @@ mesh_size = 0.12
     # Warm the mesh cache and imports so the three runs time the same work.
     run_sweep(spec, tmp / "fem_warm", workers=1, progress=False)
     rates = {}
-    for label, kw in (("1 worker", {"workers": 1}), ("2 local workers", {"workers": 2}),
-                      ("Dask LocalCluster (1)", {"dask_local": 1}),
-                      ("Dask LocalCluster (2)", {"dask_local": 2})):  # fmt: skip
+    for label, kw in (
+        ("1 worker", {"workers": 1}),
+        ("2 local workers", {"workers": 2}),
+        ("Dask LocalCluster (1)", {"dask_local": 1}),
+        ("Dask LocalCluster (2)", {"dask_local": 2}),
+    ):
         t = time.perf_counter()
         s = run_sweep(spec, tmp / label.replace(" ", "_"), progress=False, **kw)
         wall = time.perf_counter() - t
@@ -154,12 +162,16 @@ mesh_size = 0.12
             print(f"  {label}: first failure: {df[df.status == 'failed'].reason.iloc[0]}")
     base, base_steady = rates["1 worker"][0], rates["1 worker"][2]
     for label, (r, failed, steady) in rates.items():
-        print(f"FEM sweep {label}: {r:.1f} designs/min end to end ({failed} failed), {r / base:.2f}x of "
-              f"1 worker; steady state {steady:.1f} designs/min, {steady / base_steady:.2f}x (target >= 1.8x)")  # fmt: skip
+        print(
+            f"FEM sweep {label}: {r:.1f} designs/min end to end ({failed} failed), {r / base:.2f}x of "
+            f"1 worker; steady state {steady:.1f} designs/min, {steady / base_steady:.2f}x (target >= 1.8x)"
+        )
     # the same backend with one worker: Dask's own scaling, start-up included on both sides
     d1, d2 = rates["Dask LocalCluster (1)"], rates["Dask LocalCluster (2)"]
-    print(f"Dask LocalCluster 2 workers / 1 worker: {d2[0] / d1[0]:.2f}x end to end, "
-          f"{d2[2] / d1[2]:.2f}x steady state")  # fmt: skip
+    print(
+        f"Dask LocalCluster 2 workers / 1 worker: {d2[0] / d1[0]:.2f}x end to end, "
+        f"{d2[2] / d1[2]:.2f}x steady state"
+    )
 
 
 def main(argv=None) -> int:

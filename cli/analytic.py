@@ -16,6 +16,7 @@ from softcath.cli.options import (
     add_design,
     add_out,
     add_pressure_range,
+    model_name,
     parse_pressure_range,
     resolve_design,
 )
@@ -31,6 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--model",
+        type=model_name,
         choices=("paper", "section"),
         default="paper",
         help="paper: the paper's formula (default, the reference); section: the 2-D section model",

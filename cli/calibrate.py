@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out
+from softcath.cli.options import add_design, add_out, model_name
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
 
@@ -29,6 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--model",
+        type=model_name,
         choices=("paper", "section"),
         default="paper",
         help="paper: the paper's formula (default); section: the 2-D section model (3-D-FEM grade)",
@@ -112,15 +113,17 @@ def run(args: argparse.Namespace) -> int:
     x = res.x_opt
     inner = getattr(res, "inner", res)
     print(
-        f"{what}: x_opt = [a {x['a']:.4f}, a_int {x['a_int']:.4f}, b_int {x['b_int']:.4f}, h {x['h']:.4f}] mm; "
-        f"NRMSE {res.nrmse_nominal:.4g} -> {res.nrmse_optimized:.4g} (ratio {res.ratio:.3g}); "
+        f"{what}: x_opt = [a {x['a']:.4f}, a_int {x['a_int']:.4f}, b_int {x['b_int']:.4f}, h {x['h']:.4f}] "
+        f"mm; NRMSE {res.nrmse_nominal:.4g} -> {res.nrmse_optimized:.4g} (ratio {res.ratio:.3g}); "
         f"{inner.starts_at_optimum}/{inner.starts} starts at the optimum"
     )
     if args.model == "section":
         g, dg = res.gains_model, res.gains_data
         print(
-            f"{res.iterations} space-mapping iteration(s), {'converged' if res.converged else 'NOT converged'}; "
-            f"section-model gains {g['curvature_per_mm_per_MPa']:.5g} 1/(mm MPa), {g['elongation_per_MPa']:.4g} "
+            f"{res.iterations} space-mapping iteration(s), "
+            f"{'converged' if res.converged else 'NOT converged'}; "
+            f"section-model gains {g['curvature_per_mm_per_MPa']:.5g} 1/(mm MPa), "
+            f"{g['elongation_per_MPa']:.4g} "
             f"1/MPa vs data {dg['curvature_per_mm_per_MPa']:.5g}, "
             + (f"{dg['elongation_per_MPa']:.4g}" if dg["elongation_per_MPa"] is not None else "-")
         )
@@ -136,9 +139,11 @@ def _check_grid(grid: int, free: tuple[str, ...]) -> None:
     grid_max = _grid_max(len(free))
     if not 1 <= grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
         raise design.DesignError(
-            "--grid", grid, f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) "
-            f"(grid^{len(free)} multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)"
-        )  # fmt: skip
+            "--grid",
+            grid,
+            f"must be an integer in [1, {grid_max}] with {len(free)} free parameter(s) (grid^{len(free)} "
+            f"multistart points, at most {MAX_STARTS}, and at most {MAX_GRID} per parameter)",
+        )
 
 
 def _read_measurement(path: Path, low_pass: bool):

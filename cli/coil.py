@@ -106,8 +106,8 @@ def run(args: argparse.Namespace) -> int:
         e = doc[name]
         ratio = e["ratios"]
         print(
-            f"{name}: EA tension {e['axial_tension_N']:.4g} N ({ratio['axial_tension/spring_rate_EA']:.3f}x spring), "
-            f"compression {e['axial_compression_N']:.4g} N; EI wire {e['bending_N_mm2']:.4g} "
+            f"{name}: EA tension {e['axial_tension_N']:.4g} N ({ratio['axial_tension/spring_rate_EA']:.3f}x "
+            f"spring), compression {e['axial_compression_N']:.4g} N; EI wire {e['bending_N_mm2']:.4g} "
             f"({ratio['bending/wahl']:.3f}x Wahl), with contact {e['bending_contact_N_mm2']:.4g} "
             f"({ratio['bending_contact/wahl']:.3f}x Wahl), closed {e['bending_closed_N_mm2']:.4g} N mm^2; "
             f"initial tension {e['initial_tension_N']:g} N"

@@ -163,7 +163,7 @@ def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
     from softcath.studies.atomic import staged_dir
 
     settings = nonlinear_settings(args)
-    check_fem_budget(d, mesh_size=settings.mesh_size)  # before minutes of meshing, not after
+    check_fem_budget(d, mesh_size=settings.mesh_size, param="--mesh-size")  # before minutes of meshing
     with staged_dir(out) as stage:  # every output appears only if the whole run succeeded
         _, lines = run_check(d, settings, stage)
     for line in lines:
@@ -178,7 +178,7 @@ def run(args: argparse.Namespace) -> int:
 
     out = prepare_out_dir(args.out)
     if args.pressure is not None:
-        check_pressure(args.pressure)
+        check_pressure(args.pressure, param="--pressure")
     d = resolve_design(args)
     if args.nonlinear:
         from softcath.fem.api import check_assembly
@@ -186,7 +186,7 @@ def run(args: argparse.Namespace) -> int:
         check_assembly(d.assembly)  # the finite-strain FEM fuses every interface
         return _run_nonlinear(d, args, out)
     s = linear_settings(args)
-    check_fem_budget(d, mesh_size=s.mesh_size)  # before minutes of meshing, not after
+    check_fem_budget(d, mesh_size=s.mesh_size, param="--mesh-size")  # before minutes of meshing
     from softcath import fem
     from softcath.fem.export import render_png, write_vtu
     from softcath.fem.html_view import write_tip_html

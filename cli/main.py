@@ -157,6 +157,19 @@ def _on_sigint(signum, frame) -> None:  # pragma: no cover - exercised by subpro
     raise KeyboardInterrupt()
 
 
+#: Library parameters every command takes from the same option (the library never names options).
+_OPTION_OF = {"out_dir": "--out"}
+
+
+def _in_command_terms(exc: SoftcathError) -> SoftcathError:
+    """``exc`` naming the command's option where the library named its own parameter."""
+    from softcath.design.errors import DesignError
+
+    if isinstance(exc, DesignError) and exc.parameter in _OPTION_OF:
+        return DesignError(_OPTION_OF[exc.parameter], exc.value, exc.bound)
+    return exc
+
+
 def _describe(exc: BaseException) -> str:
     """One line for an exception that is not an input error."""
     if isinstance(exc, MemoryError):
@@ -222,7 +235,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.debug:
             traceback.print_exc()
         if isinstance(exc, SoftcathError):
-            _say(f"softcath {name}: error: {' '.join(str(exc).split())}")
+            _say(f"softcath {name}: error: {' '.join(str(_in_command_terms(exc)).split())}")
         else:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR

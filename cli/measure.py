@@ -99,7 +99,8 @@ def _scale_from_args(args: argparse.Namespace) -> float:
 
 
 def calibration_from_args(args: argparse.Namespace):
-    """A :class:`softcath.hardware.vision.Calibration` from --px-per-mm (or --chessboard), --base, --base-angle."""
+    """A :class:`softcath.hardware.vision.Calibration` from --px-per-mm (or --chessboard), --base,
+    --base-angle."""
     import math
 
     from softcath.design.errors import DesignError

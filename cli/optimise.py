@@ -20,6 +20,7 @@ from softcath.cli.options import (
     add_pressure_list,
     add_progress,
     add_seed,
+    model_name,
     parse_pressure_list,
 )
 
@@ -28,22 +29,53 @@ HELP = "optimise a design (DE or NSGA-II) under select-style objectives and cons
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_design(p)
-    p.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI", required=True,
-                   help="a design variable: dotted design path and bounds (repeatable)")  # fmt: skip
-    p.add_argument("--objective", action="append", default=[], metavar="EXPR", required=True,
-                   help="e.g. 'maximise bend_angle_deg at p=0.5' (repeat for a Pareto set)")  # fmt: skip
+    p.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="PATH=LO:HI",
+        required=True,
+        help="a design variable: dotted design path and bounds (repeatable)",
+    )
+    p.add_argument(
+        "--objective",
+        action="append",
+        default=[],
+        metavar="EXPR",
+        required=True,
+        help="e.g. 'maximise bend_angle_deg at p=0.5' (repeat for a Pareto set)",
+    )
     p.add_argument(
         "--constraint", action="append", default=[], metavar="EXPR", help="e.g. 'max_strain <= 0.3'"
     )
-    p.add_argument("--model", default="section", choices=("paper", "section", "section-nonlinear"),
-                   help="model tier evaluating every candidate (default section)")  # fmt: skip
-    p.add_argument("--load", default=None, choices=("cap", "lumen"),
-                   help="load case (default: lumen; cap for the paper's formula)")  # fmt: skip
+    p.add_argument(
+        "--model",
+        default="section",
+        type=model_name,
+        choices=("paper", "section", "section-nonlinear"),
+        help="model tier evaluating every candidate (default section)",
+    )
+    p.add_argument(
+        "--load",
+        default=None,
+        choices=("cap", "lumen"),
+        help="load case (default: lumen; cap for the paper's formula)",
+    )
     add_pressure_list(p, default="0.5")
-    p.add_argument("--robust", type=float, default=None, metavar="P",
-                   help="meet every constraint with probability >= P over the material ranges")  # fmt: skip
-    p.add_argument("--robust-vary", action="append", default=[], metavar="PATH=LO:HI",
-                   help="uncertain parameter for --robust (default: the design's ranges file)")  # fmt: skip
+    p.add_argument(
+        "--robust",
+        type=float,
+        default=None,
+        metavar="P",
+        help="meet every constraint with probability >= P over the material ranges",
+    )
+    p.add_argument(
+        "--robust-vary",
+        action="append",
+        default=[],
+        metavar="PATH=LO:HI",
+        help="uncertain parameter for --robust (default: the design's ranges file)",
+    )
     p.add_argument("--ranges", type=Path, default=None, help="ranges TOML for --robust")
     p.add_argument("--samples", type=int, default=16, help="robust samples per candidate (default 16)")
     p.add_argument("--budget", type=int, default=200, help="candidate designs to evaluate (default 200)")
@@ -69,9 +101,14 @@ def run(args: argparse.Namespace) -> int:
     load = args.load or ("cap" if args.model == "paper" else "lumen")
     with _as_options():
         problem = make_problem(
-            table, variables=args.vary, objectives=args.objective, constraints=args.constraint,
-            model=args.model, load=load, pressures_MPa=pressures,
-        )  # fmt: skip
+            table,
+            variables=args.vary,
+            objectives=args.objective,
+            constraints=args.constraint,
+            model=args.model,
+            load=load,
+            pressures=pressures,
+        )
         robust = None
         if args.robust is not None:
             from softcath.studies.predict import resolve_ranges
@@ -82,24 +119,34 @@ def run(args: argparse.Namespace) -> int:
     out = prepare_out_dir(args.out)
     with _as_options():
         opt = optimise(
-            problem, budget=args.budget, seed=args.seed, robust=robust, workers=args.workers,
-            scheduler=args.scheduler, fem_check=not args.no_fem_check, progress=not args.no_progress,
-        )  # fmt: skip
+            problem,
+            budget=args.budget,
+            seed=args.seed,
+            robust=robust,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            fem_check=not args.no_fem_check,
+            progress=not args.no_progress,
+        )
     from softcath.studies.atomic import staged_dir, unstage
     from softcath.studies.report.optimum import write_optimum_report
 
     with staged_dir(out) as stage:  # the record, designs and report replace earlier ones only together
         paths = {k: unstage(v, stage, out) for k, v in write_optimum(opt, problem, stage).items()}
         report = unstage(write_optimum_report(stage), stage, out)
-    print(f"{opt.algorithm} on the {opt.model} model ({opt.load} load), {opt.backend}: "
-          f"{opt.evaluations} designs ({opt.model_runs} model runs) in {opt.seconds:.1f} s")  # fmt: skip
+    print(
+        f"{opt.algorithm} on the {opt.model} model ({opt.load} load), {opt.backend}: "
+        f"{opt.evaluations} designs ({opt.model_runs} model runs) in {opt.seconds:.1f} s"
+    )
     for w in opt.best[:5]:
         objs = ", ".join(f"{k} = {v:.4g}" for k, v in w.objectives.items() if v is not None)
         params = ", ".join(f"{k}={v:.4g}" for k, v in w.parameters.items())
         print(f"  {w.name}{'' if w.feasible else ' (INFEASIBLE)'}: {objs}; {params}")
         if w.probabilities is not None:
-            pct = "; ".join(f"{k.split(None, 1)[-1]}: {_g(v['p5'])}/{_g(v['p50'])}/{_g(v['p95'])}"
-                            for k, v in w.percentiles.items())  # fmt: skip
+            pct = "; ".join(
+                f"{k.split(None, 1)[-1]}: {_g(v['p5'])}/{_g(v['p50'])}/{_g(v['p95'])}"
+                for k, v in w.percentiles.items()
+            )
             prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in w.probabilities.items())
             print(f"    p5/p50/p95 {pct}{'; ' + prob if prob else ''}")
         if w.fem_check:
@@ -112,11 +159,24 @@ def run(args: argparse.Namespace) -> int:
 
 def _flag(parameter: str) -> str:
     """The command-line option behind a library parameter name."""
+    if parameter.partition(" ")[0] == "vary":  # a robust range: "vary PATH [low|high]"
+        return f"--robust-vary{parameter[4:]}"
     head, _, rest = parameter.partition(".")
-    flag = {"vary": "--vary", "objectives": "--objective", "constraints": "--constraint",
-            "pressures_MPa": "--pressures", "model": "--model", "load": "--load", "budget": "--budget",
-            "samples": "--samples", "seed": "--seed", "robust": "--robust", "workers": "--workers",
-            "ranges": "--robust-vary/--ranges", "backend": "--workers/--scheduler"}.get(head)  # fmt: skip
+    flag = {
+        "vary": "--vary",
+        "objectives": "--objective",
+        "constraints": "--constraint",
+        "pressures": "--pressures",
+        "model": "--model",
+        "load": "--load",
+        "budget": "--budget",
+        "samples": "--samples",
+        "seed": "--seed",
+        "robust": "--robust",
+        "workers": "--workers",
+        "ranges": "--robust-vary/--ranges",
+        "backend": "--workers/--scheduler",
+    }.get(head)
     return f"{flag} {rest}".strip() if flag else parameter
 
 

@@ -31,6 +31,17 @@ def add_design(parser: argparse.ArgumentParser, *, optional: bool = False) -> No
         parser.add_argument("design", metavar="DESIGN", help=DESIGN_HELP)
 
 
+def model_name(text: str) -> str:
+    """``type`` of a ``--model`` option: a tier's name; an old spelling (``analytic``) maps to its name.
+
+    The option's ``choices`` then refuse what is not a tier of the command
+    (the names: :mod:`softcath.studies.tiers`).
+    """
+    from softcath.studies.tiers import ALIASES, tier_name
+
+    return tier_name(text, parameter="--model") if text in ALIASES else text
+
+
 def add_out(parser: argparse.ArgumentParser, *, required: bool = True, what: str = "output folder") -> None:
     """``--out DIR``: where the command writes its files (created; refused if it is a file)."""
     parser.add_argument("--out", type=Path, required=required, metavar="DIR", help=what)
@@ -107,8 +118,11 @@ def as_options(names: dict[str, str]) -> Iterator[None]:
     try:
         yield
     except DesignError as exc:
+        head, _, rest = exc.parameter.partition(" ")  # "vary tube.h low": the option and its item
         if exc.parameter in names:
             raise DesignError(names[exc.parameter], exc.value, exc.bound) from None
+        if rest and head in names:
+            raise DesignError(f"{names[head]} {rest}", exc.value, exc.bound) from None
         raise
 
 

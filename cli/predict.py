@@ -23,80 +23,154 @@ import argparse
 import csv
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, add_progress, add_seed, as_options, parse_pressure_list
+from softcath.cli.options import (
+    add_design,
+    add_out,
+    add_progress,
+    add_seed,
+    as_options,
+    model_name,
+    parse_pressure_list,
+)
 
 #: The library's parameter names as this command's options.
-_OPTIONS = {"samples": "--samples", "fem_samples": "--fem-samples", "seed": "--seed",
-            "measured_gain": "--measured-gain", "ranges": "--ranges", "model": "--model"}  # fmt: skip
+_OPTIONS = {
+    "samples": "--samples",
+    "fem_samples": "--fem-samples",
+    "seed": "--seed",
+    "measured_gain": "--measured-gain",
+    "ranges": "--ranges",
+    "model": "--model",
+    "vary": "--vary",
+}
 
 HELP = "prediction bands of the bending gain under parameter uncertainty, vs a measurement"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     add_design(p)
-    p.add_argument("--model", choices=("paper", "section", "fem"), default="section",
-                   help="model tier (default section)")  # fmt: skip
-    p.add_argument("--compare", default="", metavar="TIER,TIER",
-                   help="also run these tiers (e.g. paper,section,fem) and draw them in one picture")  # fmt: skip
-    p.add_argument("--load", choices=("cap", "lumen"), default=None,
-                   help="load case (default: cap for the paper's formula, lumen for section and fem)")  # fmt: skip
-    p.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI",
-                   help="vary a dotted design path: PATH=LO:HI[:uniform|nu-log], model.coil_modulus=tension,bending, "
-                   "or PATH alone for the ranges file's range (repeatable; default: the file's default ranges)")  # fmt: skip
+    p.add_argument(
+        "--model",
+        type=model_name,
+        choices=("paper", "section", "fem"),
+        default="section",
+        help="model tier (default section)",
+    )
+    p.add_argument(
+        "--compare",
+        default="",
+        metavar="TIER,TIER",
+        help="also run these tiers (e.g. paper,section,fem) and draw them in one picture",
+    )
+    p.add_argument(
+        "--load",
+        choices=("cap", "lumen"),
+        default=None,
+        help="load case (default: cap for the paper's formula, lumen for section and fem)",
+    )
+    p.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="PATH=LO:HI",
+        help="vary a dotted design path: PATH=LO:HI[:uniform|nu-log], model.coil_modulus=tension,bending, "
+        "or PATH alone for the ranges file's range (repeatable; default: the file's default ranges)",
+    )
     p.add_argument(
         "--ranges", type=Path, default=None, help="ranges TOML (default: the one shipped for a preset)"
     )
-    p.add_argument("--samples", type=int, default=None,
-                   help="samples of the paper and section tiers (default 4096 and 512)")  # fmt: skip
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=None,
+        help="samples of the paper and section tiers (default 4096 and 512)",
+    )
     p.add_argument("--fem-samples", type=int, default=None, help="samples of the 3-D FEM tier (default 8)")
     add_seed(p, what="seed of the sample and the bootstrap")
-    p.add_argument("--measured-gain", type=float, default=None, metavar="K",
-                   help="measured curvature per pressure [1/(mm MPa)] to place in the bands")  # fmt: skip
-    p.add_argument("--finite-strain", action="store_true",
-                   help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)")  # fmt: skip
-    p.add_argument("--pressures", default="0.1,0.3,0.6", metavar="P,P,...",
-                   help="pressures of --finite-strain and --nonlinear [MPa], increasing (default 0.1,0.3,0.6, "
-                   "the prototype's)")  # fmt: skip
-    p.add_argument("--nonlinear", action="store_true",
-                   help="with --model section: bands of the finite-strain section model's curve at --pressures")  # fmt: skip
-    p.add_argument("--curve-samples", type=int, default=64,
-                   help="samples of --nonlinear (about a second each; default 64)")  # fmt: skip
-    p.add_argument("--measured", type=Path, default=None, metavar="CSV",
-                   help="with --nonlinear: a measurement CSV compared with the bands pressure by pressure")  # fmt: skip
+    p.add_argument(
+        "--measured-gain",
+        type=float,
+        default=None,
+        metavar="K",
+        help="measured curvature per pressure [1/(mm MPa)] to place in the bands",
+    )
+    p.add_argument(
+        "--finite-strain",
+        action="store_true",
+        help="add the finite-strain FEM of the nominal design at --pressures (one point, minutes)",
+    )
+    p.add_argument(
+        "--pressures",
+        default="0.1,0.3,0.6",
+        metavar="P,P,...",
+        help="pressures of --finite-strain and --nonlinear [MPa], increasing (default 0.1,0.3,0.6, "
+        "the prototype's)",
+    )
+    p.add_argument(
+        "--nonlinear",
+        action="store_true",
+        help="with --model section: bands of the finite-strain section model's curve at --pressures",
+    )
+    p.add_argument(
+        "--curve-samples",
+        type=int,
+        default=64,
+        help="samples of --nonlinear (about a second each; default 64)",
+    )
+    p.add_argument(
+        "--measured",
+        type=Path,
+        default=None,
+        metavar="CSV",
+        help="with --nonlinear: a measurement CSV compared with the bands pressure by pressure",
+    )
     add_progress(p)
     add_out(p)
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.atomic import prepare_out_dir
     from softcath.studies.predict import predict
-    from softcath.studies.predict.plot import band_picture
     from softcath.studies.predict.workflow import check_predict_inputs
 
-    compare = tuple(t.strip() for t in args.compare.split(",") if t.strip())
+    compare = tuple(model_name(t.strip()) for t in args.compare.split(",") if t.strip())
     # Everything that can be checked is checked before the output folder or any run.
     pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
     measured = _nonlinear_inputs(args)
     with as_options(_OPTIONS):
         check_predict_inputs(
-            samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
-            measured_gain=args.measured_gain, tiers=(args.model, *compare),
-        )  # fmt: skip
+            samples=args.samples,
+            fem_samples=args.fem_samples,
+            seed=args.seed,
+            measured_gain=args.measured_gain,
+            tiers=(args.model, *compare),
+        )
     out = prepare_out_dir(args.out)
     with as_options(_OPTIONS):
         doc, tiers = predict(
-            args.design, model=args.model, compare=compare, load=args.load, vary=args.vary,
-            ranges_file=args.ranges, samples=args.samples, fem_samples=args.fem_samples, seed=args.seed,
-            measured_gain=args.measured_gain, progress=not args.no_progress,
-        )  # fmt: skip
+            args.design,
+            model=args.model,
+            compare=compare,
+            load=args.load,
+            vary=args.vary,
+            ranges_file=args.ranges,
+            samples=args.samples,
+            fem_samples=args.fem_samples,
+            seed=args.seed,
+            measured_gain=args.measured_gain,
+            progress=not args.no_progress,
+        )
     points = {}
     if args.finite_strain:
         from softcath.studies.predict.finite_strain import finite_strain_point
 
         fs = finite_strain_point(
-            args.design, pressures, load=args.load or "lumen",
-            measured_gain=args.measured_gain, progress=not args.no_progress,
-        )  # fmt: skip
+            args.design,
+            pressures,
+            load=args.load or "lumen",
+            measured_gain=args.measured_gain,
+            progress=not args.no_progress,
+        )
         doc["finite_strain"] = fs
         points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
     if args.nonlinear:
@@ -104,23 +178,59 @@ def run(args: argparse.Namespace) -> int:
 
         with as_options({**_OPTIONS, "samples": "--curve-samples"}):
             doc["nonlinear"] = curve_bands(
-                args.design, pressures, vary=args.vary, ranges_file=args.ranges, samples=args.curve_samples,
-                seed=args.seed, load=args.load or "lumen", measured=measured, progress=not args.no_progress,
-            )  # fmt: skip
+                args.design,
+                pressures,
+                vary=args.vary,
+                ranges_file=args.ranges,
+                samples=args.curve_samples,
+                seed=args.seed,
+                load=args.load or "lumen",
+                measured=measured,
+                progress=not args.no_progress,
+            )
+    _write_outputs(out, args, doc, tiers, measured, points)
+    _print_tiers(tiers, doc)
+    if "nonlinear" in doc:
+        _print_nonlinear(doc["nonlinear"])
+    extra = ", curve_band.png" if args.nonlinear else ""
+    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
+    return 0
+
+
+def _write_outputs(out, args: argparse.Namespace, doc: dict, tiers, measured, points: dict) -> None:
+    """``prediction.json``, ``samples.csv``, ``prediction.png`` and, with --nonlinear, ``curve_band.png``."""
+    from softcath.studies.atomic import Outputs
+    from softcath.studies.predict.plot import band_picture
+
     with Outputs(out) as o:  # all files or none
         o.json("prediction.json", doc)
         if args.nonlinear:
             from softcath.studies.predict.plot import curve_band_picture
 
-            curve_band_picture(doc["nonlinear"], o.path("curve_band.png"), measured=measured,
-                               title=f"{doc['design']}: finite-strain section model, curvature bands")  # fmt: skip
+            curve_band_picture(
+                doc["nonlinear"],
+                o.path("curve_band.png"),
+                measured=measured,
+                title=f"{doc['design']}: finite-strain section model, curvature bands",
+            )
         _write_samples(o.path("samples.csv"), tiers)
-        band_picture(tiers, o.path("prediction.png"), measured_gain=args.measured_gain, points=points,
-                     title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)")  # fmt: skip
+        band_picture(
+            tiers,
+            o.path("prediction.png"),
+            measured_gain=args.measured_gain,
+            points=points,
+            title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)",
+        )
+
+
+def _print_tiers(tiers, doc: dict) -> None:
+    """Each tier's gain band, measurement and sensitivity, and the finite-strain point, on stdout."""
     for t in tiers:
         p = t.gain_percentiles
-        line = (f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 {p['p5']:.4g}, "
-                f"p50 {p['p50']:.4g}, p95 {p['p95']:.4g} 1/(mm MPa); nominal {t.nominal_gain:.4g}")  # fmt: skip
+        line = (
+            f"{t.model} ({t.load} load, {t.feasible_samples}/{t.samples} variants): kappa/p p5 "
+            f"{p['p5']:.4g}, p50 {p['p50']:.4g}, p95 {p['p95']:.4g} 1/(mm MPa); nominal {t.nominal_gain:.4g}"
+        )
         if t.measured is not None:
             m = t.measured
             where = "inside the band" if m["measured_in_band"] else m["measured_outside"]
@@ -134,13 +244,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"  sensitivity: {t.sensitivity['skipped']}")
     if "finite_strain" in doc:
         fs = doc["finite_strain"]
-        print(f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
-              f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm")  # fmt: skip
-    if "nonlinear" in doc:
-        _print_nonlinear(doc["nonlinear"])
-    extra = ", curve_band.png" if args.nonlinear else ""
-    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
-    return 0
+        print(
+            f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
+            f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm"
+        )
 
 
 def _nonlinear_inputs(args: argparse.Namespace):
@@ -173,7 +280,8 @@ def _print_nonlinear(nl: dict) -> None:
     for pt in nl["pressures"]:
         b = pt["curvature_percentiles"]
         print(
-            f"  p = {pt['pressure_MPa']:g} MPa: kappa p5 {b['p5']:.4g}, p50 {b['p50']:.4g}, p95 {b['p95']:.4g} 1/mm"
+            f"  p = {pt['pressure_MPa']:g} MPa: kappa p5 {b['p5']:.4g}, p50 {b['p50']:.4g}, p95 "
+            f"{b['p95']:.4g} 1/mm"
         )
     g = nl["gain_line_fit_percentiles"]
     print(f"  line-fit kappa/p p5 {g['p5']:.4g}, p50 {g['p50']:.4g}, p95 {g['p95']:.4g} 1/(mm MPa)")
@@ -184,8 +292,10 @@ def _print_nonlinear(nl: dict) -> None:
                 print(f"  measured at {pt['pressure_MPa']:g} MPa: no measured point within half a step")
                 continue
             where = "inside the band" if pt["measured_in_band"] else pt["measured_outside"]
-            print(f"  measured at {pt['pressure_MPa']:g} MPa: {pt['measured_curvature_per_mm']:.4g} 1/mm, "
-                  f"percentile {pt['measured_percentile']:.1f} ({where}), {pt['measured_over_p50']:.3g}x p50")  # fmt: skip
+            print(
+                f"  measured at {pt['pressure_MPa']:g} MPa: {pt['measured_curvature_per_mm']:.4g} 1/mm, "
+                f"percentile {pt['measured_percentile']:.1f} ({where}), {pt['measured_over_p50']:.3g}x p50"
+            )
         print(
             f"  measured: {m['pressures_in_band']} of {m['pressures_compared']} pressures inside the band; "
             f"its line-fit kappa/p {m['gain_line_fit']:.4g}"

@@ -204,35 +204,28 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     from softcath.studies.model_validity import check_finite_columns, warn_linear_range
 
     r = section_model(
-        d, silicone_poisson=args.poisson, keep_fields=not args.no_png, mesher=args.mesher,
-        **mesh, **coil_opts,
-    )  # fmt: skip
+        d,
+        silicone_poisson=args.poisson,
+        keep_fields=not args.no_png,
+        mesher=args.mesher,
+        **mesh,
+        **coil_opts,
+    )
     ld = args.load
-    full = r.to_json()
-    doc = {
-        "design": r.design_name,
-        "load": ld,
-        "curvature_per_mm_per_MPa": r.curvature_per_mm_per_MPa[ld],
-        "elongation_per_MPa": r.elongation_per_MPa[ld],
-        "lumen_area_change_mm2_per_MPa": r.lumen_area_change_mm2_per_MPa[ld],
-        "fem_formula_ratio": r.fem_formula_ratio[ld],
-        **{k: full[k] for k in ("EA_N", "EI_N_mm2", "EI_lateral_N_mm2", "coupling_N_mm", "neutral_axis_mm",
-                                "axial_centroid_mm", "lumen_area_mm2", "poisson_ratio_silicone",
-                                "coil_modulus", "coil_bending", "mesh_size_mm", "segments", "dofs",
-                                "n_triangles", "seconds", "mesh_seconds", "backward_error", "stiffness")},
-        "assembly": full["assembly"],
-        "axial_groups": full["axial_groups"],
-        "loads": {k: full[k] for k in ("curvature_per_mm_per_MPa", "elongation_per_MPa",
-                                       "lumen_area_change_mm2_per_MPa", "fem_formula_ratio")},
-    }  # fmt: skip
+    doc = _section_doc(r, ld)
     curve = None
     if placement is not None:
         from softcath.fem.section_model.bilinear import bend_curve
 
         curve = bend_curve(
-            d, pressures, load=ld, coil_model=placement, initial_tension=f0,
-            silicone_poisson=args.poisson, **mesh,
-        )  # fmt: skip
+            d,
+            pressures,
+            load=ld,
+            coil_model=placement,
+            initial_tension=f0,
+            silicone_poisson=args.poisson,
+            **mesh,
+        )
         doc["coil_bound"] = curve.to_json()
     resp = r.response(pressures, ld) if curve is None else _curve_response(curve, r.length_mm)
     columns = {
@@ -246,14 +239,7 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     wrote = "section.json, section.csv"
     with Outputs(out) as o:  # all files or none, only on success
         o.json("section.json", doc)
-        with o.path("section.csv").open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(
-                ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
-            )
-            for row in zip(resp.pressure, resp.curvature, resp.elongation, resp.bend_angle, resp.tip_x,
-                           resp.tip_y, strict=True):  # fmt: skip
-                w.writerow([f"{v:.10g}" for v in row])
+        _write_section_csv(o.path("section.csv"), resp)
         if not args.no_png:
             p_show = float(max(abs(pressures.max()), abs(pressures.min()))) or 0.1
             section_picture(r, o.path("section.png"), load=ld, pressure=p_show)
@@ -261,6 +247,79 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
             if curve is not None:
                 _curve_picture(curve, r, o.path("section_curve.png"))
                 wrote += ", section_curve.png"
+    _print_summary(r, ld, curve, placement)
+    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {out}/{wrote}")
+    return 0
+
+
+def _section_doc(r, ld: str) -> dict:
+    """``section.json``: the gains under load ``ld``, the stiffness and mesh facts, every load's gains."""
+    full = r.to_json()
+    return {
+        "design": r.design_name,
+        "load": ld,
+        "curvature_per_mm_per_MPa": r.curvature_per_mm_per_MPa[ld],
+        "elongation_per_MPa": r.elongation_per_MPa[ld],
+        "lumen_area_change_mm2_per_MPa": r.lumen_area_change_mm2_per_MPa[ld],
+        "fem_formula_ratio": r.fem_formula_ratio[ld],
+        **{
+            k: full[k]
+            for k in (
+                "EA_N",
+                "EI_N_mm2",
+                "EI_lateral_N_mm2",
+                "coupling_N_mm",
+                "neutral_axis_mm",
+                "axial_centroid_mm",
+                "lumen_area_mm2",
+                "poisson_ratio_silicone",
+                "coil_modulus",
+                "coil_bending",
+                "mesh_size_mm",
+                "segments",
+                "dofs",
+                "n_triangles",
+                "seconds",
+                "mesh_seconds",
+                "backward_error",
+                "stiffness",
+            )
+        },
+        "assembly": full["assembly"],
+        "axial_groups": full["axial_groups"],
+        "loads": {
+            k: full[k]
+            for k in (
+                "curvature_per_mm_per_MPa",
+                "elongation_per_MPa",
+                "lumen_area_change_mm2_per_MPa",
+                "fem_formula_ratio",
+            )
+        },
+    }
+
+
+def _write_section_csv(path: Path, resp) -> None:
+    """``section.csv``: curvature, elongation, bend angle and tip position per pressure."""
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
+        )
+        for row in zip(
+            resp.pressure,
+            resp.curvature,
+            resp.elongation,
+            resp.bend_angle,
+            resp.tip_x,
+            resp.tip_y,
+            strict=True,
+        ):
+            w.writerow([f"{v:.10g}" for v in row])
+
+
+def _print_summary(r, ld: str, curve, placement) -> None:
+    """The gains, stiffness and, for a coil-bound tip, its threshold and gains, on stdout."""
     print(
         f"{r.design_name}: {ld} load, silicone nu {r.poisson_ratio_silicone:g} -> curvature "
         f"{r.curvature_per_mm_per_MPa[ld]:.4g} 1/mm per MPa ({r.fem_formula_ratio[ld]:.3g}x the paper's "
@@ -269,12 +328,11 @@ def _solve_and_write(args, d, out, pressures, coil_opts, placement, f0, mesh) ->
     )
     if curve is not None:
         print(
-            f"coil-bound ({placement}), initial tension {curve.initial_tension[0]:g}/{curve.initial_tension[1]:g} N: "
+            f"coil-bound ({placement}), initial tension "
+            f"{curve.initial_tension[0]:g}/{curve.initial_tension[1]:g} N: "
             f"threshold {curve.threshold_pressure:.4g} MPa, then {curve.gain_pivoting:.4g} 1/mm per MPa "
             f"(linear {curve.gain_linear:.4g})"
         )
-    print(f"{r.dofs} dofs, {r.seconds * 1000:.0f} ms; wrote {out}/{wrote}")
-    return 0
 
 
 def _curve_response(curve, length_mm: float):

@@ -53,10 +53,16 @@ def run_nonlinear(args: argparse.Namespace) -> int:
 
         measured = read_measurement_csv(args.measured, missing="drop")
     c = section_curve(
-        d, sorted({float(p) for p in pressures}), load=args.load, mesh_size=args.mesh_size,
-        segments=args.segments, silicone_poisson=args.poisson, hoop_cap=args.hoop_cap, mesher=args.mesher,
+        d,
+        sorted({float(p) for p in pressures}),
+        load=args.load,
+        mesh_size=args.mesh_size,
+        segments=args.segments,
+        silicone_poisson=args.poisson,
+        hoop_cap=args.hoop_cap,
+        mesher=args.mesher,
         progress=True,
-    )  # fmt: skip
+    )
     p90 = c.pressure_for_angle(math.pi / 2)
     doc = {
         "design": c.design_name,
@@ -77,14 +83,16 @@ def run_nonlinear(args: argparse.Namespace) -> int:
     top = c.pressure[-1]
     print(
         f"{c.design_name}: finite-strain section, {c.load} load, silicone nu {c.poisson_ratio_silicone:g}: "
-        f"at {top:g} MPa curvature {c.curvature_per_mm[-1]:.4g} 1/mm (linear {c.linear_curvature_per_mm_per_MPa * top:.4g}), "
+        f"at {top:g} MPa curvature {c.curvature_per_mm[-1]:.4g} 1/mm (linear "
+        f"{c.linear_curvature_per_mm_per_MPa * top:.4g}), "
         f"bend {math.degrees(c.bend_angle_rad[-1]):.1f} deg, elongation {c.elongation[-1]:.3g}, "
         f"lumen volume +{c.lumen_volume_change_mm3[-1]:.3g} mm^3, max silicone strain {c.max_strain[-1]:.3g}"
     )
     if not math.isnan(p90):
         print(f"90 deg of uniform-arc bend at {p90:.3g} MPa")
     print(
-        f"{c.dofs} dofs, {int(c.newton_iterations.sum())} Newton iterations, {c.seconds:.2f} s; wrote {out}/{wrote}"
+        f"{c.dofs} dofs, {int(c.newton_iterations.sum())} Newton iterations, {c.seconds:.2f} s; wrote "
+        f"{out}/{wrote}"
     )
     return 0
 

@@ -6,15 +6,15 @@ Columns such as bend_angle_deg, bend_per_MPa_deg, max_strain resolve to one mode
 finite-strain section model when the sweep ran it, else the section model under the lumen load when
 the sweep has section-model columns, else the paper's formula (cap load); --model and --load choose.
 A bend constraint ranked on a linear model whose designs bend past its validity (5 deg) is re-checked
-with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json (ranked list, Pareto
-front, model and load); `softcath report DIR` shows it.
+with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json
+(ranked list, Pareto front, model and load); `softcath report DIR` shows it.
 """
 
 from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out, add_seed
+from softcath.cli.options import add_out, add_seed, model_name
 
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
@@ -33,6 +33,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--model",
         default=None,
+        type=model_name,
         choices=("paper", "section", "section-nonlinear", "fem"),
         help="model behind bend_angle_deg, max_strain, ... (default: section-nonlinear, then section, if the "
         "sweep has it, else paper)",
@@ -46,21 +47,39 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--load",
         default=None,
         choices=("cap", "lumen"),
-        help="load case to select on (default: lumen for the section model and FEM, cap for the paper's formula)",
+        help=(
+            "load case to select on "
+            "(default: lumen for the section model and FEM, cap for the paper's formula)"
+        ),
     )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
     robust = parser.add_argument_group(
         "robust selection (re-evaluates the ranked designs over material ranges)"
     )
-    robust.add_argument("--robust", type=float, default=None, metavar="P",
-                        help="keep designs meeting every constraint with probability >= P (e.g. 0.95)")  # fmt: skip
-    robust.add_argument("--vary", action="append", default=[], metavar="PATH=LO:HI",
-                        help="uncertain parameter (repeatable; default: the base design's ranges file)")  # fmt: skip
+    robust.add_argument(
+        "--robust",
+        type=float,
+        default=None,
+        metavar="P",
+        help="keep designs meeting every constraint with probability >= P (e.g. 0.95)",
+    )
+    robust.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="PATH=LO:HI",
+        help="uncertain parameter (repeatable; default: the base design's ranges file)",
+    )
     robust.add_argument("--ranges", default=None, metavar="FILE", help="ranges TOML (as softcath predict's)")
     robust.add_argument("--samples", type=int, default=32, help="samples per design (default 32)")
     add_seed(robust, what="seed of the sample")
-    robust.add_argument("--robust-model", default=None, choices=("paper", "section", "section-nonlinear"),
-                        help="model of the re-evaluation (default: section; paper for a paper selection)")  # fmt: skip
+    robust.add_argument(
+        "--robust-model",
+        default=None,
+        type=model_name,
+        choices=("paper", "section", "section-nonlinear"),
+        help="model of the re-evaluation (default: section; paper for a paper selection)",
+    )
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
     robust.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
@@ -79,9 +98,13 @@ def run(args: argparse.Namespace) -> int:
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
     df = read_results(args.dir)
     sel = select(
-        df, constraints=args.constraint, objectives=args.objective, load=args.load, top=args.top,
+        df,
+        constraints=args.constraint,
+        objectives=args.objective,
+        load=args.load,
+        top=args.top,
         model=args.model,
-    )  # fmt: skip
+    )
     out = args.dir
     if args.out is not None:
         from softcath.studies.atomic import prepare_out_dir
@@ -110,16 +133,21 @@ def run(args: argparse.Namespace) -> int:
         print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
     if sel.robust is not None:
         rb = sel.robust
-        print(f"robust ({rb['model']} model, P = {rb['P']:g}, {rb['samples']} samples of "
-              f"{', '.join(r['path'] for r in rb['ranges'])}): {rb['n_passing']} of {rb['n_evaluated']} pass")  # fmt: skip
+        print(
+            f"robust ({rb['model']} model, P = {rb['P']:g}, {rb['samples']} samples of "
+            f"{', '.join(r['path'] for r in rb['ranges'])}): {rb['n_passing']} of {rb['n_evaluated']} pass"
+        )
         if rb["left_out"]:
             print(f"  ranges left out (swept by the sweep): {', '.join(rb['left_out'])}")
         for r in sel.ranked[:5]:
-            pct = "; ".join(f"{k.split(None, 1)[-1]}: {v['p5']:.4g}/{v['p50']:.4g}/{v['p95']:.4g}"
-                            for k, v in r["percentiles"].items())  # fmt: skip
+            pct = "; ".join(
+                f"{k.split(None, 1)[-1]}: {v['p5']:.4g}/{v['p50']:.4g}/{v['p95']:.4g}"
+                for k, v in r["percentiles"].items()
+            )
             prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in r["probabilities"].items())
             print(
-                f"  #{r['rank']} design {r['design_id']} (nominal #{r['nominal_rank']}): p5/p50/p95 {pct}; {prob}"
+                f"  #{r['rank']} design {r['design_id']} (nominal #{r['nominal_rank']}): p5/p50/p95 {pct}; "
+                f"{prob}"
             )
     print(f"selection: {path}")
     return 0
@@ -152,7 +180,7 @@ def _recheck(args: argparse.Namespace, sel, df):
         return sel
     spec, base_table = _manifest(args, "the large-bend re-check (or give --no-recheck)")
     return recheck_large_bends(
-        sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], constraints=big, workers=args.workers
+        sel, base_table=base_table, pressures=spec["pressures_MPa"], constraints=big, workers=args.workers
     )
 
 
@@ -173,10 +201,17 @@ def _robust(args: argparse.Namespace, sel):
     try:
         ranges = sweep_ranges(spec.get("base", ""), base_table, args.vary, args.ranges)
         return robust_select(
-            sel, base_table=base_table, pressures_MPa=spec["pressures_MPa"], probability=args.robust,
-            ranges=ranges, samples=args.samples, seed=args.seed, model=args.robust_model,
-            workers=args.workers, progress=not args.no_progress,
-        )  # fmt: skip
+            sel,
+            base_table=base_table,
+            pressures=spec["pressures_MPa"],
+            probability=args.robust,
+            ranges=ranges,
+            samples=args.samples,
+            seed=args.seed,
+            model=args.robust_model,
+            workers=args.workers,
+            progress=not args.no_progress,
+        )
     except DesignError as exc:
         flags = {
             "robust": "--robust",
@@ -186,4 +221,7 @@ def _robust(args: argparse.Namespace, sel):
             "model": "--robust-model",
             "workers": "--workers",
         }
+        head, _, rest = exc.parameter.partition(" ")
+        if head == "vary":  # a range given with --vary: "vary PATH [low|high]"
+            raise DesignError(f"--vary {rest}".strip(), exc.value, exc.bound) from None
         raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None

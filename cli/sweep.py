@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out, add_progress
+from softcath.cli.options import add_out, add_progress, as_options
 
 HELP = "run a design sweep (local processes or Dask), resumable"
 
@@ -34,11 +34,16 @@ def run(args: argparse.Namespace) -> int:
 
     spec = load_spec(args.spec)
     out = prepare_out_dir(args.out)
-    with folder_lock(out, what="sweep"):  # a second sweep into the same folder is refused at once
+    options = {"workers": "--workers", "dask_local": "--dask-local", "scheduler": "--scheduler"}
+    with folder_lock(out, what="sweep"), as_options(options):  # a second sweep into the folder is refused
         s = run_sweep(
-            spec, out, workers=args.workers, dask_local=args.dask_local, scheduler=args.scheduler,
+            spec,
+            out,
+            workers=args.workers,
+            dask_local=args.dask_local,
+            scheduler=args.scheduler,
             progress=not args.no_progress,
-        )  # fmt: skip
+        )
     print(
         f"sweep {spec.name}: {s.n_designs} designs ({s.ok_designs} ok, {s.failed_designs} failed) "
         f"x {len(spec.pressures_MPa)} pressures x {len(spec.loads)} loads on {s.backend}; "

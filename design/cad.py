@@ -115,9 +115,14 @@ def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = 
     ro, ri = s.coil_outer_radius, s.coil_inner_radius
     yc, rco, rci = s.channel_center_y, s.channel_outer_radius, s.channel_inner_radius
     lands = land_half_widths(
-        coil_inner_radius=ri, channel_outer_radius=rco, channel_y=yc,
-        tube_a=s.a, tube_b=s.b, tube_y=s.tube_center_y, land_gap=land_gap,
-    )  # fmt: skip
+        coil_inner_radius=ri,
+        channel_outer_radius=rco,
+        channel_y=yc,
+        tube_a=s.a,
+        tube_b=s.b,
+        tube_y=s.tube_center_y,
+        land_gap=land_gap,
+    )
     inner = _circle_prism(cq, ri, 0.0, 0.0, length)
     chan_outer = _circle_prism(cq, rco, yc, 0.0, length)
     # tube outer with lands: (ellipse U strips) inside the coil ID, outside the channel
@@ -183,7 +188,10 @@ def export_stl(design: TipDesign, path: str | Path, *, tolerance: float = 0.002,
     parts = [s.val() for s in build_solids(design, **kwargs).values()]
     compound = cq.Compound.makeCompound(parts)
     cq.exporters.export(
-        compound, str(path), exportType="STL", tolerance=tolerance,
+        compound,
+        str(path),
+        exportType="STL",
+        tolerance=tolerance,
         angularTolerance=math.radians(5),
-    )  # fmt: skip
+    )
     return path

@@ -70,16 +70,20 @@ class Coil:
         index = (od + idia) / 2 / wire
         if index > validation.MAX_SPRING_INDEX:
             raise DesignError(
-                "wire_diameter", wire, f"gives a spring index D/d = {index:.4g}, must be <= "
-                f"{validation.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)"
-            )  # fmt: skip
+                "wire_diameter",
+                wire,
+                f"gives a spring index D/d = {index:.4g}, must be <= "
+                f"{validation.MAX_SPRING_INDEX:g} (a wire that thin cannot hold a helix of this diameter)",
+            )
         pitch = wire if self.pitch is None else validation.positive("pitch", self.pitch)
         mean_d = (od + idia) / 2
         if pitch > math.pi * mean_d:  # helix angle > 45 deg: a twisted wire, not a coil
             raise DesignError(
-                "pitch", pitch, f"must be <= pi x mean diameter = {math.pi * mean_d:.6g} mm (a helix angle "
-                "above 45 deg is no coil)"
-            )  # fmt: skip
+                "pitch",
+                pitch,
+                f"must be <= pi x mean diameter = {math.pi * mean_d:.6g} mm (a helix angle "
+                "above 45 deg is no coil)",
+            )
         if pitch < wire * (1 - 1e-9):
             raise DesignError("pitch", pitch, f"must be >= wire_diameter = {wire:.6g} (turns cannot overlap)")
         object.__setattr__(self, "outer_diameter", od)
@@ -98,15 +102,20 @@ class Coil:
         _material("material", self.material)
         # The wound-in tension twists the wire: 8 F0 D / (pi d^3) beyond its shear strength is no coil.
         f_max = (
-            validation.MAX_INITIAL_STRESS_OVER_E * self.material.youngs_modulus * math.pi * wire**3
+            validation.MAX_INITIAL_STRESS_OVER_E
+            * self.material.youngs_modulus
+            * math.pi
+            * wire**3
             / (8 * (od + idia) / 2)
-        )  # fmt: skip
+        )
         if tension > f_max:
             raise DesignError(
-                "initial_tension", tension, f"must be <= {f_max:.4g} N: beyond it the wound-in torsional "
+                "initial_tension",
+                tension,
+                f"must be <= {f_max:.4g} N: beyond it the wound-in torsional "
                 f"stress 8 F0 D/(pi d^3) exceeds {validation.MAX_INITIAL_STRESS_OVER_E:g} E of the wire "
                 "(its shear strength)",
-            )  # fmt: skip
+            )
 
     @property
     def close_wound(self) -> bool:

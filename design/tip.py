@@ -69,7 +69,8 @@ class TipDesign:
             raise DesignError(
                 "channel.outer_diameter",
                 self.channel.outer_diameter,
-                f"leaves tube height 2b = {2 * b:.6g} mm, must exceed 2*tube.min_wall = {2 * self.tube.min_wall:.6g}",
+                f"leaves tube height 2b = {2 * b:.6g} mm, must exceed 2*tube.min_wall = "
+                f"{2 * self.tube.min_wall:.6g}",
             )
         _section.check_shape(
             coil_inner_radius=self.coil.inner_diameter / 2,

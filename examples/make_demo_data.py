@@ -22,13 +22,19 @@ from softcath.cli.main import main
 ARGS = [
     "bench",
     str(Path(__file__).with_name("bench_tip.toml")),
-    "--effect", "hysteresis:loop_width_MPa=0.4,fraction=0.3,range_MPa=2.0",
-    "--waveform", "sine",
-    "--freq", "0.1,0.25",
-    "--cycles", "3",
-    "--pressure-max", "2",
-    "--seed", "1",
-]  # fmt: skip
+    "--effect",
+    "hysteresis:loop_width_MPa=0.4,fraction=0.3,range_MPa=2.0",
+    "--waveform",
+    "sine",
+    "--freq",
+    "0.1,0.25",
+    "--cycles",
+    "3",
+    "--pressure-max",
+    "2",
+    "--seed",
+    "1",
+]
 
 if __name__ == "__main__":
     target = Path(__file__).parents[1] / "studies" / "data" / "bench_hysteresis.csv"

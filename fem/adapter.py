@@ -32,7 +32,7 @@ from softcath.fem.materials import Isotropic, TransverselyIsotropic
 
 __all__ = [
     "geometry_from_design",
-    "laws_from_design",
+    "fem_laws_from_design",
     "coil_law",
     "silicone_parameters",
     "COIL_MODULI",
@@ -81,10 +81,12 @@ def coil_law(coil, coil_modulus: str) -> TransverselyIsotropic:
     )
 
 
-def laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dict[int, object]:
-    """Region label -> elastic law for ``design``.
+def fem_laws_from_design(design: TipDesign, *, coil_modulus: str = "tension") -> dict[int, object]:
+    """Region label -> 3-D elastic law (isotropic or homogenised coil) for ``design``.
 
-    Poisson ratios are capped at 0.49 (displacement-only P2 locks above).
+    The 3-D FEM's laws; the section model's are
+    :func:`softcath.fem.section_model.laws.section_laws_from_design`.
+    Poisson ratios are capped at :data:`NU_CAP` (displacement-only P2 locks above).
     """
     if coil_modulus not in COIL_MODULI:
         raise DesignError("coil_modulus", coil_modulus, f"must be one of {COIL_MODULI}")

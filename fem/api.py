@@ -14,11 +14,11 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from softcath.analytic.pose import tip_pose
 from softcath.design.errors import DesignError
-from softcath.fem.adapter import geometry_from_design, laws_from_design, silicone_parameters
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
-from softcath.fem.post import tip_pose
 
 __all__ = ["FemCase", "FemResult", "check", "check_assembly"]
 
@@ -147,62 +147,47 @@ def check(
     progress
         Optional ``progress(stage)`` callable.
     """
-    from softcath import analytic
     from softcath import design as design_pkg
 
     d = design_pkg.resolve(design)
-    p = np.asarray(list(pressures), dtype=float).ravel()
-    if p.size == 0 or not np.all(np.isfinite(p)):
-        raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
+    p = _checked_pressures(pressures)
     check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
     geometry = geometry_from_design(d)
-    laws = laws_from_design(d, coil_modulus=coil_modulus)
+    laws = fem_laws_from_design(d, coil_modulus=coil_modulus)
     silicones = silicone_parameters(d)
-    for name, used in silicones.items():
-        if used["capped"]:
-            logging.getLogger("softcath.validity").warning(
-                "%s silicone Poisson ratio %r is solved as %g (the linear FEM's cap; nearly "
-                "incompressible silicone comes out too compliant): fem.json states both; "
-                "`softcath section` takes nu up to 0.49999",
-                name, used["poisson_ratio_design"], used["poisson_ratio_used"],
-            )  # fmt: skip
+    _warn_capped_poisson(silicones)
     sol = run_tip(
-        geometry, laws, loads=loads, mesh_size=mesh_size, mesher=mesher,
-        axial_ratio=axial_ratio, use_cache=use_cache, method=method, progress=progress,
+        geometry,
+        laws,
+        loads=loads,
+        mesh_size=mesh_size,
+        mesher=mesher,
+        axial_ratio=axial_ratio,
+        use_cache=use_cache,
+        method=method,
+        progress=progress,
         assembly=d.assembly,
-    )  # fmt: skip
+    )
     cases = []
-    length = geometry.length
     for ld in loads:
-        fit = sol.fits[ld]
-        ref = analytic.response(d, p, load=ld)
-        kappa = fit.curvature_per_mm * p
-        eps = fit.elongation * p
-        theta, tx, ty = tip_pose(kappa, eps, length=length)
-        for i, pi in enumerate(p):
-            a_k, a_e = float(ref.curvature[i]), float(ref.elongation[i])
-            cases.append(
-                FemCase(
-                    load=ld,
-                    pressure_MPa=float(pi),
-                    curvature_per_mm=float(kappa[i]),
-                    curvature_rotation_per_mm=float(fit.curvature_rotation_per_mm * pi),
-                    elongation=float(eps[i]),
-                    bend_angle_rad=float(theta[i]),
-                    tip_x_mm=float(tx[i]),
-                    tip_y_mm=float(ty[i]),
-                    curvature_variation=fit.curvature_variation,
-                    max_strain=sol.max_strain(ld, float(pi)),
-                    analytic={"curvature_per_mm": a_k, "elongation": a_e},
-                    ratio_fem_over_analytic={
-                        "curvature_per_mm": _ratio(kappa[i], a_k),
-                        "elongation": _ratio(eps[i], a_e),
-                    },
-                )
-            )
+        cases.extend(_load_cases(d, sol, ld, p, geometry.length))
+    return _fem_result(d, sol, geometry, tuple(cases), loads[0], mesh_size, coil_modulus, silicones)
+
+
+def _fem_result(
+    d,
+    sol: TipSolution,
+    geometry,
+    cases: tuple[FemCase, ...],
+    first_load: str,
+    mesh_size,
+    coil_modulus,
+    silicones,
+) -> FemResult:
+    """The :class:`FemResult` of a solved tip: its cases and the mesh, solver and material facts."""
     q = sol.mesh.quality
     return FemResult(
-        cases=tuple(cases),
+        cases=cases,
         design_name=d.name,
         mesher=sol.mesh.mesher,
         mesh_size_mm=float(mesh_size),
@@ -217,11 +202,67 @@ def check(
         mesh_quality={k: float(v) for k, v in asdict(q).items()},
         volume_errors=sol.mesh.volume_errors(),
         land_half_widths_mm=geometry.lands(),
-        neutral_axis_y_mm=float(sol.fits[loads[0]].neutral_axis_y),
+        neutral_axis_y_mm=float(sol.fits[first_load].neutral_axis_y),
         coil_modulus=coil_modulus,
         silicones=silicones,
         solution=sol,
     )
+
+
+def _checked_pressures(pressures: Sequence[float]) -> np.ndarray:
+    """``pressures`` as a flat float array; :class:`DesignError` unless one or more finite numbers."""
+    p = np.asarray(list(pressures), dtype=float).ravel()
+    if p.size == 0 or not np.all(np.isfinite(p)):
+        raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
+    return p
+
+
+def _warn_capped_poisson(silicones: dict) -> None:
+    """Warn (``softcath.validity``) for each silicone whose Poisson ratio the linear FEM caps."""
+    for name, used in silicones.items():
+        if used["capped"]:
+            logging.getLogger("softcath.validity").warning(
+                "%s silicone Poisson ratio %r is solved as %g (the linear FEM's cap; nearly "
+                "incompressible silicone comes out too compliant): fem.json states both; "
+                "`softcath section` takes nu up to 0.49999",
+                name,
+                used["poisson_ratio_design"],
+                used["poisson_ratio_used"],
+            )
+
+
+def _load_cases(d, sol: TipSolution, ld: str, p: np.ndarray, length: float) -> list[FemCase]:
+    """The :class:`FemCase` of each pressure under load ``ld``, with the analytic model alongside."""
+    from softcath import analytic
+
+    fit = sol.fits[ld]
+    ref = analytic.response(d, p, load=ld)
+    kappa = fit.curvature_per_mm * p
+    eps = fit.elongation * p
+    tx, ty, theta = tip_pose(kappa, length * (1.0 + eps))
+    cases = []
+    for i, pi in enumerate(p):
+        a_k, a_e = float(ref.curvature[i]), float(ref.elongation[i])
+        cases.append(
+            FemCase(
+                load=ld,
+                pressure_MPa=float(pi),
+                curvature_per_mm=float(kappa[i]),
+                curvature_rotation_per_mm=float(fit.curvature_rotation_per_mm * pi),
+                elongation=float(eps[i]),
+                bend_angle_rad=float(theta[i]),
+                tip_x_mm=float(tx[i]),
+                tip_y_mm=float(ty[i]),
+                curvature_variation=fit.curvature_variation,
+                max_strain=sol.max_strain(ld, float(pi)),
+                analytic={"curvature_per_mm": a_k, "elongation": a_e},
+                ratio_fem_over_analytic={
+                    "curvature_per_mm": _ratio(kappa[i], a_k),
+                    "elongation": _ratio(eps[i], a_e),
+                },
+            )
+        )
+    return cases
 
 
 def check_assembly(assembly) -> None:
@@ -233,9 +274,11 @@ def check_assembly(assembly) -> None:
     for key, _, _ in INTERFACES:
         if getattr(assembly, key) != "bonded":
             raise DesignError(
-                f"assembly.{key}", getattr(assembly, key), "the finite-strain FEM models bonded interfaces only; "
+                f"assembly.{key}",
+                getattr(assembly, key),
+                "the finite-strain FEM models bonded interfaces only; "
                 "the linear FEM and the section model take sliding ones",
-            )  # fmt: skip
+            )
     if assembly.proximal != "clamped":
         raise DesignError(
             "assembly.proximal", assembly.proximal, "the finite-strain FEM models a clamped base only"

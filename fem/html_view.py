@@ -145,19 +145,24 @@ for(let t=0;t<idx.length;t+=3){  // area-weighted vertex normals
 function sh(type,src){const s=gl.createShader(type);gl.shaderSource(s,src);gl.compileShader(s);return s;}
 const pr=gl.createProgram();
 gl.attachShader(pr,sh(gl.VERTEX_SHADER,'attribute vec3 p,nm,col;uniform mat3 R;uniform vec2 S;'+
- 'varying vec3 vc,vn;void main(){vec3 q=R*p;vn=R*nm;vc=col;gl_Position=vec4(q.x*S.x,q.y*S.y,-0.5*q.z,1.0);}'));
+ 'varying vec3 vc,vn;void main(){vec3 q=R*p;vn=R*nm;vc=col;'+
+ 'gl_Position=vec4(q.x*S.x,q.y*S.y,-0.5*q.z,1.0);}'));
 gl.attachShader(pr,sh(gl.FRAGMENT_SHADER,'precision mediump float;varying vec3 vc,vn;void main(){'+
- 'vec3 n=normalize(vn);float l=0.35+0.65*abs(dot(n,normalize(vec3(0.3,0.4,1.0))));gl_FragColor=vec4(vc*l,1.0);}'));
+ 'vec3 n=normalize(vn);float l=0.35+0.65*abs(dot(n,normalize(vec3(0.3,0.4,1.0))));'+
+ 'gl_FragColor=vec4(vc*l,1.0);}'));
 gl.linkProgram(pr);gl.useProgram(pr);
 function buf(data,name,size,type,norm){const b=gl.createBuffer();gl.bindBuffer(gl.ARRAY_BUFFER,b);
  gl.bufferData(gl.ARRAY_BUFFER,data,gl.STATIC_DRAW);const l=gl.getAttribLocation(pr,name);
  gl.enableVertexAttribArray(l);gl.vertexAttribPointer(l,size,type,norm,0,0);}
 buf(P,'p',3,gl.FLOAT,false);buf(N,'nm',3,gl.FLOAT,false);buf(rgb,'col',3,gl.UNSIGNED_BYTE,true);
-const ib=gl.createBuffer();gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER,ib);gl.bufferData(gl.ELEMENT_ARRAY_BUFFER,idx,gl.STATIC_DRAW);
+const ib=gl.createBuffer();gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER,ib);
+gl.bufferData(gl.ELEMENT_ARRAY_BUFFER,idx,gl.STATIC_DRAW);
 const uR=gl.getUniformLocation(pr,'R'), uS=gl.getUniformLocation(pr,'S');
 gl.enable(gl.DEPTH_TEST);
 // start as tip.png (seen from +x, y up: screen x = -z), turned 25 degrees to show depth
-const mul=(A,B)=>{const C=[];for(let i=0;i<3;i++)for(let j=0;j<3;j++)C.push(A[3*i]*B[j]+A[3*i+1]*B[3+j]+A[3*i+2]*B[6+j]);return C;};  // row-major 3x3
+// row-major 3x3
+const mul=(A,B)=>{const C=[];for(let i=0;i<3;i++)for(let j=0;j<3;j++)
+ C.push(A[3*i]*B[j]+A[3*i+1]*B[3+j]+A[3*i+2]*B[6+j]);return C;};
 const rx=a=>[1,0,0,0,Math.cos(a),-Math.sin(a),0,Math.sin(a),Math.cos(a)];
 const ry=a=>[Math.cos(a),0,Math.sin(a),0,1,0,-Math.sin(a),0,Math.cos(a)];
 const R0=mul(ry(0.45),[0,0,-1,0,1,0,1,0,0]);
@@ -216,8 +221,8 @@ def tip_view_fragment(view: SurfaceView, *, caption: str, height_px: int = 420) 
         f"<canvas style='width:100%;height:{height_px}px;border:1px solid #ddd;touch-action:none;"
         "cursor:grab' aria-label='rotatable 3-D view of the deformed tip'></canvas>"
         f"<p class='tv-msg' style='margin:.2em 0'></p>{_colour_bar(view)}"
-        f"<figcaption>{html.escape(caption)} Drag to rotate, wheel to zoom, double-click to reset.</figcaption>"
-        f"<script>{script}</script></figure>"
+        f"<figcaption>{html.escape(caption)} Drag to rotate, wheel to zoom, double-click to "
+        f"reset.</figcaption><script>{script}</script></figure>"
     )
 
 
@@ -226,9 +231,11 @@ def write_view_html(view: SurfaceView, path: str | Path, *, title: str, caption:
     path = Path(path)
     doc = (
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>"
-        f"<title>{html.escape(title)}</title><style>body{{font-family:sans-serif;max-width:70em;margin:1em auto;"
-        "padding:0 1em}</style></head><body>"
-        f"<h1>{html.escape(title)}</h1>{tip_view_fragment(view, caption=caption, height_px=560)}</body></html>\n"
+        f"<title>{html.escape(title)}</title>"
+        "<style>body{font-family:sans-serif;max-width:70em;margin:1em auto;padding:0 1em}</style>"
+        "</head><body>"
+        f"<h1>{html.escape(title)}</h1>"
+        f"{tip_view_fragment(view, caption=caption, height_px=560)}</body></html>\n"
     )
     path.write_text(doc, encoding="utf-8")
     return path
@@ -246,5 +253,7 @@ def write_tip_html(solution, load: str, pressure_MPa: float, path: str | Path, *
         view,
         path,
         title=f"Deformed tip: {load} load, p = {pressure_MPa:g} MPa",
-        caption="Linear FEM, true scale, cut along the bending plane, coloured by the largest principal strain.",
+        caption=(
+            "Linear FEM, true scale, cut along the bending plane, coloured by the largest principal strain."
+        ),
     )

@@ -162,7 +162,7 @@ def run_tip_as_built(
     Returns ``{load: (curvature_per_mm_per_MPa, elongation_per_MPa)}`` read as
     the linear check reads them (mid-span fit, ``softcath.fem.post.bending_fit``).
     """
-    from softcath.fem.adapter import geometry_from_design, laws_from_design
+    from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
     from softcath.fem.elasticity import ElasticProblem
     from softcath.fem.geometry import TUBE
     from softcath.fem.mesh import mesh_tip
@@ -172,7 +172,7 @@ def run_tip_as_built(
     from softcath.fem.tags import tag_facets
 
     g = geometry_from_design(design)
-    laws = laws_from_design(design, coil_modulus=coil_modulus)
+    laws = fem_laws_from_design(design, coil_modulus=coil_modulus)
     mesh = _split(mesh_tip(g, mesh_size=mesh_size))
     sk = mesh.skfem_mesh()
     tags = tag_facets(sk, g)

@@ -72,7 +72,7 @@ def available_memory_bytes() -> float:
 
 
 def check_fem_budget(
-    design, *, mesh_size: float, axial_ratio: float = 5.0, param: str = "--mesh-size"
+    design, *, mesh_size: float, axial_ratio: float = 5.0, param: str = "mesh_size"
 ) -> float:
     """Refuse a mesh size or tip the linear FEM cannot handle; return the estimated DOFs.
 

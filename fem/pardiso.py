@@ -119,9 +119,18 @@ class PardisoHandle:
         self.data = np.zeros(self.ja.size)
         self._state = {"factorised": False}
         self._finalizer = weakref.finalize(
-            self, _release, self._fn, self.pt, self.mtype, self.n, self.data, self.ia, self.ja, self.iparm,
+            self,
+            _release,
+            self._fn,
+            self.pt,
+            self.mtype,
+            self.n,
+            self.data,
+            self.ia,
+            self.ja,
+            self.iparm,
             self._state,
-        )  # fmt: skip
+        )
 
     def _run(self, phase: int, b: np.ndarray) -> np.ndarray:
         return _call(self._fn, self.pt, self.mtype, phase, self.n, self.data, self.ia, self.ja, self.iparm, b)

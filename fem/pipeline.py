@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 from softcath.fem.elasticity import ElasticProblem
 from softcath.fem.geometry import FILLER, REGIONS, TUBE, TipGeometry
 from softcath.fem.lumen_load import pressure_facets
@@ -29,7 +30,6 @@ log = logging.getLogger(__name__)
 
 #: ``cap``: pressure on the cap's inner face only (the paper's end-cap force);
 #: ``lumen``: pressure on the lumen wall and the cap (the real load; :mod:`softcath.fem.lumen_load`).
-LOADS = ("cap", "lumen")
 SILICONE = (TUBE, FILLER)
 
 
@@ -121,64 +121,25 @@ def run_tip(
         splits the regions at their interfaces and ties them
         (``softcath.fem.interfaces3d``).
     """
-    loads = tuple(loads)
-    bad = [ld for ld in loads if ld not in LOADS]
-    if bad or not loads:
-        raise DesignError("load", bad or loads, f"must be a non-empty subset of {LOADS}")
+    loads = _checked_loads(loads)
     say = progress or (lambda stage: None)
     say("meshing")
-    t0 = time.perf_counter()
-    mesh = mesh_tip(
-        geometry, mesh_size=mesh_size, mesher=mesher, axial_ratio=axial_ratio, use_cache=use_cache
-    )
-    mesh_seconds = 0.0 if mesh.cached else time.perf_counter() - t0
     as_built = assembly is not None and not assembly.is_default
-    if as_built:
-        from softcath.fem.interfaces3d import split_mesh
-
-        mesh = split_mesh(mesh)
+    mesh, mesh_seconds = _tip_mesh(geometry, mesh_size, mesher, axial_ratio, use_cache, as_built)
     say("assembling")
     t1 = time.perf_counter()
-    sk = mesh.skfem_mesh()
-    tags = tag_facets(sk, geometry)
-    if tags["cap"].size == 0 or tags["base"].size == 0:
-        raise DesignError("mesh", mesh.key, "no cap or base facets found; the geometry is broken")
-    present = {k: v for k, v in laws.items() if (mesh.labels == k).any()}
-    if as_built:
-        from softcath.fem.interfaces3d import tied_problem
-
-        problem = tied_problem(sk, mesh.labels, laws, tags, assembly, geometry, method=method)
-    else:
-        problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
-    rhs = {}
-    for ld in loads:
-        rhs[ld] = problem.pressure_load(pressure_facets(tags, ld))
+    problem, rhs, tags = _assemble_problem(
+        mesh, geometry, laws, loads, assembly if as_built else None, method
+    )
     assemble_seconds = time.perf_counter() - t1
     say("solving")
     t2 = time.perf_counter()
-    problem.factorize()
-    unit, residual = {}, 0.0
-    for ld in loads:
-        sol = problem.solve(rhs[ld])
-        unit[ld] = sol.u
-        residual = max(residual, sol.residual)
+    unit, residual = _solve_unit_loads(problem, rhs, loads)
     solve_seconds = time.perf_counter() - t2
     say("post-processing")
-    g = geometry
     if margin is None:
-        margin = 2.0 * g.coil_outer_radius
-    ybar = _neutral_axis(mesh, laws)
-    fits, srange, estrain = {}, {}, {}
-    for ld in loads:
-        fits[ld] = bending_fit(
-            problem.nodes,
-            unit[ld],
-            length=g.length,
-            margin=margin,
-            end_z=g.length,
-            neutral_axis_y=ybar,
-        )
-        srange[ld], estrain[ld] = _silicone_strain(problem, mesh, unit[ld], margin)
+        margin = 2.0 * geometry.coil_outer_radius
+    fits, srange, estrain = _fit_loads(problem, mesh, laws, geometry, unit, loads, margin)
     log.info(
         "fem: %d dofs, mesh %.1f s, assemble %.1f s, solve %.1f s, backward error %.1e",
         problem.ndofs,
@@ -200,6 +161,94 @@ def run_tip(
         solve_seconds=solve_seconds,
         tags=tags,
     )
+
+
+def _checked_loads(loads: Sequence[str]) -> tuple[str, ...]:
+    """``loads`` as a tuple; :class:`DesignError` unless a non-empty subset of :data:`LOADS`."""
+    loads = tuple(loads)
+    bad = [ld for ld in loads if ld not in LOADS]
+    if bad or not loads:
+        raise DesignError("load", bad or loads, f"must be a non-empty subset of {LOADS}")
+    return loads
+
+
+def _tip_mesh(
+    geometry: TipGeometry, mesh_size: float, mesher: str, axial_ratio: float, use_cache: bool, as_built: bool
+) -> tuple[TipMesh, float]:
+    """The tip's mesh (split at the interfaces when ``as_built``) and its meshing time (0 if cached)."""
+    t0 = time.perf_counter()
+    mesh = mesh_tip(
+        geometry, mesh_size=mesh_size, mesher=mesher, axial_ratio=axial_ratio, use_cache=use_cache
+    )
+    mesh_seconds = 0.0 if mesh.cached else time.perf_counter() - t0
+    if as_built:
+        from softcath.fem.interfaces3d import split_mesh
+
+        mesh = split_mesh(mesh)
+    return mesh, mesh_seconds
+
+
+def _assemble_problem(
+    mesh: TipMesh,
+    geometry: TipGeometry,
+    laws: Mapping[int, object],
+    loads: tuple[str, ...],
+    assembly,
+    method: str | None,
+):
+    """The elastic problem (tied at the interfaces when an as-built ``assembly`` is given), its
+    right-hand side per load and the facet tags."""
+    sk = mesh.skfem_mesh()
+    tags = tag_facets(sk, geometry)
+    if tags["cap"].size == 0 or tags["base"].size == 0:
+        raise DesignError("mesh", mesh.key, "no cap or base facets found; the geometry is broken")
+    present = {k: v for k, v in laws.items() if (mesh.labels == k).any()}
+    if assembly is not None:
+        from softcath.fem.interfaces3d import tied_problem
+
+        problem = tied_problem(sk, mesh.labels, laws, tags, assembly, geometry, method=method)
+    else:
+        problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
+    rhs = {}
+    for ld in loads:
+        rhs[ld] = problem.pressure_load(pressure_facets(tags, ld))
+    return problem, rhs, tags
+
+
+def _solve_unit_loads(problem, rhs: dict, loads: tuple[str, ...]) -> tuple[dict, float]:
+    """Factorise once and solve each load: the unit displacements and the largest backward error."""
+    problem.factorize()
+    unit, residual = {}, 0.0
+    for ld in loads:
+        sol = problem.solve(rhs[ld])
+        unit[ld] = sol.u
+        residual = max(residual, sol.residual)
+    return unit, residual
+
+
+def _fit_loads(
+    problem,
+    mesh: TipMesh,
+    laws: Mapping[int, object],
+    g: TipGeometry,
+    unit: dict,
+    loads: tuple[str, ...],
+    margin: float,
+) -> tuple[dict, dict, dict]:
+    """Per load: the bending fit, the silicone strain range and the element strains."""
+    ybar = _neutral_axis(mesh, laws)
+    fits, srange, estrain = {}, {}, {}
+    for ld in loads:
+        fits[ld] = bending_fit(
+            problem.nodes,
+            unit[ld],
+            length=g.length,
+            margin=margin,
+            end_z=g.length,
+            neutral_axis_y=ybar,
+        )
+        srange[ld], estrain[ld] = _silicone_strain(problem, mesh, unit[ld], margin)
+    return fits, srange, estrain
 
 
 def _neutral_axis(mesh: TipMesh, laws: Mapping[int, object]) -> float:

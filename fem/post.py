@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BendingFit", "bending_fit", "tip_pose", "principal_strain_max"]
+__all__ = ["BendingFit", "bending_fit", "principal_strain_max"]
 
 
 @dataclass(frozen=True)
@@ -124,26 +124,6 @@ def _level_means(z: np.ndarray, val: np.ndarray, n_bins: int = 200):
     zm = np.bincount(inv, weights=z)[ok] / cnt[ok]
     vm = np.bincount(inv, weights=val)[ok] / cnt[ok]
     return zm, vm
-
-
-def tip_pose(
-    curvature_per_mm: np.ndarray, elongation: np.ndarray, *, length: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Paper eq. 9: bend angle (rad) and tip position (mm) of a constant-curvature arc.
-
-    Base at the origin, tip leaving along +y; ``tip_x`` is lateral toward the
-    bending side: ``L (1 - cos t)/t``, ``tip_y = L sin t / t`` with
-    ``L = L0 (1 + eps)`` and ``t = kappa L``.
-    """
-    k = np.asarray(curvature_per_mm, float)
-    e = np.asarray(elongation, float)
-    ln = length * (1.0 + e)
-    th = k * ln
-    small = np.abs(th) < 1e-8
-    ths = np.where(small, 1.0, th)
-    x = np.where(small, ln * th / 2.0, ln * (1.0 - np.cos(ths)) / ths)
-    y = np.where(small, ln, ln * np.sin(ths) / ths)
-    return th, x, y
 
 
 def principal_strain_max(grad_u: np.ndarray) -> np.ndarray:

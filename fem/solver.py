@@ -2,7 +2,8 @@
 
 PARDISO (``pypardiso``, symmetric positive definite mode on the upper
 triangle) is the default: on this 2-core machine it beat SuperLU by 5x on
-a 125k-DOF catheter tip (``benchmarks/bench_fem.py`` re-measures it). AMG-CG was not available (pyamg is not installed) and CHOLMOD neither.
+a 125k-DOF catheter tip (``benchmarks/bench_fem.py`` re-measures it). AMG-CG was not available (pyamg is not
+installed) and CHOLMOD neither.
 SuperLU stays as the dependency-free fallback. Every solve is checked: a
 backward error above ``tol`` raises :class:`softcath.fem.errors.SolverError`
 instead of returning a result.

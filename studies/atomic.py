@@ -50,7 +50,7 @@ __all__ = [
 ]
 
 
-def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
+def prepare_out_dir(path: str | Path, *, param: str = "out_dir") -> Path:
     """Create the output folder ``path`` (and its parents), or refuse in one line.
 
     The folder is also checked to be writable (a file is created and removed), so a
@@ -89,7 +89,7 @@ def prepare_out_dir(path: str | Path, *, param: str = "--out") -> Path:
 
 
 @contextlib.contextmanager
-def folder_lock(folder: str | Path, *, param: str = "--out", what: str = "command") -> Iterator[Path]:
+def folder_lock(folder: str | Path, *, param: str = "out_dir", what: str = "command") -> Iterator[Path]:
     """Hold an exclusive lock on ``folder`` for the block, or refuse at once if another process holds it.
 
     The lock is an ``flock`` on the hidden file ``.softcath.lock`` in the folder: the kernel
@@ -230,9 +230,10 @@ def check_outputs(
             full = (base / p).resolve()
             if full != base and base not in full.parents:
                 raise DesignError(
-                    param, str(given), f"leaves the output folder {inside} (give a path inside it, or an "
-                    "absolute path)"
-                )  # fmt: skip
+                    param,
+                    str(given),
+                    f"leaves the output folder {inside} (give a path inside it, or an absolute path)",
+                )
         else:
             full = p.resolve()
         if full in seen:

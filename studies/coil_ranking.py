@@ -125,9 +125,13 @@ def gain(
 
 
 def rank_by_coil_model(
-    designs: Sequence, *, models: Sequence[str] = ("annulus", "resolved", "coil-bound"), load: str = "lumen",
-    top: int = 5, **options,
-) -> CoilRanking:  # fmt: skip
+    designs: Sequence,
+    *,
+    models: Sequence[str] = ("annulus", "resolved", "coil-bound"),
+    load: str = "lumen",
+    top: int = 5,
+    **options,
+) -> CoilRanking:
     """Rank ``designs`` by kappa/p under each model and compare every pair of rankings.
 
     ``options`` go to :func:`gain` (``initial_tension``, ``pressure``) and the

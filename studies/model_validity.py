@@ -39,7 +39,7 @@ SILICONE_STRAIN_LIMIT = 0.3
 MAX_PRESSURE_MPA = 100.0
 
 
-def check_pressure(values, *, param: str = "--pressure") -> np.ndarray:
+def check_pressure(values, *, param: str = "pressure") -> np.ndarray:
     """Refuse non-finite pressures or magnitudes above :data:`MAX_PRESSURE_MPA` (before any solve)."""
     p = np.atleast_1d(np.asarray(values, dtype=float))
     for v in p.ravel():

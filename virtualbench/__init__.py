@@ -14,5 +14,6 @@ exactly as a lab would drive real hardware:
 
 if __name__ != "softcath.virtualbench":  # the bare folder name would load a second copy of every module
     raise ImportError(
-        "import softcath.virtualbench, not virtualbench: the top-level folders are rooms of the softcath package"
+        "import softcath.virtualbench, not virtualbench: the top-level folders are rooms of the softcath "
+        "package"
     )

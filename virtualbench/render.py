@@ -26,7 +26,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 
-__all__ = ["Scene", "arc_points", "tip_pose", "render_frame", "render_chessboard"]
+__all__ = ["Scene", "arc_points", "arc_end_pose", "render_frame", "render_chessboard"]
 
 
 def arc_points(curvature_per_mm: float, s_mm, heading_rad: float = np.pi / 2) -> np.ndarray:
@@ -44,8 +44,13 @@ def arc_points(curvature_per_mm: float, s_mm, heading_rad: float = np.pi / 2) ->
     return np.stack([x, y], axis=-1)
 
 
-def tip_pose(curvature_per_mm: float, arc_length_mm: float, heading_rad: float = np.pi / 2):
-    """``(tip_x_mm, tip_y_mm, bend_angle_rad)`` of the arc's end."""
+def arc_end_pose(curvature_per_mm: float, arc_length_mm: float, heading_rad: float = np.pi / 2):
+    """``(tip_x_mm, tip_y_mm, bend_angle_rad)`` of the drawn arc's end, the scene's ground truth.
+
+    Eq. 9 (:func:`softcath.analytic.pose.tip_pose`, same order: position, then
+    angle) for a base pointing along ``heading_rad``; with the default heading
+    (up) the two agree.
+    """
     x, y = arc_points(curvature_per_mm, arc_length_mm, heading_rad)
     return float(x), float(y), float(curvature_per_mm * arc_length_mm)
 

@@ -390,7 +390,8 @@ _CLASSES: dict[str, type[TruthEffect]] = {
     "offset": CurvatureOffset,
     "nonlinear_gain": ExponentialGain,
 }
-# The truth's own vocabulary, in its own order (the candidates in analytic.effects are named alike on purpose).
+# The truth's own vocabulary, in its own order (the candidates in analytic.effects are named alike on
+# purpose).
 EFFECT_NAMES: tuple[str, ...] = tuple(_CLASSES)
 
 

@@ -166,7 +166,8 @@ def convert_marchese(source: Path, out: Path) -> list[Path]:
 
 
 def stand_in(csv_path: Path, name: str, *, length_mm: float) -> Path:
-    """Write ``NAME.toml`` beside ``csv_path``: the paper design scaled to the data's gain (module docstring)."""
+    """Write ``NAME.toml`` beside ``csv_path``: the paper design scaled to the data's gain (module
+    docstring)."""
     import tomllib
 
     from softcath import analytic, design

@@ -9,7 +9,8 @@ axial force and moment the coil transmits, so loads act on them directly. A
 contact pair (k, k + m) then only sees the increment: its gap is planar in
 (x, y) — plane sections of the turns' contact surface stay plane.
 
-**End plates** (``turns`` given; the pictures, and a check of the cell): the first turn is welded to a fixed plate (all its nodes clamped); the last
+**End plates** (``turns`` given; the pictures, and a check of the cell): the first turn is welded to a fixed
+plate (all its nodes clamped); the last
 turn is welded to a free rigid plate whose centre (on the coil axis, at
 z = N·p) carries the load: every node of that turn follows the plate,
 u = U + Θ × (x − X), θ = Θ (a multipoint constraint, eliminated by a
@@ -157,7 +158,7 @@ def _rigid_plate(nodes: np.ndarray, tied: np.ndarray, free: np.ndarray, centre: 
     p = 6 * len(free)  # plate DOFs: U (p..p+2), Θ (p+3..p+5)
     for j in tied:
         rx, ry, rz = nodes[j] - centre
-        # u = U + Θ × r ; θ = Θ
+        # u = U + Θ × r ; θ = Θ (fmt: skip keeps one row of the rigid-body map per line)
         entries = [
             (0, 0, 1.0), (0, 4, rz), (0, 5, -ry),
             (1, 1, 1.0), (1, 5, rx), (1, 3, -rz),

@@ -81,7 +81,8 @@ def bent_coil_picture(path: str | Path, coils: dict[str, Coil]) -> Path:
         )
         fig.colorbar(lc, ax=ax, shrink=0.6, pad=0.12, label="contact force per wire length [N/mm]")
     fig.suptitle(
-        "resolved wire bent with contact, zero axial load (periodic cell repeated; turns pivot on the concave side)",
+        "resolved wire bent with contact, zero axial load (periodic cell repeated; turns pivot on the "
+        "concave side)",
         fontsize=10,
     )
     fig.tight_layout()

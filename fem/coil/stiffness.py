@@ -250,8 +250,10 @@ def _axial_stiffness(model: CoilModel, base: LoadState, mode: str, p, f0: float)
     free = model.solve(np.array([0, 0, 1.0, 0, 0, 0]), mode="free")
     ea_free = p / model.per_turn(free)[0]  # wire alone, per unit force
     f_ref = 1e-3 * ea_free  # 0.1 % strain of the separated coil: well inside linear theory
-    stretch = [model.per_turn(model.solve(np.array([0, 0, f0 + s * f_ref, 0, 0, 0]), mode=mode, base=base))[0]
-               for s in (1, 2)]  # fmt: skip
+    stretch = [
+        model.per_turn(model.solve(np.array([0, 0, f0 + s * f_ref, 0, 0, 0]), mode=mode, base=base))[0]
+        for s in (1, 2)
+    ]
     ea_t = f_ref * p / (stretch[1] - stretch[0])
     threshold = f0 + f_ref - ea_t * stretch[0] / p
     squeeze = model.per_turn(model.solve(np.array([0, 0, -f_ref, 0, 0, 0]), mode=mode, base=base))[0]

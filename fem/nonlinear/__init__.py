@@ -25,7 +25,8 @@ __all__ = [
 
 
 def bend_curve(design, pressures, **kwargs):
-    """Nonlinear bend-angle-vs-pressure curve of a design (see :func:`softcath.fem.nonlinear.bend.bend_curve`)."""
+    """Nonlinear bend-angle-vs-pressure curve of a design (see
+    :func:`softcath.fem.nonlinear.bend.bend_curve`)."""
     from softcath.fem.nonlinear.bend import bend_curve as _bend_curve
 
     return _bend_curve(design, pressures, **kwargs)

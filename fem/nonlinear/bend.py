@@ -19,10 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.design.load_cases import LOADS
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
-from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
 from softcath.fem.nonlinear.meshes import dofs_of_facets
 from softcath.fem.nonlinear.newton import NonlinearResult, solve
@@ -32,17 +33,14 @@ from softcath.fem.nonlinear.post import (
     bend_angles,
     curvature_variation,
     max_principal_strain,
+    measured_tip_pose,
     midspan_bend,
-    tip_pose,
 )
 
 __all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "LOADS"]
 
 log = logging.getLogger(__name__)
 
-#: "lumen": pressure on the lumen wall and the cap (the real load); "cap": on the cap face only
-#: (the end-cap force of the paper's formula).
-LOADS = ("lumen", "cap")
 SILICONE_LABELS = (TUBE, FILLER)
 
 
@@ -121,7 +119,8 @@ class BendCurve:
     model: object = field(repr=False, compare=False, default=None)
 
     def departure(self, threshold: float = 0.05) -> dict[str, float | None]:
-        """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by ``threshold``."""
+        """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by
+        ``threshold``."""
         return {
             "linear_fem": departure_angle(self.bend_angle, self.linear_bend_angle, threshold),
             "analytic": departure_angle(self.bend_angle, self.analytic_bend_angle, threshold),
@@ -295,15 +294,15 @@ def bend_curve(
 def _check_inputs(pressures, load, midspan, substeps) -> tuple[np.ndarray, tuple[float, ...]]:
     """Check the inputs of :func:`bend_curve`; returns the pressures and the mid-span window."""
     if load not in LOADS:
-        raise NonlinearError(f"load = {load!r}: must be one of {LOADS}")
+        raise SettingError("load", load, f"must be one of {LOADS}")
     p = np.atleast_1d(np.asarray(pressures, float))
     if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
-        raise NonlinearError(f"pressures = {p.tolist()!r}: must be finite, > 0 MPa and strictly increasing")
+        raise SettingError("pressures", p.tolist(), "must be finite, > 0 MPa and strictly increasing")
     w = tuple(float(x) for x in np.ravel(midspan))
     if len(w) != 2 or not (0.0 <= w[0] < w[1] <= 1.0):
-        raise NonlinearError(f"midspan = {midspan!r}: must be (start, end) with 0 <= start < end <= 1")
+        raise SettingError("midspan", midspan, "must be (start, end) with 0 <= start < end <= 1")
     if not (isinstance(substeps, (int, np.integer)) and substeps >= 1):
-        raise NonlinearError(f"substeps = {substeps!r}: must be an integer >= 1")
+        raise SettingError("substeps", substeps, "must be an integer >= 1")
     return p, w
 
 
@@ -323,10 +322,10 @@ def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds)
     its_all = np.array([s.iterations for s in res.steps])
     pick = np.array([int(np.argmin(np.abs(lam - f))) for f in p / p_max])
     cum = np.cumsum(its_all)[pick]
-    poses = [tip_pose(model.body.nodes, res.displacements[k], model.end) for k in pick]
+    poses = [measured_tip_pose(model.body.nodes, res.displacements[k], model.end) for k in pick]
     theta = angles_all[pick]
     length = cmesh.length
-    arc = np.array([ps.arc_length for ps in poses])
+    arc = np.array([ps.arc_length_mm for ps in poses])
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.where(arc > 0, theta / arc, 0.0)
     axis = model.axial_centroid(w)
@@ -353,8 +352,8 @@ def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds)
         midspan=w,
         midspan_axis=axis,
         elongation=arc / length - 1.0,
-        tip_x=np.array([ps.tip_x for ps in poses]),
-        tip_y=np.array([ps.tip_y for ps in poses]),
+        tip_x=np.array([ps.x_mm for ps in poses]),
+        tip_y=np.array([ps.y_mm for ps in poses]),
         linear_bend_angle=lin,
         analytic_bend_angle=np.asarray(ana, float),
         newton_iterations=np.diff(np.concatenate([[0], cum])),

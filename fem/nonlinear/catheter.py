@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import NonlinearError, SettingError
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
@@ -203,16 +203,16 @@ def mesh_catheter(
             f"size = {size!r}: must be in (0, coil outer radius = {design.coil.outer_diameter / 2:g}] mm"
         )
     if not (isinstance(layers, (int, np.integer)) and layers >= 2):
-        raise NonlinearError(f"layers = {layers!r}: must be an integer >= 2")
+        raise SettingError("layers", layers, "must be an integer >= 2")
     if not (0 <= contact < 0.2):
-        raise NonlinearError(f"contact = {contact!r}: must be in [0, 0.2)")
+        raise SettingError("contact", contact, "must be in [0, 0.2)")
     length = design.tip.bending_length
     cap = design.tip.cap_thickness
     z_body = np.linspace(0.0, length - cap, layers + 1)
     n_cap = max(1, int(round(cap / (z_body[1] - z_body[0]))))
     z = np.concatenate([z_body, np.linspace(length - cap, length, n_cap + 1)[1:]])
     if not (isinstance(curvature_points, (int, np.integer)) and curvature_points >= 8):
-        raise NonlinearError(f"curvature_points = {curvature_points!r}: must be an integer >= 8")
+        raise SettingError("curvature_points", curvature_points, "must be an integer >= 8")
     pts2, tri, cls = _section_triangles(
         design.section, size=size, contact=contact, curvature_points=int(curvature_points)
     )
@@ -295,7 +295,8 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
 
 
 def from_tip_mesh(tip_mesh) -> CatheterMesh:
-    """A :class:`CatheterMesh` from the linear FEM's ``softcath.fem.mesh.TipMesh`` (same labels 1–4, its facet tags).
+    """A :class:`CatheterMesh` from the linear FEM's ``softcath.fem.mesh.TipMesh`` (same labels 1–4, its facet
+    tags).
 
     Lets the finite-strain solver run on exactly the mesh of the linear check
     (quadratic ``MeshTet2`` with curved boundary edges when the mesher made them).

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from softcath.design.errors import SoftcathError
+from softcath.design.errors import DesignError, SoftcathError
 
 __all__ = ["NonlinearError", "ConvergenceError", "SettingError"]
 
@@ -11,16 +11,14 @@ class NonlinearError(SoftcathError):
     """A finite-strain problem that is set up wrongly (bad mesh labels, facets, parameters)."""
 
 
-class SettingError(NonlinearError):
+class SettingError(NonlinearError, DesignError):
     """A setting of the finite-strain check out of its bounds; ``parameter``, ``value`` and ``bound`` name it.
 
+    A :class:`~softcath.design.errors.DesignError` (the one error that names a
+    parameter, its value and the bound) that is also a :class:`NonlinearError`.
     The fields let a front end name the setting its own way (the command line
     says ``--steps`` where the library says ``steps``).
     """
-
-    def __init__(self, parameter: str, value: object, bound: str) -> None:
-        self.parameter, self.value, self.bound = parameter, value, bound
-        super().__init__(f"{parameter} = {value!r}: {bound}")
 
 
 class ConvergenceError(NonlinearError):

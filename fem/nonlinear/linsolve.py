@@ -23,7 +23,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from softcath.fem import pardiso
-from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.errors import NonlinearError, SettingError
 
 __all__ = ["TangentSolver", "PARDISO_MIN_DOFS"]
 
@@ -57,7 +57,7 @@ class TangentSolver:
 
     def __init__(self, template: sp.csr_matrix, method: str | None = None) -> None:
         if method not in (None, "pardiso", "pardiso-lu", "superlu"):
-            raise NonlinearError(f"solver method = {method!r}: must be 'pardiso', 'pardiso-lu' or 'superlu'")
+            raise SettingError("solver method", method, "must be 'pardiso', 'pardiso-lu' or 'superlu'")
         n = template.shape[0]
         if method is None:
             method = "pardiso" if n >= PARDISO_MIN_DOFS and pardiso.available() else "superlu"

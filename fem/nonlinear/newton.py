@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError
+from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError, SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
 
 __all__ = ["StepRecord", "NonlinearResult", "solve"]
@@ -247,9 +247,9 @@ def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRe
 def _load_targets(steps, load_factors, rtol) -> np.ndarray:
     """Check ``steps`` and ``rtol`` and return the load factors to stop at."""
     if not (isinstance(steps, (int, np.integer)) and steps >= 1):
-        raise NonlinearError(f"steps = {steps!r}: must be an integer >= 1")
+        raise SettingError("steps", steps, "must be an integer >= 1")
     if not (np.isfinite(rtol) and 0 < rtol < 1):
-        raise NonlinearError(f"rtol = {rtol!r}: must be in (0, 1)")
+        raise SettingError("rtol", rtol, "must be in (0, 1)")
     if load_factors is None:
         return np.arange(1, steps + 1) / steps
     targets = np.asarray(load_factors, float)

@@ -18,8 +18,8 @@ __all__ = [
     "best_rotation",
     "bend_angle",
     "bend_angles",
-    "TipPose",
-    "tip_pose",
+    "MeasuredTipPose",
+    "measured_tip_pose",
     "curvature_variation",
     "MIDSPAN",
     "MidspanBend",
@@ -46,7 +46,8 @@ def bend_angle(
     toward: int = 1,
     sign: float = -1.0,
 ) -> float:
-    """Bend angle [rad] of the section at ``end_mask``: rotation of the axis ``axis`` toward ``sign·e_toward``.
+    """Bend angle [rad] of the section at ``end_mask``: rotation of the axis ``axis`` toward
+    ``sign·e_toward``.
 
     Default: the catheter axis z turning toward −y (positive curvature, the
     project's sign convention). Returns atan2(sign·t_toward, t_axis) with t = R e_axis,
@@ -62,22 +63,33 @@ def bend_angles(nodes: np.ndarray, displacements: np.ndarray, end_mask: np.ndarr
     return np.unwrap(np.concatenate([[0.0], raw]))[1:]
 
 
-class TipPose(tuple):
-    """(bend_angle [rad], tip_x [mm], tip_y [mm], arc_length [mm])."""
+@dataclass(frozen=True)
+class MeasuredTipPose:
+    """Pose of a solved mesh's displaced end section (position, then angle, as eq. 9).
 
-    __slots__ = ()
+    Attributes
+    ----------
+    x_mm, y_mm
+        End-section centroid in the bending plane [mm] (paper eq. 9 frame).
+    angle_rad
+        Bend angle of the end section [rad].
+    arc_length_mm
+        Arc length of the circular arc through the tip [mm], from chord and angle.
+    """
 
-    def __new__(cls, bend_angle, tip_x, tip_y, arc_length):
-        return super().__new__(cls, (bend_angle, tip_x, tip_y, arc_length))
-
-    bend_angle = property(lambda s: s[0])
-    tip_x = property(lambda s: s[1])
-    tip_y = property(lambda s: s[2])
-    arc_length = property(lambda s: s[3])
+    x_mm: float
+    y_mm: float
+    angle_rad: float
+    arc_length_mm: float
 
 
-def tip_pose(nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis_point=(0.0, 0.0)) -> TipPose:
-    """Tip pose in the project's bending plane (paper eq. 9 frame).
+def measured_tip_pose(
+    nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis_point=(0.0, 0.0)
+) -> MeasuredTipPose:
+    """Tip pose measured on displaced nodes, in the project's bending plane (paper eq. 9 frame).
+
+    Not eq. 9 itself (:func:`softcath.analytic.pose.tip_pose`): the pose is read off
+    the solved mesh's end section, whatever shape the tip bent into.
 
     tip_x is the lateral displacement of the end section's centroid toward −y
     (the bending side), tip_y its height along z (base at z = 0); the arc
@@ -90,7 +102,9 @@ def tip_pose(nodes: np.ndarray, u: np.ndarray, end_mask: np.ndarray, *, axis_poi
     tip_y = c[2]
     chord = float(np.hypot(tip_x - 0.0, tip_y))
     arc = chord if abs(theta) < 1e-9 else chord * (theta / 2) / np.sin(theta / 2)
-    return TipPose(theta, float(tip_x), float(tip_y), float(arc))
+    return MeasuredTipPose(
+        x_mm=float(tip_x), y_mm=float(tip_y), angle_rad=float(theta), arc_length_mm=float(arc)
+    )
 
 
 def curvature_variation(nodes: np.ndarray, u: np.ndarray, *, length: float, margin: float) -> float:

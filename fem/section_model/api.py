@@ -155,35 +155,75 @@ def section_model(
         One of :data:`COIL_BENDING`; ``resolved`` sets the coils' axial moduli
         itself and needs ``coil_modulus="tension"``.
     poisson_cap, silicone_poisson, poisson
-        Poisson-ratio options (``softcath.fem.section_model.laws.laws_from_design``).
+        Poisson-ratio options (``softcath.fem.section_model.laws.section_laws_from_design``).
     keep_fields
         Keep the mesh, operator and displacement fields (for pictures).
     """
     from softcath import design as design_pkg
-    from softcath.analytic import gains
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.section_model.coil_models import coil_terms
-    from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
-    from softcath.fem.section_model.solve import solve
 
+    _check_coil_options(coil_bending, coil_modulus)
+    d = design_pkg.resolve(design)
+    t0 = time.perf_counter()
+    geometry = geometry_from_design(d)
+    laws = section_laws_from_design(
+        d,
+        coil_modulus=coil_modulus,
+        poisson_cap=poisson_cap,
+        silicone_poisson=silicone_poisson,
+        poisson=poisson,
+    )
+    laws, extra = coil_terms(d, coil_bending, laws)
+    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments, mesher=mesher)
+    solved = _solve_section(d, mesh, laws, loads, sum(extra.values()))
+    return _section_result(
+        d,
+        solved,
+        nu_used=laws[TUBE].poisson_ratio,
+        coil_modulus=coil_modulus,
+        coil_bending=coil_bending,
+        mesh_size=mesh_size,
+        segments=segments,
+        t0=t0,
+        keep_fields=keep_fields,
+    )
+
+
+def _check_coil_options(coil_bending: str, coil_modulus: str) -> None:
+    """Raise :class:`DesignError` for an unknown coil bending model or an incompatible coil modulus."""
     if coil_bending not in COIL_BENDING:
         raise DesignError("coil_bending", coil_bending, f"must be one of {COIL_BENDING}")
     if coil_bending == "resolved" and coil_modulus != "tension":
         raise DesignError("coil_modulus", coil_modulus, "must be 'tension' with coil_bending='resolved'")
-    d = design_pkg.resolve(design)
-    t0 = time.perf_counter()
-    geometry = geometry_from_design(d)
-    laws = laws_from_design(
-        d, coil_modulus=coil_modulus, poisson_cap=poisson_cap, silicone_poisson=silicone_poisson,
-        poisson=poisson,
-    )  # fmt: skip
-    laws, extra = coil_terms(d, coil_bending, laws)
-    mesh = catheter_section_mesh(geometry, mesh_size=mesh_size, segments=segments, mesher=mesher)
+
+
+@dataclass(frozen=True)
+class _SolvedSection:
+    """A solved section: mesh, operator, solution and the stiffness, curvatures and elongations read off
+    it."""
+
+    mesh: object
+    op: object
+    sol: object
+    K: np.ndarray
+    ei: float
+    ei_lat: float
+    kappa: dict
+    eps: dict
+
+
+def _solve_section(d, mesh, laws, loads: Sequence[str], extra_bending: float) -> _SolvedSection:
+    """Assemble and solve the section (bonded tip, or the tip as built when its assembly is not the
+    default)."""
+    from softcath.fem.section_model.element import assemble
+    from softcath.fem.section_model.solve import solve
+
     if d.assembly.is_default:
         op = assemble(mesh, laws)
-        sol = solve(op, loads, extra_bending=sum(extra.values()))
+        sol = solve(op, loads, extra_bending=extra_bending)
         K = sol.stiffness
         ei, ei_lat = float(K[2, 2] - K[0, 2] ** 2 / K[0, 0]), float(K[1, 1] - K[0, 1] ** 2 / K[0, 0])
         kappa = {ld: float(s.strains[2]) for ld, s in sol.loads.items()}
@@ -191,7 +231,7 @@ def section_model(
     else:  # the tip as built (softcath.fem.section_model.as_built)
         from softcath.fem.section_model.as_built import as_built_operator, summary
 
-        mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=sum(extra.values()))
+        mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=extra_bending)
         sm = summary(op, sol)
         K, ei, ei_lat, kappa, eps = (
             sm["stiffness"],
@@ -200,23 +240,41 @@ def section_model(
             sm["curvature"],
             sm["elongation"],
         )
+    return _SolvedSection(mesh=mesh, op=op, sol=sol, K=K, ei=ei, ei_lat=ei_lat, kappa=kappa, eps=eps)
+
+
+def _section_result(
+    d,
+    solved: _SolvedSection,
+    *,
+    nu_used,
+    coil_modulus: str,
+    coil_bending: str,
+    mesh_size: float,
+    segments: int,
+    t0: float,
+    keep_fields: bool,
+) -> SectionResult:
+    """The :class:`SectionResult` of a solved section, with the gains relative to the paper's formula."""
+    from softcath.analytic import gains
+
+    mesh, op, sol, K, kappa = solved.mesh, solved.op, solved.sol, solved.K, solved.kappa
     ea = float(K[0, 0])
     formula_k, _ = gains(d, "cap")
     d_area, ratio = {}, {}
     for ld, s in sol.loads.items():
         d_area[ld] = s.lumen_area_change
         ratio[ld] = float(kappa[ld] / formula_k) if formula_k != 0 else math.nan
-    nu_used = laws[TUBE].poisson_ratio
     return SectionResult(
         design_name=d.name,
         loads=tuple(sol.loads),
         curvature_per_mm_per_MPa=kappa,
-        elongation_per_MPa=eps,
+        elongation_per_MPa=solved.eps,
         lumen_area_change_mm2_per_MPa=d_area,
         fem_formula_ratio=ratio,
         EA_N=ea,
-        EI_N_mm2=ei,
-        EI_lateral_N_mm2=ei_lat,
+        EI_N_mm2=solved.ei,
+        EI_lateral_N_mm2=solved.ei_lat,
         coupling_N_mm=float(K[0, 2]),
         neutral_axis_mm=float(K[0, 2] / ea),
         axial_centroid_mm=float(op.axial_centroid_y),

@@ -237,8 +237,15 @@ def bodies_and_ties(section, assembly: Assembly):
 COIL_LABEL = COIL  # the outer coil: its group's stretch is the tip's elongation
 
 
-def as_built_operator(section, laws, assembly: Assembly, loads=LOADS, *, extra_bending: float = 0.0,
-                      slip_modulus: float | None = None):  # fmt: skip
+def as_built_operator(
+    section,
+    laws,
+    assembly: Assembly,
+    loads=LOADS,
+    *,
+    extra_bending: float = 0.0,
+    slip_modulus: float | None = None,
+):
     """Split, assemble and solve ``section`` as built: ``(split mesh, op, solution)``.
 
     ``slip_modulus`` None takes 1e-9 of the softest region's axial modulus per mm

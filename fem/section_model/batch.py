@@ -468,7 +468,8 @@ def _silicone_range(kernel: _Kernel, ue_r, xr, xg, inv, g, x, y) -> tuple[float,
         return (0.0, 0.0)
     ue = np.concatenate([ue_r, -((xr @ ue_r[:, :, None])[..., 0] + xg @ g)], axis=1)
     ns, nq = kernel.dphi.shape[0], kernel.W.size
-    # Reference gradients d u_c / d X_j (c, j, e, q), then physical ones d u_c / d x_I = sum_j (.)_j inv[j, I].
+    # Reference gradients d u_c / d X_j (c, j, e, q), then the physical ones:
+    # d u_c / d x_I = sum_j (d u_c / d X_j) inv[j, I].
     ref = (ue.reshape(-1, ns, 2).transpose(0, 2, 1) @ kernel.dphi.reshape(ns, 2 * nq)).reshape(-1, 2, 2, nq)
     ref = ref.transpose(1, 2, 0, 3)
     exx = ref[0, 0] * inv[0, 0] + ref[0, 1] * inv[1, 0]
@@ -630,7 +631,7 @@ def section_models(
     from softcath.fem.limits import check_section_budget
     from softcath.fem.section_model.api import COIL_BENDING
     from softcath.fem.section_model.coil_models import coil_terms
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.template import log_fallback, morph, section_template
 
     loads = tuple(ld for ld in LOADS if ld in tuple(loads))
@@ -648,7 +649,7 @@ def section_models(
                 continue
             g = geometry_from_design(d)
             check_section_budget(coil_outer_radius=g.coil_outer_radius, mesh_size=mesh_size)
-            laws = laws_from_design(d, coil_modulus=coil_modulus)
+            laws = section_laws_from_design(d, coil_modulus=coil_modulus)
             laws, extra = coil_terms(d, coil_bending, laws)
         except Exception as exc:  # reported per design by the caller
             raise_pending_stop()

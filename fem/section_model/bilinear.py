@@ -116,10 +116,13 @@ def annulus_fibres(
     et = np.broadcast_to(op.D[sel, 2, 2][:, None], w.shape)
     n = np.ones(w.size)
     return Fibres(
-        x=x.ravel(), y=y.ravel(), area=w.ravel(), tension_modulus=et.ravel().copy(),
+        x=x.ravel(),
+        y=y.ravel(),
+        area=w.ravel(),
+        tension_modulus=et.ravel().copy(),
         compression_modulus=et.ravel().copy() if compression_modulus is None else n * compression_modulus,
         prestress=n * initial_tension / w.sum(),
-    )  # fmt: skip
+    )
 
 
 def _coil_sources(d, initial_tension, compression_modulus):
@@ -156,12 +159,12 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
     from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve
 
     mesh_opts = {k: options.pop(k) for k in ("mesh_size", "segments")}
-    laws = laws_from_design(d, coil_modulus="tension", **options)
+    laws = section_laws_from_design(d, coil_modulus="tension", **options)
     laws, extra = coil_terms(d, "resolved" if coil_model == "resolved" else "annulus", laws)
     geometry = geometry_from_design(d)
     mesh = catheter_section_mesh(geometry, **mesh_opts)
@@ -178,9 +181,14 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
             area, r = coil_stiffness(coil).area, coil.mean_radius
             centre = (0.0, 0.0) if label == COIL else (0.0, geometry.channel_y)
             fib = ring_fibres(
-                centre=centre, radius=r, area=area, tension_axial=ea, initial_tension=force,
-                compression_modulus=ea / area if e_c is None else e_c, points=ring_points,
-            )  # fmt: skip
+                centre=centre,
+                radius=r,
+                area=area,
+                tension_axial=ea,
+                initial_tension=force,
+                compression_modulus=ea / area if e_c is None else e_c,
+                points=ring_points,
+            )
             # The couple replaces the annulus's: EI_helix - 1/2 EA R^2 beyond the ring's own.
             couple = ei - 0.5 * ea * r**2 - extra[label]
             k_rest = k_rest + np.diag([0.0, couple, couple])
@@ -230,18 +238,23 @@ def bend_curve(
     """
     from softcath import design as design_pkg
 
-    if coil_model not in PLACEMENTS:
-        raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")
-    p = np.asarray(pressures, dtype=float).ravel()
-    if p.size == 0 or not np.all(np.isfinite(p)):
-        raise DesignError("pressures", pressures, "must be a non-empty list of finite pressures [MPa]")
+    p = _checked_inputs(coil_model, pressures)
     t0 = time.perf_counter()
     d = design_pkg.resolve(design)
     coils, f0, ec = _coil_sources(d, initial_tension, compression_modulus)
     k_rest, fibres, owner, names, f_unit, centroid_y = _section_problem(
-        d, coils, f0, ec, load=load, coil_model=coil_model, ring_points=ring_points, mesh_size=mesh_size,
-        segments=segments, silicone_poisson=silicone_poisson, poisson_cap=poisson_cap,
-    )  # fmt: skip
+        d,
+        coils,
+        f0,
+        ec,
+        load=load,
+        coil_model=coil_model,
+        ring_points=ring_points,
+        mesh_size=mesh_size,
+        segments=segments,
+        silicone_poisson=silicone_poisson,
+        poisson_cap=poisson_cap,
+    )
     gain_linear = float(np.linalg.solve(k_rest + fibres.linear_stiffness(fibres.tension_modulus), f_unit)[2])
 
     gain_pivot, threshold, opening = _asymptotes(k_rest, fibres, f_unit)
@@ -266,6 +279,16 @@ def bend_curve(
     )
 
 
+def _checked_inputs(coil_model: str, pressures: Sequence[float]) -> np.ndarray:
+    """The pressures as a flat array; :class:`DesignError` for an unknown placement or no finite pressures."""
+    if coil_model not in PLACEMENTS:
+        raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")
+    p = np.asarray(pressures, dtype=float).ravel()
+    if p.size == 0 or not np.all(np.isfinite(p)):
+        raise DesignError("pressures", pressures, "must be a non-empty list of finite pressures [MPa]")
+    return p
+
+
 def _asymptotes(k_rest, fibres: Fibres, f_unit) -> tuple[float, float, float]:
     """Pivoting gain, threshold pressure (0 without preload) and first opening pressure [MPa]."""
     # The pivoting asymptote: the closed set without initial tension, then F₀'s preload on the open fibres.
@@ -279,8 +302,12 @@ def _asymptotes(k_rest, fibres: Fibres, f_unit) -> tuple[float, float, float]:
     loaded = fibres.prestress > 0
     opening = np.inf
     if loaded.any():
-        shut = Fibres(**{**free.__dict__, "tension_modulus": np.where(loaded, free.compression_modulus,
-                                                                       free.tension_modulus)})  # fmt: skip
+        shut = Fibres(
+            **{
+                **free.__dict__,
+                "tension_modulus": np.where(loaded, free.compression_modulus, free.tension_modulus),
+            }
+        )
         g_s, _, _ = solve_fibres(k_rest, shut, f_unit)
         eps = free.phi[loaded] @ g_s
         ep = fibres.opening_strain()[loaded]

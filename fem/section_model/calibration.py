@@ -252,9 +252,14 @@ def _iterate(
     gains = None
     for _ in range(max_iterations):
         inner = calibrate(
-            measurement, design, free=free, load="cap", grid=grid, use_elongation=use_elongation,
+            measurement,
+            design,
+            free=free,
+            load="cap",
+            grid=grid,
+            use_elongation=use_elongation,
             gain_scale=used,
-        )  # fmt: skip
+        )
         step = _change(inner.x_opt, x, free)
         x = dict(inner.x_opt)
         gains, factors = _evaluate(design, x, load, section_options)

@@ -113,12 +113,14 @@ def coil_section_stiffness(
     from softcath import design as design_pkg
     from softcath.fem.adapter import geometry_from_design
     from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import laws_from_design
+    from softcath.fem.section_model.laws import section_laws_from_design
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
     d = design_pkg.resolve(design)
     opts = model_options(coil_model)
-    laws, extra = coil_terms(d, opts["coil_bending"], laws_from_design(d, coil_modulus=opts["coil_modulus"]))
+    laws, extra = coil_terms(
+        d, opts["coil_bending"], section_laws_from_design(d, coil_modulus=opts["coil_modulus"])
+    )
     mesh = catheter_section_mesh(
         geometry_from_design(d),
         mesh_size=MESH_SIZE if mesh_size is None else mesh_size,

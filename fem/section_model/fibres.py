@@ -104,9 +104,15 @@ _FIELDS = ("x", "y", "area", "tension_modulus", "compression_modulus", "prestres
 
 
 def ring_fibres(
-    *, centre: tuple[float, float], radius: float, area: float, tension_axial: float,
-    compression_modulus: float, initial_tension: float, points: int = 720,
-) -> Fibres:  # fmt: skip
+    *,
+    centre: tuple[float, float],
+    radius: float,
+    area: float,
+    tension_axial: float,
+    compression_modulus: float,
+    initial_tension: float,
+    points: int = 720,
+) -> Fibres:
     """A thin ring of fibres (the resolved wire's axial part): EA_t = ``tension_axial`` [N] in total.
 
     ``points`` equally spaced from angle 0, a multiple of 4 so that the ring's

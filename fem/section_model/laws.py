@@ -23,7 +23,7 @@ from softcath.fem.adapter import COIL_MODULI, coil_law
 from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
 from softcath.fem.materials import TransverselyIsotropic
 
-__all__ = ["SectionLaw", "isotropic", "from_tensor", "laws_from_design", "NU_MAX"]
+__all__ = ["SectionLaw", "isotropic", "from_tensor", "section_laws_from_design", "NU_MAX"]
 
 #: Largest Poisson ratio accepted (lambda/mu = 5e4: a direct solve still has ~11 digits).
 NU_MAX = 0.49999
@@ -85,7 +85,7 @@ def _coil(coil, coil_modulus: str, poisson: bool) -> SectionLaw:
     return from_tensor(law.tensor(), law.axial_modulus)
 
 
-def laws_from_design(
+def section_laws_from_design(
     design,
     *,
     coil_modulus: str = "tension",
@@ -94,6 +94,9 @@ def laws_from_design(
     poisson: bool = True,
 ) -> Mapping[int, SectionLaw]:
     """Region label -> :class:`SectionLaw` for a :class:`design.TipDesign`.
+
+    The section model's laws (2-D generalised plane strain, optional Poisson
+    cap); the 3-D FEM's are :func:`softcath.fem.adapter.fem_laws_from_design`.
 
     Parameters
     ----------

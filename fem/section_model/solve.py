@@ -13,13 +13,10 @@ import numpy as np
 from scipy.sparse.linalg import splu
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 from softcath.fem.section_model.element import SectionOperator
 
 __all__ = ["LOADS", "LoadSolution", "SectionSolution", "solve"]
-
-#: ``cap``: the cap force p A_lumen at the lumen centroid only (the paper's load);
-#: ``lumen``: the same plus the pressure on the lumen wall (the real load).
-LOADS = ("cap", "lumen")
 
 
 @dataclass(frozen=True)

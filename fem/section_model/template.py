@@ -303,7 +303,8 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
     lu = splu(lap[interior][:, interior].tocsc())
     return SectionTemplate(
         mesh=m, geometry=reference, curves=curves, on_curve=on, params=params, corners=corners,
-        corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac, quality=_quality(m.points, m.triangles),
+        corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac,
+        quality=_quality(m.points, m.triangles),
         triangle_curved_edge=tri_curved, bent_triangles=np.flatnonzero((tri_curved >= 0).any(axis=1)),
         interior=interior, boundary=boundary, laplace_ib=lap[interior][:, boundary], laplace_ii=lu,
     )  # fmt: skip

@@ -35,11 +35,25 @@ from softcath.studies.demo.tiers import section_tiers
 from softcath.studies.demo.verdict import section_verdict
 
 __all__ = [
-    "DemoContext", "SectionOutput", "SECTIONS", "run_demo", "default_data", "DEMO_PRESSURES_MPA", "demo_sweep_spec",
-    "DEMO_MAX_STRAIN", "DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SELECT_PRESSURE_MPA", "DemoResult",
-    "section_model", "section_tiers", "section_large_bends", "section_calibration", "section_effects",
-    "section_sweep", "section_verdict",
-]  # fmt: skip
+    "DemoContext",
+    "SectionOutput",
+    "SECTIONS",
+    "run_demo",
+    "default_data",
+    "DEMO_PRESSURES_MPA",
+    "demo_sweep_spec",
+    "DEMO_MAX_STRAIN",
+    "DEMO_LARGE_BEND_PRESSURES_MPA",
+    "DEMO_SELECT_PRESSURE_MPA",
+    "DemoResult",
+    "section_model",
+    "section_tiers",
+    "section_large_bends",
+    "section_calibration",
+    "section_effects",
+    "section_sweep",
+    "section_verdict",
+]
 
 SECTIONS: list[tuple[str, str, Callable[[DemoContext], SectionOutput]]] = [
     ("model", "1. The paper's model", section_model),
@@ -52,12 +66,27 @@ SECTIONS: list[tuple[str, str, Callable[[DemoContext], SectionOutput]]] = [
 ]
 
 
-def run_demo(out_dir: str | Path, *, design_ref: str = "paper", data_csv: str | Path | None = None,
-             workers: int = 2, only: tuple[str, ...] | None = None, progress: bool = True,
-             fem: bool = True) -> DemoResult:  # fmt: skip
+def run_demo(
+    out_dir: str | Path,
+    *,
+    design_ref: str = "paper",
+    data_csv: str | Path | None = None,
+    workers: int = 2,
+    only: tuple[str, ...] | None = None,
+    progress: bool = True,
+    fem: bool = True,
+) -> DemoResult:
     """Run the demo sections (:data:`SECTIONS`, read at call time) into ``out_dir``.
 
     The parameters are those of :func:`.runner.run_sections`, which documents them.
     """
-    return run_sections(SECTIONS, out_dir, design_ref=design_ref, data_csv=data_csv, workers=workers,
-                        only=only, progress=progress, fem=fem)  # fmt: skip
+    return run_sections(
+        SECTIONS,
+        out_dir,
+        design_ref=design_ref,
+        data_csv=data_csv,
+        workers=workers,
+        only=only,
+        progress=progress,
+        fem=fem,
+    )

@@ -31,11 +31,12 @@ def section_calibration(ctx: DemoContext) -> SectionOutput:
         o.json("calibration.json", res.to_json())
         o.text("calibrated_design.toml", design.dumps(res.design, header="calibrated by softcath demo"))
     fig = calibration_plot(
-        ctx.out_dir / "calibration.png", m,
+        ctx.out_dir / "calibration.png",
+        m,
         nominal=analytic.response(d, m.pressure_MPa, "cap"),
         optimized=analytic.response(res.design, m.pressure_MPa, "cap"),
         title=f"eq. 8 calibration: NRMSE ratio nominal/optimised = {res.ratio:.3g}",
-    )  # fmt: skip
+    )
     ctx.shared["calibration"] = res
     x0, x1 = res.x_nominal, res.x_opt
     html = (
@@ -50,10 +51,12 @@ def section_calibration(ctx: DemoContext) -> SectionOutput:
                 ("calibrated", x1["a"], x1["a_int"], x1["b_int"], x1["h"]),
             ],
             left=1,
-        )  # fmt: skip
-        + f"<p>Curvature NRMSE {fmt(res.nrmse_nominal)} → {fmt(res.nrmse_optimized)} (ratio {fmt(res.ratio)}; "
+        )
+        + f"<p>Curvature NRMSE {fmt(res.nrmse_nominal)} → {fmt(res.nrmse_optimized)} (ratio "
+        f"{fmt(res.ratio)}; "
         f"the paper reports 20.14). {res.starts_at_optimum}/{res.starts} starts reached the optimum; "
-        f"identifiable: {'yes' if res.identifiable else 'no'}; reachable: {'yes' if res.reachable else 'no'}.</p>"
+        f"identifiable: {'yes' if res.identifiable else 'no'}; reachable: "
+        f"{'yes' if res.reachable else 'no'}.</p>"
         f"<p>{esc(res.message)}</p>"
         + figure(fig.name, "Measured vs nominal vs calibrated curvature.")
         + "<p>What the data add: a shape the model cannot know from the catalogue (the tube is squeezed), "

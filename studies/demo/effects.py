@@ -39,7 +39,7 @@ def section_effects(ctx: DemoContext) -> SectionOutput:
                 )
             ],
             left=1,
-        )  # fmt: skip
+        )
         + "".join(f"<p>{esc(n)}</p>" for n in result.notes)
         + f"<p>Full report: <a href='{esc(rel)}'>{esc(rel)}</a>.</p>"
     )

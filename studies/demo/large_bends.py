@@ -78,16 +78,7 @@ def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
 
 def section_large_bends(ctx: DemoContext) -> SectionOutput:
     if not ctx.fem:
-        f0 = ctx.out_dir / "large_bends_tiers.png"
-        rows90, _ = four_tiers(ctx.design, None, f0)
-        return SectionOutput(
-            "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
-            + figure(
-                f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models."
-            )
-            + _table90(rows90),
-            (f0,),
-        )
+        return _three_tiers_only(ctx)
     try:
         from softcath.fem.nonlinear import bend_curve
         from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
@@ -100,16 +91,42 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
     plot_curve(c, f1)
     plot_deformed(c, f2)
     rows90, tiers = four_tiers(d, c, f0)
-    rows = [
-        (p, np.degrees(a), np.degrees(lin), np.degrees(ana), e, int(it))
-        for p, a, lin, ana, e, it in zip(
-            c.pressure, c.bend_angle, c.linear_bend_angle, c.analytic_bend_angle, c.max_strain,
-            c.newton_iterations, strict=True,
-        )
-    ]  # fmt: skip
-    dep = c.departure(0.05)["linear_fem"]
     over = [float(p) for p, e in zip(c.pressure, c.max_strain, strict=True) if e > DEMO_MAX_STRAIN]
     ratio = float(c.bend_angle[-1] / c.linear_bend_angle[-1])
+    html = (
+        "<p>"
+        + " ".join(_large_bend_facts(c, tiers["section_curve"], ratio, over))
+        + "</p>"
+        + figure(f0.name, "Bend angle vs lumen pressure in four tiers; the grey line is 90°.")
+        + _table90(rows90)
+        + _bend_curve_html(c, f1, f2)
+    )
+    ctx.shared["large_bends"] = {
+        "pressure": float(c.pressure[-1]),
+        "angle_deg": float(np.degrees(c.bend_angle[-1])),
+        "ratio": ratio,
+        "strain_over_at": over[0] if over else None,
+    }
+    ctx.shared["large_bends"]["p90_MPa"] = tiers["p90"]
+    return SectionOutput(html, (f0, f1, f2))
+
+
+def _three_tiers_only(ctx: DemoContext) -> SectionOutput:
+    """The section without the finite-strain FEM (``--no-fem``): the other three tiers of the bend."""
+    f0 = ctx.out_dir / "large_bends_tiers.png"
+    rows90, _ = four_tiers(ctx.design, None, f0)
+    return SectionOutput(
+        "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
+        + figure(f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models.")
+        + _table90(rows90),
+        (f0,),
+    )
+
+
+def _large_bend_facts(c, fs, ratio: float, over: list[float]) -> list[str]:
+    """Sentences on the finite-strain bend ``c``: against the linear FEM, the strain limit and the
+    finite-strain section model ``fs``."""
+    dep = c.departure(0.05)["linear_fem"]
     text = [
         f"Finite-strain FEM of the same tip (follower pressure on the deformed lumen, hyperelastic silicone, "
         f"{c.ndofs} DOFs on the coarse default mesh): at {fmt(c.pressure[-1])} MPa the tip bends "
@@ -126,21 +143,30 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
             f"(it is {fmt(c.max_strain[-1], 2)} at {fmt(c.pressure[-1])} MPa): for this design the strain "
             "limit, not the bend, is what to design against."
         )
-    fs = tiers["section_curve"]
     text.append(
         f"The finite-strain section model (a 2-D solve of the section at finite strain, {fs.dofs} DOFs, "
         f"{fmt(fs.seconds, 2)} s for {fs.pressure.size} pressures) follows the 3-D FEM's mid-span bend; "
         "the 3-D tip's end section turns less than the uniform arc by its clamp and cap zones."
     )
-    html = (
-        "<p>"
-        + " ".join(text)
-        + "</p>"
-        + figure(f0.name, "Bend angle vs lumen pressure in four tiers; the grey line is 90°.")
-        + _table90(rows90)
-        + figure(
-            f1.name, "Bend angle vs lumen pressure: finite-strain FEM, linear FEM, analytic (lumen load)."
+    return text
+
+
+def _bend_curve_html(c, f1, f2) -> str:
+    """The finite-strain bend curve's figure and table, and the deformed tip's figure (HTML)."""
+    rows = [
+        (p, np.degrees(a), np.degrees(lin), np.degrees(ana), e, int(it))
+        for p, a, lin, ana, e, it in zip(
+            c.pressure,
+            c.bend_angle,
+            c.linear_bend_angle,
+            c.analytic_bend_angle,
+            c.max_strain,
+            c.newton_iterations,
+            strict=True,
         )
+    ]
+    return (
+        figure(f1.name, "Bend angle vs lumen pressure: finite-strain FEM, linear FEM, analytic (lumen load).")
         + table(
             [
                 "p [MPa]",
@@ -151,19 +177,13 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
                 "Newton iterations",
             ],
             rows,
-        )  # fmt: skip
+        )
         + figure(
             f2.name,
-            f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its undeformed "
-            "ghost, coloured by the largest principal stretch strain λ_max − 1.",
+            f"The tip at {fmt(c.pressure[-1])} MPa (cut along the bending plane, side view) over its "
+            "undeformed ghost, coloured by the largest principal stretch strain λ_max − 1.",
         )
     )
-    ctx.shared["large_bends"] = {
-        "pressure": float(c.pressure[-1]), "angle_deg": float(np.degrees(c.bend_angle[-1])), "ratio": ratio,
-        "strain_over_at": over[0] if over else None,
-    }  # fmt: skip
-    ctx.shared["large_bends"]["p90_MPa"] = tiers["p90"]
-    return SectionOutput(html, (f0, f1, f2))
 
 
 def _table90(rows90) -> str:

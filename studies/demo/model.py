@@ -42,15 +42,15 @@ def section_model(ctx: DemoContext) -> SectionOutput:
                 ("lumen wall too", kl, el, np.degrees(lumen.bend_angle[-1])),
             ],
             left=1,
-        )  # fmt: skip
+        )
         + f"<p>A 90° bend needs {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2)))} MPa under the "
         f"cap load and {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2, load='lumen')))} MPa if the "
         "lumen-wall term acts unconfined.</p>"
         + "<p>The paper's formulas are the response to the end-cap force alone. Pressure also pushes on "
         "the lumen wall; for a bonded section of one Poisson ratio ν that multiplies both by (1 − 2ν) — "
         f"{fmt(1 - 2 * d.tube.material.poisson_ratio)} for ν = {fmt(d.tube.material.poisson_ratio)}: an "
-        "unconfined silicone tube would barely bend. The coil confines the tube; the section model and the 3-D FEM "
-        "(next section) say how much of the formula survives.</p>"
+        "unconfined silicone tube would barely bend. The coil confines the tube; the section model and the "
+        "3-D FEM (next section) say how much of the formula survives.</p>"
     )
     ctx.shared["analytic_gains"] = {"cap": (kc, ec), "lumen": (kl, el)}
     return SectionOutput(html, (f1, f2))

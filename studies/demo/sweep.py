@@ -1,4 +1,5 @@
-"""Demo section 6: a small sweep on the section model, the selection, the chosen design checked by the 3-D FEM."""
+"""Demo section 6: a small sweep on the section model, the selection, the chosen design checked by the 3-D
+FEM."""
 
 from __future__ import annotations
 
@@ -12,8 +13,8 @@ from softcath.studies.report.html_blocks import esc, fmt, note, table
 
 __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 
-#: The selection's check pressure [MPa]: within the bench's range, where the section model's silicone strain of
-#: the paper design (0.92 per MPa under the lumen load) stays below the linear models' trust bound.
+#: The selection's check pressure [MPa]: within the bench's range, where the section model's silicone
+#: strain of the paper design (0.92 per MPa under the lumen load) stays below the linear models' trust bound.
 DEMO_SELECT_PRESSURE_MPA = 0.5
 
 
@@ -24,13 +25,14 @@ def demo_sweep_spec() -> str:
     fraction of a second per design); the 3-D FEM checks only the chosen design
     afterwards.
     """
-    return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int, paper's formula and section model.
+    return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int,
+# paper's formula and section model.
 [sweep]
 name = "demo"
 base = "paper"
 pressures_MPa = {sorted({*DEMO_PRESSURES_MPA, DEMO_SELECT_PRESSURE_MPA})}
 loads = ["cap", "lumen"]
-evaluators = ["analytic", "section"]
+evaluators = ["paper", "section"]
 
 [sweep.feasibility]
 max_strain = {DEMO_MAX_STRAIN}
@@ -66,10 +68,12 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     check_html = _check_chosen(ctx, check, sdir / "run", sel, df)
     _, parts = write_report(sdir / "run", prefix="sweep/run/report/")
     body = (
-        "<p>The sweep runs on the section model (3-D-FEM-grade curvature in a fraction of a second per design) "
+        "<p>The sweep runs on the section model (3-D-FEM-grade curvature in a fraction of a second per "
+        "design) "
         "next to the paper's formula; the design is chosen on the section model under the lumen load.</p>"
         f"<p>{summary.n_designs} designs ({summary.ok_designs} ok, {summary.failed_designs} failed) × "
-        f"{len(spec.pressures_MPa)} pressures × 2 loads in {summary.seconds:.1f} s on {esc(summary.backend)}; "
+        f"{len(spec.pressures_MPa)} pressures × 2 loads in {summary.seconds:.1f} s on "
+        f"{esc(summary.backend)}; "
         f"spec <code>sweep/spec.toml</code>, results <code>sweep/run/results.csv</code>. Re-run it with "
         "<code>softcath sweep sweep/spec.toml --out sweep/run</code>; the sweep's own report: "
         "<a href='sweep/run/report/index.html'>sweep/run/report/index.html</a>.</p>"
@@ -104,11 +108,20 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
         if r is None or s.empty:
             continue
         ks = float(s.curvature_section_per_mm.iloc[0])
-        out.append((load, ks, r["curvature_per_mm"], r["curvature_per_mm"] / ks - 1,
-                    float(s.max_strain_section.iloc[0]), r["max_strain"]))  # fmt: skip
+        out.append(
+            (
+                load,
+                ks,
+                r["curvature_per_mm"],
+                r["curvature_per_mm"] / ks - 1,
+                float(s.max_strain_section.iloc[0]),
+                r["max_strain"],
+            )
+        )
     ctx.shared["chosen_check"] = {"design_id": did, "rows": out}
     return (
-        f"<h3>The chosen design checked by the 3-D FEM</h3><p>Design {did} at {fmt(p)} MPa ({seconds:.0f} s):</p>"
+        f"<h3>The chosen design checked by the 3-D FEM</h3><p>Design {did} at {fmt(p)} MPa ({seconds:.0f} "
+        "s):</p>"
         + table(
             [
                 "load",
@@ -120,5 +133,5 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
             ],
             out,
             left=1,
-        )  # fmt: skip
+        )
     )

@@ -14,14 +14,15 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.load_cases import LOADS
 from softcath.studies.report.html_blocks import figure, fmt, note, table
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
 #: Silicone Poisson ratios of the demo's nu plot (tube and filler together).
 NU_SWEEP = (0.45, 0.46, 0.47, 0.48, 0.49, 0.495, 0.498, 0.499, 0.4995, 0.4999)
-LOADS = ("cap", "lumen")
-#: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be trusted.
+#: Pressure of the 3-D view [MPa]: the selection's check pressure, where the linear FEM is still to be
+#: trusted.
 VIEW_PRESSURE_MPA = 0.5
 
 
@@ -53,7 +54,7 @@ def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, f
     return _save(fig, path)
 
 
-def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE_MPA) -> str:
+def tip_view(result, *, load: str = "lumen", pressure: float = VIEW_PRESSURE_MPA) -> str:
     """The 3-D FEM's deformed tip as a rotatable inline view (empty if ``result`` carries no solution)."""
     solution = getattr(result, "solution", None)
     if solution is None or load not in getattr(solution, "unit", {}):
@@ -61,10 +62,10 @@ def tip_view(result, *, load: str = "lumen", pressure_MPa: float = VIEW_PRESSURE
     from softcath.fem.export import to_grid
     from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 
-    view = surface_of_grid(to_grid(solution, load, pressure_MPa))
+    view = surface_of_grid(to_grid(solution, load, pressure))
     return "<h3 id='fem-3d'>The deformed tip in 3-D</h3>" + tip_view_fragment(
         view,
-        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure_MPa:g} MPa, "
+        caption=f"3-D FEM (linear, true scale) under the {load} load at {pressure:g} MPa, "
         "cut along the bending plane (the cut face towards you), coloured by the largest principal strain.",
     )
 
@@ -74,13 +75,37 @@ def section_tiers(ctx):
     from softcath import analytic
     from softcath.fem.section_model import section_model
     from softcath.studies.demo.context import SectionOutput
-    from softcath.studies.sweep.evaluators import fem_check_function, fem_records
 
     d = ctx.design
     k_f, e_f = analytic.gains(d, "cap")
     sm = section_model(d)
-    fem, fem_seconds, why = None, None, ""
-    if not ctx.fem:
+    fem, fem_seconds, why, result = _run_fem_tier(d, ctx.fem)
+    html = _tiers_table(k_f, e_f, sm, fem, fem_seconds)
+    html += _tiers_facts(sm, fem, fem_seconds)
+    if fem:
+        html += tip_view(result)
+    if why:
+        html += note(f"<b>{why}; the section model stands in for it.")
+
+    nu_html, fpath, kappa = _nu_dependence(d, ctx.out_dir, k_f, fem)
+    html += nu_html
+    ctx.shared["tiers"] = {
+        "formula": k_f,
+        "section": dict(sm.curvature_per_mm_per_MPa),
+        "fem": {ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None,
+        "nu": dict(zip(NU_SWEEP, kappa["lumen"], strict=True)),
+    }
+    if fem:
+        ctx.shared["fem"] = {ld: r["curvature_per_mm"] / k_f for ld, r in fem.items()}
+    return SectionOutput(html, (fpath,))
+
+
+def _run_fem_tier(d, enabled: bool):
+    """The 3-D FEM at 1 MPa: per-load records, seconds, why it did not run (or ``""``) and its result."""
+    from softcath.studies.sweep.evaluators import fem_check_function, fem_records
+
+    fem, fem_seconds, why, result = None, None, "", None
+    if not enabled:
         why = "Not run:</b> the 3-D FEM (switched off with --no-fem)"
     elif (check := fem_check_function()) is None:
         why = "Not available:</b> the 3-D FEM (fem.check is not importable)"
@@ -90,28 +115,46 @@ def section_tiers(ctx):
         fem_seconds = time.perf_counter() - t0
         rows = fem_records(result)
         fem = {ld: rows[(ld, 1.0)] for ld in LOADS if (ld, 1.0) in rows}
+    return fem, fem_seconds, why, result
 
-    def per_load(values: dict) -> list:
-        return [values.get(ld, np.nan) for ld in LOADS]
 
+def _per_load(values: dict) -> list:
+    """``values`` in the order of :data:`LOADS` (NaN where missing)."""
+    return [values.get(ld, np.nan) for ld in LOADS]
+
+
+def _tiers_table(k_f: float, e_f: float, sm, fem: dict | None, fem_seconds: float | None) -> str:
+    """The introduction and the table of the three tiers' gains (HTML)."""
     body = [
         ["paper's formula (eq. 7, cap force)", k_f, k_f, e_f, e_f, 1.0, 1.0, "closed form", "—"],
-        ["section model (2-D)", *per_load(sm.curvature_per_mm_per_MPa), *per_load(sm.elongation_per_MPa),
-         *per_load(sm.fem_formula_ratio), sm.dofs, f"{sm.seconds:.2f}"],
-    ]  # fmt: skip
+        [
+            "section model (2-D)",
+            *_per_load(sm.curvature_per_mm_per_MPa),
+            *_per_load(sm.elongation_per_MPa),
+            *_per_load(sm.fem_formula_ratio),
+            sm.dofs,
+            f"{sm.seconds:.2f}",
+        ],
+    ]
     if fem:
         kf_ = {ld: r["curvature_per_mm"] for ld, r in fem.items()}
         body.append(
-            ["3-D FEM (linear, mid-span)", *per_load(kf_), *per_load({ld: r["elongation"] for ld, r in fem.items()}),
-             *(v / k_f for v in per_load(kf_)), int(fem["cap"]["dofs"]), f"{fem_seconds:.1f}"]
-        )  # fmt: skip
-    html = (
+            [
+                "3-D FEM (linear, mid-span)",
+                *_per_load(kf_),
+                *_per_load({ld: r["elongation"] for ld, r in fem.items()}),
+                *(v / k_f for v in _per_load(kf_)),
+                int(fem["cap"]["dofs"]),
+                f"{fem_seconds:.1f}",
+            ]
+        )
+    return (
         "<p>Three models of the same tip, per MPa of pressure. The <b>paper's formula</b> is the composite "
         "beam under the end-cap force (eq. 7), the paper's prediction for either load. The <b>section "
         "model</b> solves the as-assembled cross-section in 2-D (generalised plane strain: regions, bonded "
-        "lands, transversely isotropic coils; the Saint-Venant solution of a long tip) under the cap load and "
-        "under the real <b>lumen</b> load (the pressure on the lumen wall too). The <b>3-D FEM</b> solves the "
-        "whole tip; its mid-span curvature is what the section model reproduces.</p>"
+        "lands, transversely isotropic coils; the Saint-Venant solution of a long tip) under the cap load "
+        "and under the real <b>lumen</b> load (the pressure on the lumen wall too). The <b>3-D FEM</b> "
+        "solves the whole tip; its mid-span curvature is what the section model reproduces.</p>"
         + table(
             [
                 "model",
@@ -126,12 +169,16 @@ def section_tiers(ctx):
             ],
             body,
             left=1,
-        )  # fmt: skip
+        )
     )
+
+
+def _tiers_facts(sm, fem: dict | None, fem_seconds: float | None) -> str:
+    """The paragraph of what the table shows (HTML)."""
     facts = [
         f"Under the real lumen load the tip bends {fmt(sm.fem_formula_ratio['lumen'], 3)}× what the paper's "
-        f"formula says (cap load: {fmt(sm.fem_formula_ratio['cap'], 3)}×): the coil confines the silicone, so "
-        "the wall pressure adds to the bending instead of cancelling it."
+        f"formula says (cap load: {fmt(sm.fem_formula_ratio['cap'], 3)}×): the coil confines the silicone, "
+        "so the wall pressure adds to the bending instead of cancelling it."
     ]
     if fem:
         gaps = {ld: sm.curvature_per_mm_per_MPa[ld] / fem[ld]["curvature_per_mm"] - 1 for ld in fem}
@@ -140,11 +187,13 @@ def section_tiers(ctx):
             + ", ".join(f"{fmt(100 * g, 2)} % ({ld})" for ld, g in gaps.items())
             + f", in {sm.seconds:.2f} s against {fem_seconds:.0f} s."
         )
-    html += "<p>" + " ".join(facts) + "</p>"
-    if fem:
-        html += tip_view(result)
-    if why:
-        html += note(f"<b>{why}; the section model stands in for it.")
+    return "<p>" + " ".join(facts) + "</p>"
+
+
+def _nu_dependence(d, out_dir: Path, k_f: float, fem: dict | None) -> tuple[str, Path, dict]:
+    """κ/p against the silicone's ν from the section model: the HTML (figure and text), the figure's
+    path and the curvatures per load."""
+    from softcath.fem.section_model import section_model
 
     kappa = {ld: [] for ld in LOADS}
     for nu in NU_SWEEP:
@@ -153,11 +202,15 @@ def section_tiers(ctx):
             kappa[ld].append(r.curvature_per_mm_per_MPa[ld])
     nu_design = float(d.tube.material.poisson_ratio)
     fpath = nu_plot(
-        ctx.out_dir / "tiers_nu.png", NU_SWEEP, kappa, formula=k_f,
-        fem={ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None, fem_nu=nu_design,
-    )  # fmt: skip
+        out_dir / "tiers_nu.png",
+        NU_SWEEP,
+        kappa,
+        formula=k_f,
+        fem={ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None,
+        fem_nu=nu_design,
+    )
     i49, last = NU_SWEEP.index(0.49), len(NU_SWEEP) - 1
-    html += figure(
+    html = figure(
         fpath.name,
         "κ/p from the section model as the silicone's ν (tube and filler) goes to 0.5"
         + (", the 3-D FEM at its ν = 0.49 (squares)" if fem else "")
@@ -170,12 +223,4 @@ def section_tiers(ctx):
         f"{fmt(kappa['cap'][last] / kappa['cap'][i49], 3)}×: silicone is close to incompressible, and the "
         "3-D FEM (capped at 0.49) cannot follow it there; the section model is locking-free to 0.49999.</p>"
     )
-    ctx.shared["tiers"] = {
-        "formula": k_f,
-        "section": dict(sm.curvature_per_mm_per_MPa),
-        "fem": {ld: r["curvature_per_mm"] for ld, r in fem.items()} if fem else None,
-        "nu": dict(zip(NU_SWEEP, kappa["lumen"], strict=True)),
-    }
-    if fem:
-        ctx.shared["fem"] = {ld: r["curvature_per_mm"] / k_f for ld, r in fem.items()}
-    return SectionOutput(html, (fpath,))
+    return html, fpath, kappa

@@ -16,17 +16,19 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
     gains = ctx.shared.get("analytic_gains")
     if gains:
         lines.append(
-            f"The paper's model gives {fmt(np.degrees(gains['cap'][0] * ctx.design.tip.bending_length))} deg/MPa "
-            "of bend for the nominal squeezed shape."
+            f"The paper's model gives {fmt(np.degrees(gains['cap'][0] * ctx.design.tip.bending_length))} "
+            "deg/MPa of bend for the nominal squeezed shape."
         )
     tiers = ctx.shared.get("tiers")
     if tiers:
         lines.append(
             "Section model (2-D, FEM-grade): κ/p = "
-            + ", ".join(f"{fmt(k, 3)} ({ld} load, {fmt(k / tiers['formula'], 3)}× the formula)"
-                        for ld, k in tiers["section"].items())
+            + ", ".join(
+                f"{fmt(k, 3)} ({ld} load, {fmt(k / tiers['formula'], 3)}× the formula)"
+                for ld, k in tiers["section"].items()
+            )
             + " 1/(mm MPa)."
-        )  # fmt: skip
+        )
     fem_ratios = ctx.shared.get("fem")
     if fem_ratios:
         lines.append(
@@ -37,12 +39,15 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
     big = ctx.shared.get("large_bends")
     if big:
         lines.append(
-            f"Finite strain: {fmt(big['angle_deg'], 3)}° at {fmt(big['pressure'])} MPa, {fmt(big['ratio'], 3)}× the "
-            "linear FEM"
-            + (f"; silicone strain above {fmt(DEMO_MAX_STRAIN)} from {fmt(big['strain_over_at'])} MPa"
-               if big["strain_over_at"] is not None else "")
+            f"Finite strain: {fmt(big['angle_deg'], 3)}° at {fmt(big['pressure'])} MPa, "
+            f"{fmt(big['ratio'], 3)}× the linear FEM"
+            + (
+                f"; silicone strain above {fmt(DEMO_MAX_STRAIN)} from {fmt(big['strain_over_at'])} MPa"
+                if big["strain_over_at"] is not None
+                else ""
+            )
             + "."
-        )  # fmt: skip
+        )
     cal = ctx.shared.get("calibration")
     if cal is not None:
         lines.append(f"Calibration to the bench data cuts the curvature error {fmt(cal.ratio)}-fold.")
@@ -58,7 +63,8 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
         params = ", ".join(f"{esc(k)} = {fmt(v)}" for k, v in best["parameters"].items())
         lines.append(
             f"<b>Build design {best['design_id']}</b> ({params}): best of {sel.n_feasible} designs that meet "
-            f"{', '.join(esc(c) for c in sel.constraints)}, ranked by {', '.join(esc(o) for o in sel.objectives)} "
+            f"{', '.join(esc(c) for c in sel.constraints)}, ranked by "
+            f"{', '.join(esc(o) for o in sel.objectives)} "
             f"({'the section model' if sel.model == 'section' else esc(sel.model)}, {esc(sel.load)} load)."
         )
         chk = ctx.shared.get("chosen_check")

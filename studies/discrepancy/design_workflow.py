@@ -76,14 +76,14 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     from softcath.studies.sweep.variants import build_variant
 
     if reference != "fem":
-        raise DataError(f"--reference {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
+        raise DataError(f"reference = {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
     root = Path(sweep_dir)
     df = read_results(root)
     ref_col = "curvature_fem_per_mm"
     if ref_col not in df or df[ref_col].notna().sum() == 0:
         raise DataError(
             f"{root}: the sweep has no 3-D FEM curvature ({ref_col}); run it with evaluators = "
-            '["analytic", "fem"]'
+            '["paper", "fem"]'
         )
     manifest = json.loads((root / "sweep.json").read_text(encoding="utf-8"))
     designs = pd.read_csv(root / "designs.csv")

@@ -37,9 +37,13 @@ def _parity(result) -> str:
                 sel = [r for r in t if r["load"] == load and r["heldout"] == held]
                 if sel:
                     ax.scatter(
-                        [r[key] for r in sel], [r["reference_gain"] for r in sel], marker=marker, c=colour,
-                        s=22, label=f"{load}, {'held-out' if held else 'training'}",
-                    )  # fmt: skip
+                        [r[key] for r in sel],
+                        [r["reference_gain"] for r in sel],
+                        marker=marker,
+                        c=colour,
+                        s=22,
+                        label=f"{load}, {'held-out' if held else 'training'}",
+                    )
         ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
         ax.set_xlabel("model κ/p [1/(mm MPa)]")
         ax.set_title(title, fontsize=10)
@@ -68,7 +72,8 @@ def write_design_report(result, out_dir: str | Path) -> Path:
     named = " + ".join(result.named) or "nothing"
     notes = "".join(f"<li>{html.escape(n)}</li>" for n in result.notes)
     amb = "".join(f"<li>{html.escape(k)} ~ {', '.join(v)}</li>" for k, v in result.ambiguous_with.items())
-    page = f"""<!doctype html><html><head><meta charset="utf-8"><title>softcath: what the formula misses</title>
+    page = f"""<!doctype html><html><head><meta charset="utf-8">
+<title>softcath: what the formula misses</title>
 <style>body{{font-family:sans-serif;max-width:1000px;margin:2em auto}}table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}</style></head><body>
 <h1>What the paper's formula misses, over {result.n_designs} designs</h1>
@@ -76,7 +81,8 @@ td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}</style></head><b
 {result.gap_before:.4g} → {result.gap_after:.4g}
 ({result.gap_before / max(result.gap_after, 1e-300):.3g}× smaller);
 held-out NRMSE {result.nrmse_before:.4g} → {result.nrmse_after:.4g}.
-{result.n_train} training and {result.n_heldout} held-out designs (seed {result.seed}), margin {result.margin:.0%}.</p>
+{result.n_train} training and {result.n_heldout} held-out designs (seed {result.seed}),
+margin {result.margin:.0%}.</p>
 <h2>Parity before and after</h2><img alt="parity" src="data:image/png;base64,{_parity(result)}">
 <h2>Steps</h2><table><tr><th>step</th><th>candidate</th><th>gap before</th><th>gap train</th>
 <th>gap held-out</th></tr>{"".join(rows)}</table>

@@ -342,8 +342,8 @@ def prepare_static(pressure_MPa: np.ndarray, curvature_per_mm: np.ndarray) -> Pr
         )
     if np.abs(k).max() > MAX_REFERENCE_CURVATURE:
         raise DataError(
-            f"reference: curvature {k[np.argmax(np.abs(k))]:.3g} 1/mm exceeds {MAX_REFERENCE_CURVATURE:g} 1/mm "
-            "(a bend radius below 1 µm); check the units (1/mm)"
+            f"reference: curvature {k[np.argmax(np.abs(k))]:.3g} 1/mm exceeds {MAX_REFERENCE_CURVATURE:g} "
+            "1/mm (a bend radius below 1 µm); check the units (1/mm)"
         )
     order = np.argsort(p)
     p, k = p[order], k[order]

@@ -1,7 +1,8 @@
 """``run_workflow``: from a measurement table (or a FEM reference) to a DiscrepancyResult.
 
 The steps: check the decision rule, prepare the reference (measured data, or FEM
-points with the design's gain fixed), name effects (:func:`~softcath.studies.discrepancy.naming.name_effects`),
+points with the design's gain fixed), name effects
+(:func:`~softcath.studies.discrepancy.naming.name_effects`),
 then the records (:mod:`softcath.studies.discrepancy.records`).
 """
 
@@ -218,7 +219,7 @@ def run_workflow(
     *,
     reference: str = "measured",
     fem: Callable[..., Any] | pd.DataFrame | None = None,
-    pressures_MPa: np.ndarray | None = None,
+    pressures: np.ndarray | None = None,
     margin: float | None = None,
     min_share: float = 0.05,
     max_effects: int = 3,
@@ -242,10 +243,10 @@ def run_workflow(
     reference
         ``"measured"`` or ``"fem"``.
     fem
-        For ``"fem"`` without ``data``: a callable ``fem(design, pressures_MPa)``
+        For ``"fem"`` without ``data``: a callable ``fem(design, pressures)``
         returning curvatures (1/mm), or a precomputed table.
-    pressures_MPa
-        Pressures for the ``fem`` callable (default 12 points over 0..2 MPa).
+    pressures
+        Pressures [MPa] for the ``fem`` callable (default 12 points over 0..2 MPa).
     margin, min_share, max_effects
         Decision rule, see :func:`softcath.studies.discrepancy.naming.name_effects`.
         ``margin`` defaults to 0.05, and to 0.12 on quasi-static measured points
@@ -261,11 +262,50 @@ def run_workflow(
     """
     _check_rule(reference, margin, min_share, max_effects)
     d = _resolve_design(design)
-    nominal = None
-    if d is not None:
-        from softcath import analytic
+    nominal = _nominal_gain(d)
+    ref = _reference_inputs(reference, data, d, fem, pressures, candidates, excitation, margin)
+    for c in ref.candidates:
+        get(c)
+    steps = name_effects(
+        ref.prep,
+        candidates=ref.candidates,
+        margin=ref.margin,
+        min_share=min_share,
+        max_effects=max_effects,
+        fixed_gain=ref.fixed_gain,
+        context=ref.context,
+        progress=progress,
+    )
+    return _discrepancy_result(reference, ref, steps, min_share, nominal)
 
-        nominal = analytic.gains(d, "cap")[0]
+
+def _nominal_gain(d) -> float | None:
+    """The design's nominal (paper's formula) cap gain, ``None`` without a design."""
+    if d is None:
+        return None
+    from softcath import analytic
+
+    return analytic.gains(d, "cap")[0]
+
+
+@dataclass(frozen=True)
+class _ReferenceInputs:
+    """What the naming runs on: the prepared reference, the candidates, the notes so far, the fixed gain
+    and context (FEM reference), the shape calibration (measured reference) and the decision margin."""
+
+    prep: Prepared
+    candidates: tuple[str, ...]
+    notes: list[str]
+    fixed_gain: float | None
+    context: dict[str, float]
+    shape_cal: dict | None
+    margin: float
+
+
+def _reference_inputs(
+    reference: str, data, d, fem, pressures, candidates, excitation: str, margin: float | None
+) -> _ReferenceInputs:
+    """Prepare the measured or FEM reference; ``margin`` defaults per reference (see :func:`run_workflow`)."""
     fixed_gain = None
     context: dict[str, float] = {}
     shape_cal = None
@@ -274,29 +314,32 @@ def run_workflow(
         if margin is None and prep.static:
             margin = QUASI_STATIC_MARGIN
     else:
-        prep, cands, notes, fixed_gain, context = _fem_reference_points(
-            data, d, fem, pressures_MPa, candidates
-        )
+        prep, cands, notes, fixed_gain, context = _fem_reference_points(data, d, fem, pressures, candidates)
     if margin is None:
         margin = DEFAULT_MARGIN
-    for c in cands:
-        get(c)
-    steps = name_effects(
-        prep,
+    return _ReferenceInputs(
+        prep=prep,
         candidates=cands,
-        margin=margin,
-        min_share=min_share,
-        max_effects=max_effects,
+        notes=notes,
         fixed_gain=fixed_gain,
         context=context,
-        progress=progress,
+        shape_cal=shape_cal,
+        margin=margin,
     )
+
+
+def _discrepancy_result(
+    reference: str, ref: _ReferenceInputs, steps, min_share: float, nominal: float | None
+) -> DiscrepancyResult:
+    """The :class:`DiscrepancyResult` of the naming ``steps``, with their records and notes."""
+    prep = ref.prep
     first = steps[0].baseline
     named = tuple(s.named for s in steps if s.named)
     after = steps[-1].baseline if steps[-1].named is None else steps[-1].candidates[steps[-1].named]
     floor = prep.noise_floor_per_mm
     fs = prep.full_scale_per_mm
     records, step_notes = step_records(steps, floor)
+    notes = ref.notes
     notes += step_notes + decision_notes(steps, named, min_share, floor) + separability_notes(prep, named)
     if steps[-1].extra.get("not_needed"):
         notes.append(
@@ -312,13 +355,13 @@ def run_workflow(
         noise_floor_nrmse=floor / fs if fs > 0 else 0.0,
         excess_removed=excess(first.rmse_per_mm, after.rmse_per_mm, floor),
         calibration=calibration_record(
-            first.fit, after.fit, fixed_gain=fixed_gain, nominal=nominal, shape_cal=shape_cal
+            first.fit, after.fit, fixed_gain=ref.fixed_gain, nominal=nominal, shape_cal=ref.shape_cal
         ),
         filter=filter_record(prep),
         runs=run_records(prep),
         candidates=candidate_table(steps),
         notes=tuple(notes),
-        margin=margin,
+        margin=ref.margin,
         min_share=min_share,
         prepared=prep,
         baseline_fit=first.fit,

@@ -17,12 +17,12 @@ from __future__ import annotations
 
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.evaluate import Robustness, Scores, evaluate_parameters, make_robustness
-from softcath.studies.optimise.problem import EVALUATOR_OF, Problem, Variable, make_problem, parse_variable
+from softcath.studies.optimise.problem import MODELS, Problem, Variable, make_problem, parse_variable
 from softcath.studies.optimise.result import Optimum, Winner
 from softcath.studies.optimise.workflow import check_search, optimise, write_optimum
 
 __all__ = [
-    "EVALUATOR_OF",
+    "MODELS",
     "Backend",
     "Optimum",
     "Problem",

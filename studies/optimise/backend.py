@@ -80,9 +80,11 @@ class Backend:
             method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
             ctx = multiprocessing.get_context(method)
             self._pool = ProcessPoolExecutor(
-                max_workers=self.workers, mp_context=ctx, initializer=_single_threaded_worker,
+                max_workers=self.workers,
+                mp_context=ctx,
+                initializer=_single_threaded_worker,
                 initargs=(os.getpid(),),
-            )  # fmt: skip
+            )
         return self
 
     def __exit__(self, *exc) -> None:

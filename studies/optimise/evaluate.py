@@ -79,15 +79,18 @@ def check_work(model: str, base_table: dict, runs: int, *, param: str, value, me
     seconds = runs * each
     if seconds > MAX_WORK_SECONDS:
         raise DesignError(
-            param, value, f"{runs} {model}-model runs would take about {seconds / 3600:.3g} h (~{each:.2g} s "
+            param,
+            value,
+            f"{runs} {model}-model runs would take about {seconds / 3600:.3g} h (~{each:.2g} s "
             f"each); at most {MAX_WORK_SECONDS / 3600:g} h: evaluate fewer designs or samples",
-        )  # fmt: skip
+        )
     return seconds
 
 
 @dataclass(frozen=True)
 class Robustness:
-    """Robust evaluation settings: probability ``probability``, ``samples`` variants of ``ranges``, ``seed``."""
+    """Robust evaluation settings: probability ``probability``, ``samples`` variants of ``ranges``,
+    ``seed``."""
 
     probability: float
     samples: int
@@ -105,7 +108,8 @@ class Robustness:
 
 
 def make_robustness(probability: float, ranges: Sequence, *, samples: int = 32, seed: int = 0) -> Robustness:
-    """Checked :class:`Robustness`; model-option ranges (``model.*``) are left out (sweep models have none)."""
+    """Checked :class:`Robustness`; model-option ranges (``model.*``) are left out (sweep models have
+    none)."""
     from softcath.studies.predict.sampling import sample_values, unit_sample
 
     if isinstance(probability, bool) or not isinstance(probability, (int, float)) or not 0 < probability < 1:
@@ -153,7 +157,7 @@ class Scores:
 
 
 def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Sequence[str]) -> list[dict]:
-    n_tasks = 1 if tuple(evaluators) == ("analytic",) else max(1, min(slots, len(variants)))
+    n_tasks = 1 if tuple(evaluators) == ("paper",) else max(1, min(slots, len(variants)))
     size = max(1, math.ceil(len(variants) / n_tasks))
     paths = sorted({p for v in variants for p in v})
     return [
@@ -177,13 +181,13 @@ def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Seque
 def run_variants(problem: Problem, variants: list[dict], backend: Backend, evaluators=None, model=None):
     """The merged results table of ``variants`` (design ids 0..n−1) with ``model``'s columns.
 
-    ``evaluators`` default to the analytic one and ``problem``'s; ``model`` to ``problem.model``.
+    ``evaluators`` default to the paper's formula and ``problem``'s; ``model`` to ``problem.model``.
     """
     import pandas as pd
 
     from softcath.studies.sweep.results import add_derived_columns, model_columns
 
-    evaluators = evaluators or sorted({"analytic", problem.evaluator})
+    evaluators = evaluators or sorted({"paper", problem.evaluator})
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))
     df = pd.concat(frames, ignore_index=True)
     df = add_derived_columns(df, max_strain=math.inf, p_max=max(problem.pressures_MPa))
@@ -199,9 +203,11 @@ def evaluate_parameters(
     if n == 0:
         return Scores(np.zeros((0, k)), np.zeros((0, m)), np.zeros(0, bool))
     s = robust.samples if robust else 1
-    variants = [dict(p) for p in params] if robust is None else [
-        {**sample, **p} for p in params for sample in robust.values
-    ]  # fmt: skip
+    variants = (
+        [dict(p) for p in params]
+        if robust is None
+        else [{**sample, **p} for p in params for sample in robust.values]
+    )
     df = run_variants(problem, variants, backend)
     check_columns([*problem.objectives, *problem.constraints], df.columns)
     objs, margins, ok = score_table(df, range(len(variants)), problem.objectives, problem.constraints)

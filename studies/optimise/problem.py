@@ -14,11 +14,12 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
+from softcath.studies.tiers import tier_name
 
-__all__ = ["EVALUATOR_OF", "Variable", "Problem", "parse_variable", "make_problem"]
+__all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
 
-#: Model tier -> the sweep evaluator that computes its columns.
-EVALUATOR_OF = {"paper": "analytic", "section": "section", "section-nonlinear": "section-nonlinear"}
+#: The model tiers a search can run (:mod:`softcath.studies.tiers`; a tier's sweep evaluator has its name).
+MODELS = ("paper", "section", "section-nonlinear")
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,7 @@ class Problem:
     objectives, constraints
         Parsed expressions (one objective: a single-objective search; several: a Pareto set).
     model
-        Model tier (a key of :data:`EVALUATOR_OF`).
+        Model tier (one of :data:`MODELS`).
     load
         Load case the expressions read (``cap`` or ``lumen``).
     pressures_MPa
@@ -67,7 +68,7 @@ class Problem:
 
     @property
     def evaluator(self) -> str:
-        return EVALUATOR_OF[self.model]
+        return self.model
 
     @property
     def paths(self) -> tuple[str, ...]:
@@ -112,15 +113,14 @@ def make_problem(
     constraints: Sequence[str] = (),
     model: str = "section",
     load: str = "lumen",
-    pressures_MPa: Sequence[float] = (0.5,),
+    pressures: Sequence[float] = (0.5,),
     section_options: Mapping[str, Any] | None = None,
 ) -> Problem:
     """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
     from softcath.studies.sweep.variants import check_path
 
-    if model not in EVALUATOR_OF:
-        raise DesignError("model", model, f"must be one of {', '.join(EVALUATOR_OF)}")
-    if EVALUATOR_OF[model] not in _available_evaluators():
+    model = tier_name(model, allowed=MODELS)
+    if model not in _available_evaluators():
         raise DesignError(
             "model", model, "this installation's sweep has no such evaluator yet; use section or paper"
         )
@@ -143,15 +143,15 @@ def make_problem(
     objs = tuple(parse_objective(o) for o in objectives)
     cons = tuple(parse_constraint(c) for c in constraints)
     ps = set()
-    for p in pressures_MPa:
+    for p in pressures:
         if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p) or p < 0:
-            raise DesignError("pressures_MPa", p, "must be finite numbers >= 0")
+            raise DesignError("pressures", p, "must be finite numbers >= 0")
         ps.add(float(p))
     for item in (*objs, *cons):
         if item.where and item.where.startswith("p="):
             ps.add(float(item.where.split("=", 1)[1]))
     if not any(p > 0 for p in ps):
-        raise DesignError("pressures_MPa", sorted(ps), "must include a pressure > 0")
+        raise DesignError("pressures", sorted(ps), "must include a pressure > 0")
     return Problem(
         base_table=base_table,
         variables=vs,

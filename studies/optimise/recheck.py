@@ -27,7 +27,7 @@ def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backe
     """
     if not params:
         return []
-    evaluators = sorted({"analytic", problem.evaluator, "fem"})
+    evaluators = sorted({"paper", problem.evaluator, "fem"})
     df = run_variants(problem, [dict(p) for p in params], backend, evaluators=evaluators, model="fem")
     ids = list(range(len(params)))
     objs, margins, ok = score_table(df, ids, problem.objectives, problem.constraints)

@@ -130,7 +130,11 @@ def _polish(evaluate, x0: np.ndarray, signs: np.ndarray, budget: int) -> np.ndar
     fg(x0)
     con = NonlinearConstraint(lambda x: -fg(x)[1], 0.0, np.inf)
     minimize(
-        lambda x: fg(x)[0], x0, method="COBYLA", constraints=[con], bounds=[(0.0, 1.0)] * len(x0),
+        lambda x: fg(x)[0],
+        x0,
+        method="COBYLA",
+        constraints=[con],
+        bounds=[(0.0, 1.0)] * len(x0),
         options={"maxiter": budget, "rhobeg": 0.05, "tol": 1e-8},
-    )  # fmt: skip
+    )
     return best["x"]

@@ -72,7 +72,7 @@ def _winner(problem: Problem, name: str, row: dict, robust: bool) -> Winner:
             for o in problem.objectives
         }
         if robust
-        else None,  # fmt: skip
+        else None,
         probabilities={c.text: float(row[f"probability {c.text}"]) for c in problem.constraints}
         if robust
         else None,
@@ -94,8 +94,14 @@ def check_search(problem: Problem, *, budget: int, seed: int = 0, robust: Robust
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= 2**32 - 1:
         raise DesignError("seed", seed, "must be an integer in [0, 4294967295]")
     runs = budget * (robust.samples if robust is not None else 1)
-    check_work(problem.model, problem.base_table, runs, param="budget", value=budget,
-               mesh_size=problem.section_options.get("mesh_size"))  # fmt: skip
+    check_work(
+        problem.model,
+        problem.base_table,
+        runs,
+        param="budget",
+        value=budget,
+        mesh_size=problem.section_options.get("mesh_size"),
+    )
 
 
 def optimise(
@@ -159,14 +165,23 @@ def optimise(
         name = backend.name
     algorithm = "DE + COBYLA (pymoo, scipy)" if len(signs) == 1 else "NSGA-II (pymoo)"
     return Optimum(
-        model=problem.model, load=problem.load, algorithm=algorithm, evaluations=len(history),
-        model_runs=len(history) * (robust.samples if robust else 1), seed=seed, budget=budget, backend=name,
+        model=problem.model,
+        load=problem.load,
+        algorithm=algorithm,
+        evaluations=len(history),
+        model_runs=len(history) * (robust.samples if robust else 1),
+        seed=seed,
+        budget=budget,
+        backend=name,
         variables=tuple({"path": v.path, "low": v.low, "high": v.high} for v in problem.variables),
         objectives=tuple(o.text for o in problem.objectives),
-        constraints=tuple(c.text for c in problem.constraints), pressures_MPa=problem.pressures_MPa,
-        best=tuple(winners), seconds=time.perf_counter() - t0,
-        robust=robust.to_json() if robust else None, history=history,
-    )  # fmt: skip
+        constraints=tuple(c.text for c in problem.constraints),
+        pressures_MPa=problem.pressures_MPa,
+        best=tuple(winners),
+        seconds=time.perf_counter() - t0,
+        robust=robust.to_json() if robust else None,
+        history=history,
+    )
 
 
 def _pick(problem: Problem, history, unit: np.ndarray, robust: bool) -> list[Winner]:

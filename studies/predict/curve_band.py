@@ -86,17 +86,11 @@ def curve_bands(
     from softcath.fem.section_model.finite_strain import section_curve
     from softcath.studies.predict.finite_strain import line_fit
     from softcath.studies.predict.ranges import base_table
-    from softcath.studies.predict.sampling import sample_values, split_overrides, unit_sample
+    from softcath.studies.predict.sampling import sample_values, unit_sample
     from softcath.studies.predict.workflow import resolve_ranges
     from softcath.studies.sweep.variants import VariantBuilder
 
-    if not (isinstance(samples, (int, np.integer)) and 2 <= samples <= MAX_CURVE_SAMPLES):
-        raise DesignError(
-            "samples", samples, f"must be an integer in [2, {MAX_CURVE_SAMPLES}] for curve bands"
-        )
-    p = np.asarray(pressures, float)
-    if p.ndim != 1 or p.size < 2 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
-        raise DesignError("pressures", p.tolist(), "need two or more increasing pressures > 0 MPa")
+    p = _checked_curve_inputs(samples, pressures)
     t0 = time.perf_counter()
     table = base_table(design_ref)
     given = resolve_ranges(design_ref, vary, ranges_file)
@@ -104,11 +98,58 @@ def curve_bands(
     skipped = [r.path for r in given if r.path.startswith("model.")]
     values = sample_values(unit_sample(samples, len(ranges), seed), ranges) if ranges else [{}] * samples
     builder = VariantBuilder(table)
-    kappa = np.full((samples, p.size), np.nan)
-    angle = np.full((samples, p.size), np.nan)
-    errors: list[str] = []
+    kappa, angle, errors = _sample_curves(builder, values, p, load, progress)
+    nominal = section_curve(builder.build({}), p, load=load, linear_gain=False)
+    ok = np.all(np.isfinite(kappa), axis=1)
+    if not ok.any():
+        raise DesignError(
+            "samples", samples, f"no variant converged; first reason: {errors[0] if errors else '?'}"
+        )
+    gains = np.array([line_fit(p, k)[0] for k in kappa[ok]])
+    doc = {
+        "model": "finite-strain section model",
+        "load": load,
+        "samples": int(samples),
+        "seed": int(seed),
+        "feasible_samples": int(ok.sum()),
+        "ranges": [r.to_json() for r in ranges],
+        "not_applicable": skipped,
+        "infeasible_examples": errors[:5],
+        "pressures": _pressure_points(p, kappa[ok], angle[ok], nominal.curvature_per_mm),
+        "gain_line_fit_percentiles": percentiles(gains),
+        "nominal_gain_line_fit": line_fit(p, nominal.curvature_per_mm)[0],
+    }
+    if measured is not None:
+        doc["measured"] = _place(measured, p, kappa[ok])
+    doc["seconds"] = float(time.perf_counter() - t0)
+    log.info("curve bands: %d of %d variants in %.1f s", int(ok.sum()), samples, doc["seconds"])
+    return doc
+
+
+def _checked_curve_inputs(samples, pressures: Sequence[float]) -> np.ndarray:
+    """The pressures as an array; :class:`DesignError` for a bad sample size or pressures that are not
+    two or more increasing values > 0."""
+    if not (isinstance(samples, (int, np.integer)) and 2 <= samples <= MAX_CURVE_SAMPLES):
+        raise DesignError(
+            "samples", samples, f"must be an integer in [2, {MAX_CURVE_SAMPLES}] for curve bands"
+        )
+    p = np.asarray(pressures, float)
+    if p.ndim != 1 or p.size < 2 or not np.all(np.isfinite(p)) or np.any(p <= 0) or np.any(np.diff(p) <= 0):
+        raise DesignError("pressures", p.tolist(), "need two or more increasing pressures > 0 MPa")
+    return p
+
+
+def _sample_curves(builder, values: list[dict], p: np.ndarray, load: str, progress: bool):
+    """The finite-strain curve of each sampled variant: curvatures and bend angles (NaN rows where a
+    variant failed) and the failure reasons."""
     from tqdm import tqdm
 
+    from softcath.fem.section_model.finite_strain import section_curve
+    from softcath.studies.predict.sampling import split_overrides
+
+    kappa = np.full((len(values), p.size), np.nan)
+    angle = np.full((len(values), p.size), np.nan)
+    errors: list[str] = []
     for i, row in enumerate(
         tqdm(values, desc="predict curve", unit="variant", leave=False, disable=not progress)
     ):
@@ -119,41 +160,22 @@ def curve_bands(
             errors.append(str(exc))
             continue
         kappa[i], angle[i] = c.curvature_per_mm, c.bend_angle_rad
-    nominal = section_curve(builder.build({}), p, load=load, linear_gain=False)
-    ok = np.all(np.isfinite(kappa), axis=1)
-    if not ok.any():
-        raise DesignError(
-            "samples", samples, f"no variant converged; first reason: {errors[0] if errors else '?'}"
-        )
-    gains = np.array([line_fit(p, k)[0] for k in kappa[ok]])
+    return kappa, angle, errors
+
+
+def _pressure_points(p: np.ndarray, kappa: np.ndarray, angle: np.ndarray, nominal_kappa) -> list[dict]:
+    """Per pressure: the percentiles of the feasible variants' curvature and bend angle, and the nominal."""
     points = []
     for j, q in enumerate(p):
         points.append(
             {
                 "pressure_MPa": float(q),
-                "curvature_percentiles": percentiles(kappa[ok, j]),
-                "bend_angle_percentiles_rad": percentiles(angle[ok, j]),
-                "nominal_curvature_per_mm": float(nominal.curvature_per_mm[j]),
+                "curvature_percentiles": percentiles(kappa[:, j]),
+                "bend_angle_percentiles_rad": percentiles(angle[:, j]),
+                "nominal_curvature_per_mm": float(nominal_kappa[j]),
             }
         )
-    doc = {
-        "model": "finite-strain section model",
-        "load": load,
-        "samples": int(samples),
-        "seed": int(seed),
-        "feasible_samples": int(ok.sum()),
-        "ranges": [r.to_json() for r in ranges],
-        "not_applicable": skipped,
-        "infeasible_examples": errors[:5],
-        "pressures": points,
-        "gain_line_fit_percentiles": percentiles(gains),
-        "nominal_gain_line_fit": line_fit(p, nominal.curvature_per_mm)[0],
-    }
-    if measured is not None:
-        doc["measured"] = _place(measured, p, kappa[ok])
-    doc["seconds"] = float(time.perf_counter() - t0)
-    log.info("curve bands: %d of %d variants in %.1f s", int(ok.sum()), samples, doc["seconds"])
-    return doc
+    return points
 
 
 def _place(measured, p: np.ndarray, kappa: np.ndarray) -> dict:

@@ -29,10 +29,15 @@ def line_fit(pressure: Sequence[float], curvature: Sequence[float]) -> tuple[flo
 
 
 def finite_strain_point(
-    design_ref, pressures: Sequence[float], *, load: str = "lumen", measured_gain: float | None = None,
+    design_ref,
+    pressures: Sequence[float],
+    *,
+    load: str = "lumen",
+    measured_gain: float | None = None,
     progress: bool = False,
-) -> dict:  # fmt: skip
-    """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain (JSON-ready)."""
+) -> dict:
+    """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain
+    (JSON-ready)."""
     from softcath import design
     from softcath.fem.nonlinear import bend_curve
 

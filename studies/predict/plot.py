@@ -7,13 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["band_picture", "curve_band_picture"]
+from softcath.studies.tiers import TIERS
 
-_LABELS = {
-    "paper": "paper's formula (eq. 7)",
-    "section": "section model (2-D GPS)",
-    "fem": "3-D linear FEM",
-}
+__all__ = ["band_picture", "curve_band_picture"]
 
 
 def band_picture(
@@ -24,7 +20,8 @@ def band_picture(
     points: Mapping[str, float] | None = None,
     title: str = "",
 ) -> Path:
-    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled gains."""
+    """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled
+    gains."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -40,14 +37,21 @@ def band_picture(
         g = t.gains[np.isfinite(t.gains)]
         p = t.gain_percentiles
         small = g.size < 200
-        ax.scatter(g, y + 0.18 * (rng.random(g.size) - 0.5), s=12 if small else 4, alpha=0.7 if small else 0.25,
-                   color="C0", lw=0)  # fmt: skip
+        ax.scatter(
+            g,
+            y + 0.18 * (rng.random(g.size) - 0.5),
+            s=12 if small else 4,
+            alpha=0.7 if small else 0.25,
+            color="C0",
+            lw=0,
+        )
         ax.add_patch(
             plt.Rectangle((p["p5"], y - 0.22), p["p95"] - p["p5"], 0.44, fill=False, color="C0", lw=1.5)
         )
         ax.plot([p["p50"]] * 2, [y - 0.22, y + 0.22], color="C0", lw=2)
         ax.plot(t.nominal_gain, y, marker="D", color="k", ms=5)
-        labels.append(f"{_LABELS.get(t.model, t.model)}\n{t.load} load, n = {t.feasible_samples}")
+        label = TIERS[t.model].short_label if t.model in TIERS else t.model
+        labels.append(f"{label}\n{t.load} load, n = {t.feasible_samples}")
     for j, (name, value) in enumerate(points.items()):
         y = rows - 1 - len(tiers) - j
         ax.plot(value, y, marker="o", color="C2", ms=7)
@@ -83,8 +87,15 @@ def curve_band_picture(nonlinear: Mapping, path: str | Path, *, measured=None, t
     ax.plot(p, band["p50"], "o-", label="p50")
     ax.plot(p, [pt["nominal_curvature_per_mm"] for pt in pts], "d--", label="nominal design")
     if measured is not None:
-        ax.plot(measured.pressure_MPa, measured.curvature_per_mm, ".", ms=2, alpha=0.3, color="0.3",
-                label="measured")  # fmt: skip
+        ax.plot(
+            measured.pressure_MPa,
+            measured.curvature_per_mm,
+            ".",
+            ms=2,
+            alpha=0.3,
+            color="0.3",
+            label="measured",
+        )
         med = nonlinear.get("measured", {}).get("points", [])
         mp = [m["pressure_MPa"] for m in med if m["measured_curvature_per_mm"] is not None]
         mk = [m["measured_curvature_per_mm"] for m in med if m["measured_curvature_per_mm"] is not None]

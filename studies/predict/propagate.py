@@ -25,6 +25,7 @@ __all__ = ["TIERS", "TIER_OPTIONS", "DEFAULT_LOAD", "TierSample", "propagate"]
 
 log = logging.getLogger(__name__)
 
+#: The tiers (:mod:`softcath.studies.tiers`) a prediction band can be drawn for.
 TIERS = ("paper", "section", "fem")
 #: Model options each tier understands (``model.<name>`` ranges).
 TIER_OPTIONS: dict[str, tuple[str, ...]] = {

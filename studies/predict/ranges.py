@@ -27,8 +27,17 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 
-__all__ = ["MODEL_OPTIONS", "SCALES", "Range", "base_table", "check_ranges", "chosen_ranges", "default_ranges", "load_ranges",
-           "parse_vary"]  # fmt: skip
+__all__ = [
+    "MODEL_OPTIONS",
+    "SCALES",
+    "Range",
+    "base_table",
+    "check_ranges",
+    "chosen_ranges",
+    "default_ranges",
+    "load_ranges",
+    "parse_vary",
+]
 
 #: Model options a range may set (path -> allowed levels).
 MODEL_OPTIONS: dict[str, tuple[str, ...]] = {
@@ -84,8 +93,13 @@ class Range:
     def to_json(self) -> dict:
         if self.categorical:
             return {"path": self.path, "levels": list(self.levels), "source": self.source}
-        return {"path": self.path, "low": self.low, "high": self.high, "scale": self.scale,
-                "source": self.source}  # fmt: skip
+        return {
+            "path": self.path,
+            "low": self.low,
+            "high": self.high,
+            "scale": self.scale,
+            "source": self.source,
+        }
 
 
 def _number(name: str, value: Any) -> float:
@@ -97,9 +111,10 @@ def _number(name: str, value: Any) -> float:
 def make_range(path: str, entry: dict, *, origin: str) -> Range:
     """A checked :class:`Range` from a table (``low``/``high``/``scale`` or ``levels``, ``source``).
 
-    ``origin`` (``"ranges"`` or ``"--vary"``) prefixes the parameter name of any error.
+    ``origin`` (``"ranges"``, a ranges file, or ``"vary"``, a given range) prefixes the
+    parameter name of any error.
     """
-    sep = " " if origin.startswith("--") else "."
+    sep = "." if origin == "ranges" else " "
     name = f"{origin}{sep}{path}"
     source = entry.get("source", "")
     if not isinstance(source, str):
@@ -170,21 +185,21 @@ def parse_vary(text: str, known: dict[str, tuple[Range, bool]]) -> Range:
     path, sep, spec = text.partition("=")
     path = path.strip()
     if not path:
-        raise DesignError("--vary", text, "must be PATH=LO:HI, PATH=LEVEL,LEVEL or PATH")
+        raise DesignError("vary", text, "must be PATH=LO:HI, PATH=LEVEL,LEVEL or PATH")
     if not sep:
         if path not in known:
-            raise DesignError(f"--vary {path}", text, "has no range in the ranges file; give PATH=LO:HI")
+            raise DesignError(f"vary {path}", text, "has no range in the ranges file; give PATH=LO:HI")
         return known[path][0]
-    origin = "--vary"
+    origin = "vary"
     if path in MODEL_OPTIONS:
         return make_range(path, {"levels": spec.split(","), "source": "command line"}, origin=origin)
     parts = spec.split(":")
     if len(parts) not in (2, 3):
-        raise DesignError(f"--vary {path}", spec, "must be LO:HI or LO:HI:SCALE")
+        raise DesignError(f"vary {path}", spec, "must be LO:HI or LO:HI:SCALE")
     try:
         low, high = float(parts[0]), float(parts[1])
     except ValueError:
-        raise DesignError(f"--vary {path}", spec, "LO and HI must be numbers") from None
+        raise DesignError(f"vary {path}", spec, "LO and HI must be numbers") from None
     entry = {"low": low, "high": high, "source": "command line"}
     if len(parts) == 3:
         entry["scale"] = parts[2]
@@ -201,8 +216,11 @@ def base_table(design_ref: str | Path) -> dict:
     else:
         path = Path(design_ref)
         if not path.is_file():
-            raise DesignError("design", str(design_ref),
-                              f"must be a preset ({', '.join(presets.names())}) or an existing .toml file")  # fmt: skip
+            raise DesignError(
+                "design",
+                str(design_ref),
+                f"must be a preset ({', '.join(presets.names())}) or an existing .toml file",
+            )
         try:
             table = tomllib.loads(path.read_text(encoding="utf-8"))
         except tomllib.TOMLDecodeError as exc:
@@ -220,19 +238,19 @@ def check_ranges(ranges: list[Range], table: dict) -> None:
     seen = set()
     for r in ranges:
         if r.path in seen:
-            raise DesignError(f"--vary {r.path}", r.path, "is given twice")
+            raise DesignError(f"vary {r.path}", r.path, "is given twice")
         seen.add(r.path)
         if r.categorical:
             continue
         try:
             check_path(table, r.path)
         except DesignError as exc:
-            raise DesignError(f"--vary {r.path}", r.path, exc.bound) from None
+            raise DesignError(f"vary {r.path}", r.path, exc.bound) from None
         for end, value in (("low", r.low), ("high", r.high)):
             try:
                 build_variant(table, {r.path: value})
             except DesignError as exc:
-                raise DesignError(f"--vary {r.path} {end}", value, f"{exc.parameter}: {exc.bound}") from None
+                raise DesignError(f"vary {r.path} {end}", value, f"{exc.parameter}: {exc.bound}") from None
 
 
 def chosen_ranges(

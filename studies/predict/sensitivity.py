@@ -40,8 +40,11 @@ def first_order(unit: np.ndarray, y: np.ndarray, names: list[str], *, seed: int)
 
     ok = np.isfinite(y)
     x, y = unit[ok], np.asarray(y, float)[ok]
-    out = {"method": "RBD-FAST first-order index S1 (SALib), 95 % bootstrap confidence", "indices": {},
-           "ranking": []}  # fmt: skip
+    out = {
+        "method": "RBD-FAST first-order index S1 (SALib), 95 % bootstrap confidence",
+        "indices": {},
+        "ranking": [],
+    }
     if not names:
         out["skipped"] = "no parameter varied"
         return out

@@ -1,4 +1,5 @@
-"""One tier's prediction band: sample, propagate, take percentiles, locate the measurement, rank parameters."""
+"""One tier's prediction band: sample, propagate, take percentiles, locate the measurement, rank
+parameters."""
 
 from __future__ import annotations
 

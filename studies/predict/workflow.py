@@ -14,6 +14,7 @@ from softcath.studies.predict.ranges import (
     chosen_ranges,
 )
 from softcath.studies.predict.tier import TierPrediction, predict_tier
+from softcath.studies.tiers import tier_name
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -41,9 +42,13 @@ MAX_GAIN = 1e3
 
 
 def check_predict_inputs(
-    *, samples: int | None = None, fem_samples: int | None = None, seed: int = 0,
-    measured_gain: float | None = None, tiers: Sequence[str] = TIERS,
-) -> None:  # fmt: skip
+    *,
+    samples: int | None = None,
+    fem_samples: int | None = None,
+    seed: int = 0,
+    measured_gain: float | None = None,
+    tiers: Sequence[str] = TIERS,
+) -> None:
     """Refuse sample sizes, a seed or a measured gain that cannot work, before any work.
 
     Raises
@@ -74,9 +79,10 @@ def check_predict_inputs(
             raise DesignError("measured_gain", measured_gain, "must be finite")
         if abs(measured_gain) > MAX_GAIN:
             raise DesignError(
-                "measured_gain", measured_gain,
+                "measured_gain",
+                measured_gain,
                 f"|gain| must be <= {MAX_GAIN:g} 1/(mm MPa) (curvature per pressure; check the units)",
-            )  # fmt: skip
+            )
 
 
 def resolve_ranges(
@@ -85,7 +91,9 @@ def resolve_ranges(
     """The ranges to vary: each ``--vary`` item, or (none given) the ranges file's defaults."""
     ranges = chosen_ranges(design_ref, base_table(design_ref), vary, ranges_file)
     if ranges is None:
-        raise DesignError("--vary", [], f"no ranges file for design {design_ref!s}: give --vary or --ranges")
+        raise DesignError(
+            "vary", [], f"no ranges file for design {design_ref!s}: give ranges to vary or a ranges file"
+        )
     return ranges
 
 
@@ -100,10 +108,12 @@ def _check_section_work(table: dict, samples: int) -> None:
     seconds = samples * estimate_section_seconds(dofs)
     if seconds > MAX_WORK_SECONDS:
         raise DesignError(
-            "samples", samples, f"would take about {seconds / 3600:.3g} h with the section model "
+            "samples",
+            samples,
+            f"would take about {seconds / 3600:.3g} h with the section model "
             f"({dofs:.3g} DOFs per variant, ~{estimate_section_seconds(dofs):.2g} s each); at most "
-            f"{MAX_WORK_SECONDS / 3600:g} h: use fewer samples"
-        )  # fmt: skip
+            f"{MAX_WORK_SECONDS / 3600:g} h: use fewer samples",
+        )
 
 
 def predict(
@@ -126,13 +136,15 @@ def predict(
     lumen otherwise); ``samples`` sets the paper and section tiers'
     sample size, ``fem_samples`` the 3-D FEM's (defaults: :data:`DEFAULT_SAMPLES`).
     """
-    for name in (model, *compare):
-        if name not in TIERS:
-            raise DesignError("model", name, f"must be one of {', '.join(TIERS)}")
+    model = tier_name(model, allowed=TIERS)
+    compare = tuple(tier_name(name, allowed=TIERS) for name in compare)
     check_predict_inputs(
-        samples=samples, fem_samples=fem_samples, seed=seed, measured_gain=measured_gain,
+        samples=samples,
+        fem_samples=fem_samples,
+        seed=seed,
+        measured_gain=measured_gain,
         tiers=(model, *compare),
-    )  # fmt: skip
+    )
     table = base_table(design_ref)
     ranges = resolve_ranges(design_ref, vary, ranges_file)
     order = [model] + [t for t in TIERS if t in compare and t != model]
@@ -151,7 +163,7 @@ def predict(
                 seed=seed,
                 measured_gain=measured_gain,
                 progress=progress,
-            )  # fmt: skip
+            )
         )
     doc = {"design": table.get("name", str(design_ref)), **tiers[0].to_json()}
     if len(tiers) > 1:

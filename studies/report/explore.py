@@ -1,4 +1,5 @@
-"""The sweep report's interactive page, ``explore.html``: parity with hover, parallel coordinates, Pareto clicks.
+"""The sweep report's interactive page, ``explore.html``: parity with hover, parallel coordinates, Pareto
+clicks.
 
 Beside the static ``index.html`` (kept for print) in the same folder, with
 ``plotly.min.js`` written once there. The parity plot's hover shows each
@@ -28,8 +29,11 @@ _RESULTS = ("bend_angle_deg", "bend_per_MPa_deg", "max_strain", "elongation", "c
 
 def _parity(df, params: list[str]) -> str:
     ok = df[df.status == "ok"]
-    pairs = [(m, c) for m, c in (("3-D FEM", "curvature_fem_per_mm"), ("section model", "curvature_section_per_mm"))
-             if c in ok and np.isfinite(ok[c].to_numpy(float)).any()]  # fmt: skip
+    pairs = [
+        (m, c)
+        for m, c in (("3-D FEM", "curvature_fem_per_mm"), ("section model", "curvature_section_per_mm"))
+        if c in ok and np.isfinite(ok[c].to_numpy(float)).any()
+    ]
     out = ""
     for load, g in ok.groupby("load"):
         g = g[g.pressure_MPa > 0]
@@ -49,8 +53,15 @@ def _parity(df, params: list[str]) -> str:
         cols = {p: g[p].to_numpy() for p in params if p in g}
         cols["p [MPa]"] = g["pressure_MPa"].to_numpy()
         labels = [f"design {i}" for i in g["design_id"]]
-        fig = ia.parity(g["curvature_analytic_per_mm"], y, cols, xlabel="paper's formula curvature [1/mm]",
-                        ylabel=ylabel, name=f"{load} load", label=labels)  # fmt: skip
+        fig = ia.parity(
+            g["curvature_analytic_per_mm"],
+            y,
+            cols,
+            xlabel="paper's formula curvature [1/mm]",
+            ylabel=ylabel,
+            name=f"{load} load",
+            label=labels,
+        )
         out += ia.chart(
             fig, f"parity-{load}", f"{esc(load)} load: every design and pressure; hover for its parameters."
         )
@@ -64,8 +75,12 @@ def _parallel(df, params: list[str], load: str) -> str:
     cols = {p: at[p].to_numpy() for p in params if p in at and np.issubdtype(at[p].dtype, np.number)}
     cols.update({c: at[c].to_numpy(float) for c in _RESULTS if c in at})
     fig = ia.parallel(cols, color="bend_angle_deg")
-    return ia.chart(fig, "parallel", f"Designs at p_max, {esc(load)} load: drag along an axis to brush a range; "
-                    "drag the brushed range to move it, click the axis outside it to clear.")  # fmt: skip
+    return ia.chart(
+        fig,
+        "parallel",
+        f"Designs at p_max, {esc(load)} load: drag along an axis to brush a range; "
+        "drag the brushed range to move it, click the axis outside it to clear.",
+    )
 
 
 def _pareto(sweep_dir: Path, stage: Path, sel: dict) -> str:

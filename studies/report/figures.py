@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.studies.tiers import TIERS
+
 __all__ = [
     "parity_plot",
     "tiers_parity_plot",
@@ -217,8 +219,14 @@ def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str
     for row, (load, grp) in enumerate(groups):
         for ax, p in zip(axes[row], params, strict=True):
             for ld, g in grp.groupby("load"):
-                ax.scatter(g[p].astype(float), g[col], s=12, alpha=0.7, label=f"{ld} load",
-                           color=_LOAD_COLOURS.get(ld))  # fmt: skip
+                ax.scatter(
+                    g[p].astype(float),
+                    g[col],
+                    s=12,
+                    alpha=0.7,
+                    label=f"{ld} load",
+                    color=_LOAD_COLOURS.get(ld),
+                )
             ax.set_xlabel(p)
             ax.grid(alpha=0.3)
         axes[row][0].set_ylabel(label if load is None else f"{label}\n({load} load)")
@@ -244,9 +252,15 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
         sub = sub[np.isclose(sub[o].astype(float), mid)]
         fixed.append(f"{o} = {mid:g}")
     fem = has_fem(df)
-    col, label = ("rel_diff_curvature", "relative error (FEM − analytic)/|analytic|") if fem else (
-        ("section_formula_ratio", "section model κ / paper's formula") if has_section(df)
-        else ("bend_per_MPa_deg", "bend per MPa [deg/MPa]"))  # fmt: skip
+    col, label = (
+        ("rel_diff_curvature", "relative error (FEM − analytic)/|analytic|")
+        if fem
+        else (
+            ("section_formula_ratio", "section model κ / paper's formula")
+            if has_section(df)
+            else ("bend_per_MPa_deg", "bend per MPa [deg/MPa]")
+        )
+    )
     loads = sorted(set(df.load))
     xs = np.unique(df[px].astype(float).dropna())
     ys = np.unique(df[py].astype(float).dropna())
@@ -259,8 +273,13 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
             i = np.searchsorted(ys, float(r[py]))
             j = np.searchsorted(xs, float(r[px]))
             grid[i, j] = r[col]
-        im = ax.imshow(grid, origin="lower", aspect="auto", cmap="viridis",
-                       extent=(-0.5, len(xs) - 0.5, -0.5, len(ys) - 0.5))  # fmt: skip
+        im = ax.imshow(
+            grid,
+            origin="lower",
+            aspect="auto",
+            cmap="viridis",
+            extent=(-0.5, len(xs) - 0.5, -0.5, len(ys) - 0.5),
+        )
         ax.set_xticks(range(len(xs)), [f"{v:.3g}" for v in xs], rotation=45)
         ax.set_yticks(range(len(ys)), [f"{v:.3g}" for v in ys])
         ax.set_xlabel(px)
@@ -318,7 +337,9 @@ def sensitivity(df, params: list[str], lhs: bool, path: Path) -> tuple[Path | No
         ax.bar(pos + 0.2, s1, width=0.4, label="RBD-FAST S1")
     ax.set_xticks(pos, params, rotation=20)
     ax.axhline(0, color="k", lw=0.8)
-    ax.set_ylabel(f"sensitivity of {'section' if section else 'analytic'} κ at p_max ({load})")
+    ax.set_ylabel(
+        f"sensitivity of {TIERS['section' if section else 'paper'].short_label} κ at p_max ({load})"
+    )
     ax.legend()
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
@@ -335,8 +356,14 @@ def render_design(design, path: Path, *, title: str, curvatures: dict[str, float
     fig, axes = plt.subplots(1, ncols, figsize=(4.2 * ncols, 4), squeeze=False)
     ax = axes[0][0]
     ax.add_patch(Circle((0, 0), s.coil_outer_radius, color="#8a8f98", label="coil (homogenised)"))
-    ax.add_patch(Circle((0, 0), s.coil_inner_radius, color="#f4e9c8" if design.filler else "white",
-                        label="filler" if design.filler else "void"))  # fmt: skip
+    ax.add_patch(
+        Circle(
+            (0, 0),
+            s.coil_inner_radius,
+            color="#f4e9c8" if design.filler else "white",
+            label="filler" if design.filler else "void",
+        )
+    )
     ax.add_patch(Ellipse((0, s.tube_center_y), 2 * s.a, 2 * s.b, color="#d95f5f", label="silicone tube"))
     ax.add_patch(Ellipse((0, s.lumen_center_y), 2 * s.a_int, 2 * s.b_int, color="white", label="lumen"))
     ax.add_patch(Circle((0, s.channel_center_y), s.channel_outer_radius, color="#5a6270", label="channel"))
@@ -410,9 +437,7 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
     ax.set_ylabel(objs[1])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    model = {"paper": "paper's formula", "section": "section model", "fem": "3-D FEM"}.get(
-        selection.get("model")
-    )
+    model = TIERS[selection["model"]].short_label if selection.get("model") in TIERS else None
     ax.set_title(f"Selection ({model + ', ' if model else ''}{selection.get('load')} load)")
     return _save(fig, path)
 
@@ -436,14 +461,24 @@ def bend_curves(df, path: Path, *, max_designs: int = 6) -> Path | None:
                 continue
             c = colors[n % len(colors)]
             p = g.pressure_MPa.to_numpy(float)
-            ax.plot(p, np.degrees(g["nonlinear_bend_angle_rad"].to_numpy(float)), "-o", color=c, ms=3,
-                    label=f"design {did}: nonlinear FEM")  # fmt: skip
+            ax.plot(
+                p,
+                np.degrees(g["nonlinear_bend_angle_rad"].to_numpy(float)),
+                "-o",
+                color=c,
+                ms=3,
+                label=f"design {did}: nonlinear FEM",
+            )
             if "bend_angle_fem_rad" in g and np.isfinite(g["bend_angle_fem_rad"].astype(float)).any():
                 ax.plot(
                     p, np.degrees(g["bend_angle_fem_rad"].to_numpy(float)), "--", color=c, label="linear FEM"
                 )
             ax.plot(
-                p, np.degrees(g["bend_angle_analytic_rad"].to_numpy(float)), ":", color=c, label="analytic"
+                p,
+                np.degrees(g["bend_angle_analytic_rad"].to_numpy(float)),
+                ":",
+                color=c,
+                label=TIERS["paper"].short_label,
             )
         ax.set_title(f"{load} load")
         ax.set_xlabel("pressure [MPa]")

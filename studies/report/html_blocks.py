@@ -9,11 +9,13 @@ from collections.abc import Iterable, Sequence
 __all__ = ["esc", "table", "figure", "page", "note", "fmt"]
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;
-color:#222;line-height:1.45}
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:2em auto;
+padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.7em;margin-bottom:.2em} h2{margin-top:2em;border-bottom:1px solid #ddd;padding-bottom:.2em}
-table{border-collapse:collapse;margin:.8em 0;font-size:.9em} td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}
-th{background:#f3f3f3} td.l,th.l{text-align:left} figure{margin:1em 0} img{max-width:100%;border:1px solid #eee}
+table{border-collapse:collapse;margin:.8em 0;font-size:.9em}
+td,th{border:1px solid #ccc;padding:.25em .6em;text-align:right}
+th{background:#f3f3f3} td.l,th.l{text-align:left} figure{margin:1em 0}
+img{max-width:100%;border:1px solid #eee}
 figcaption{font-size:.9em;color:#555} .note{background:#fff8e1;border-left:4px solid #f0b400;padding:.5em 1em}
 .ok{color:#1a7f37} .bad{color:#b42318} code{background:#f5f5f5;padding:0 .2em}
 """

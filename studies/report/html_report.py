@@ -19,6 +19,7 @@ import numpy as np
 from softcath.design.errors import DataError
 from softcath.studies.report import figures
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
+from softcath.studies.tiers import TIERS
 
 __all__ = ["write_report", "sweep_sections", "design_of"]
 
@@ -66,9 +67,6 @@ def design_of(sweep_dir: str | Path, design_id: int):
     return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
-_MODEL_NAMES = {"paper": "the paper's formula", "section": "the section model", "fem": "the 3-D FEM"}
-
-
 def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
     path = sweep_dir / "selection.json"
     if not path.is_file():
@@ -84,7 +82,8 @@ def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = 
         return _selection_body(sel, fig_dir, prefix)
     except (KeyError, TypeError, AttributeError, IndexError, ValueError) as exc:
         raise DataError(
-            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite it"
+            f"{path}: not a selection ({type(exc).__name__}: {exc}); run `softcath select` again to rewrite "
+            "it"
         ) from None
 
 
@@ -95,7 +94,8 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     out = (
         "<p>"
         + (
-            f"Model <b>{esc(_MODEL_NAMES.get(sel['model'], 'the table as given'))}</b>, l"
+            f"Model <b>{esc(TIERS[sel['model']].label if sel['model'] in TIERS else 'the table as given')}"
+            "</b>, l"
             if "model" in sel
             else "L"
         )
@@ -108,7 +108,8 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     rb = sel.get("robust")
     if rb:
         out += (
-            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked designs "
+            f"<p><b>Robust</b> ({esc(rb['model'])} model): {rb['n_passing']} of {rb['n_evaluated']} ranked "
+            "designs "
             f"meet every constraint with probability ≥ {fmt(rb['P'])} over {rb['samples']} samples of "
             + ", ".join(f"<code>{esc(r['path'])}</code>" for r in rb["ranges"])
             + "; the ranking below is on the objectives' p50.</p>"
@@ -150,12 +151,56 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     factorial = [p["path"] for p in spec["parameters"] if p["kind"] != "lhs"]
     lhs = any(p["kind"] == "lhs" for p in spec["parameters"])
     fem = figures.has_fem(df)
-    per = df.drop_duplicates("design_id")
-    n_ok = int((per.status == "ok").sum())
-    sections: list[tuple[str, str]] = []
+    sections: list[tuple[str, str]] = [("Overview", _overview_html(spec, df.drop_duplicates("design_id")))]
 
+    ppath, body = _parity_html(df, fig_dir, prefix)
+    if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
+        sections.append(("Analytic vs FEM", body))
+
+    sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
+
+    bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
+    if bpath:
+        sections.append(
+            (
+                "Large bends",
+                figure(
+                    prefix + bpath.name,
+                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic "
+                    "(dotted). Where they part, the small-rotation models stop being trustworthy.",
+                ),
+            )
+        )
+
+    epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
+    sections.append(
+        (
+            "Against each swept parameter",
+            figure(prefix + epath.name, f"{esc(label)} against each swept parameter.")
+            if epath
+            else note("No valid design with a numeric swept parameter."),
+        )
+    )
+
+    hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
+    if hpath:
+        sections.append(("Heat maps", figure(prefix + hpath.name, esc(caption))))
+
+    sensitivity = _sensitivity_html(df, params, lhs, fig_dir, prefix)
+    if sensitivity:
+        sections.append(("Sensitivity", sensitivity))
+
+    sections.append(("Renders", _renders(df, sweep_dir, fig_dir, prefix, fem)))
+    sections.append(("Failed designs", _failed_html(df)))
+    sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
+    return sections
+
+
+def _overview_html(spec: dict, per) -> str:
+    """The overview paragraph: the sweep, its designs (``per``: one row per design) and the loads."""
+    n_ok = int((per.status == "ok").sum())
     kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
-    overview = (
+    return (
         f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
         f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
         f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
@@ -164,13 +209,17 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
         "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
         "unconfined tube.</p>"
     )
-    sections.append(("Overview", overview))
 
+
+def _parity_html(df, fig_dir: Path, prefix: str):
+    """The FEM-vs-analytic parity plot's path (``None`` without FEM results) and its HTML."""
     ppath = figures.parity_plot(df, fig_dir / "parity.png")
     if ppath:
         ok = df[(df.status == "ok") & np.isfinite(df.rel_diff_curvature)]
-        stats = [(load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
-                 for load, g in ok.groupby("load")]  # fmt: skip
+        stats = [
+            (load, len(g), float(g.rel_diff_curvature.median()), float(g.abs_rel_diff_curvature.max()))
+            for load, g in ok.groupby("load")
+        ]
         body = figure(
             prefix + ppath.name,
             "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
@@ -180,55 +229,35 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
             ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
         )
     else:
-        body = note("No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
-                    "no parity plot.")  # fmt: skip
-    if ppath or not figures.has_section(df):  # with the section model alone, the tiers section says it all
-        sections.append(("Analytic vs FEM", body))
-
-    sections.append(("Formula, section model and 3-D FEM", _tiers_html(df, fig_dir, prefix)))
-
-    bpath = figures.bend_curves(df, fig_dir / "bend_curves.png")
-    if bpath:
-        sections.append(
-            ("Large bends",
-             figure(prefix + bpath.name,
-                    "Bend angle vs pressure: finite-strain FEM (solid), linear FEM (dashed), analytic (dotted). "
-                    "Where they part, the small-rotation models stop being trustworthy."))
-        )  # fmt: skip
-
-    epath, label = figures.parameter_plots(df, params, fig_dir / "vs_parameters.png")
-    sections.append(
-        ("Against each swept parameter",
-         figure(prefix + epath.name, f"{esc(label)} against each swept parameter.") if epath
-         else note("No valid design with a numeric swept parameter."))
-    )  # fmt: skip
-
-    hpath, caption = figures.heat_maps(df, factorial, fig_dir / "heatmap.png")
-    if hpath:
-        sections.append(("Heat maps", figure(prefix + hpath.name, esc(caption))))
-
-    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
-    if spath:
-        body = figure(
-            prefix + spath.name,
-            f"Sensitivity of the {'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
-            "at p_max to each parameter: "
-            "standardised regression coefficients"
-            + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+        body = note(
+            "No FEM results in this sweep (analytic only, or the FEM evaluator was unavailable): "
+            "no parity plot."
         )
-        body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
-        sections.append(("Sensitivity", body))
+    return ppath, body
 
-    sections.append(("Renders", _renders(df, sweep_dir, fig_dir, prefix, fem)))
 
+def _sensitivity_html(df, params: list[str], lhs: bool, fig_dir: Path, prefix: str) -> str | None:
+    """The sensitivity figure and table (HTML), or ``None`` when there is nothing to show."""
+    spath, rows = figures.sensitivity(df, params, lhs, fig_dir / "sensitivity.png")
+    if not spath:
+        return None
+    body = figure(
+        prefix + spath.name,
+        "Sensitivity of the "
+        f"{'section-model curvature (lumen load)' if figures.has_section(df) else 'analytic curvature'} "
+        "at p_max to each parameter: "
+        "standardised regression coefficients" + (" and RBD-FAST first-order indices (SALib)" if lhs else ""),
+    )
+    body += table(["parameter", "SRC", "RBD-FAST S1"], rows, left=1)
+    return body
+
+
+def _failed_html(df) -> str:
+    """The failed designs grouped by reason (HTML table), or a line saying there are none."""
     fails = figures.failed_summary(df)
     if fails:
-        body = table(["reason", "designs", "design ids"], fails, left=1)
-    else:
-        body = "<p class='ok'>No failed designs.</p>"
-    sections.append(("Failed designs", body))
-    sections.append(("Selection", _selection_html(sweep_dir, fig_dir, prefix)))
-    return sections
+        return table(["reason", "designs", "design ids"], fails, left=1)
+    return "<p class='ok'>No failed designs.</p>"
 
 
 def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
@@ -243,15 +272,21 @@ def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
     body = figure(
         prefix + tpath.name,
         "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
-        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section model "
-        "(their agreement), where each ran.",
+        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section "
+        "model (their agreement), where each ran.",
     )
     body += table(
-        ["load", "rows", "median section / formula", "median FEM / formula", "median |FEM / section − 1|",
-         "max |FEM / section − 1|"],
+        [
+            "load",
+            "rows",
+            "median section / formula",
+            "median FEM / formula",
+            "median |FEM / section − 1|",
+            "max |FEM / section − 1|",
+        ],
         figures.tier_agreement(df),
         left=1,
-    )  # fmt: skip
+    )
     return body
 
 

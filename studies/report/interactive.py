@@ -71,13 +71,30 @@ def parity(x, y, params: Mapping[str, Sequence], *, xlabel: str, ylabel: str, na
     x, y = np.asarray(x, float), np.asarray(y, float)
     fig = go.Figure()
     kind = go.Scatter if len(x) <= SVG_POINTS else go.Scattergl  # WebGL only where SVG gets slow
-    fig.add_trace(kind(x=x, y=y, mode="markers", name=name, marker={"size": 6, "opacity": 0.7},
-                               text=_hover(params, len(x), label), hovertemplate="%{text}<extra></extra>"))  # fmt: skip
+    fig.add_trace(
+        kind(
+            x=x,
+            y=y,
+            mode="markers",
+            name=name,
+            marker={"size": 6, "opacity": 0.7},
+            text=_hover(params, len(x), label),
+            hovertemplate="%{text}<extra></extra>",
+        )
+    )
     finite = np.concatenate([x[np.isfinite(x)], y[np.isfinite(y)]])
     if finite.size:
         lo, hi = float(finite.min()), float(finite.max())
-        fig.add_trace(go.Scatter(x=[lo, hi], y=[lo, hi], mode="lines", name="y = x",
-                                 line={"color": "#888", "dash": "dash"}, hoverinfo="skip"))  # fmt: skip
+        fig.add_trace(
+            go.Scatter(
+                x=[lo, hi],
+                y=[lo, hi],
+                mode="lines",
+                name="y = x",
+                line={"color": "#888", "dash": "dash"},
+                hoverinfo="skip",
+            )
+        )
     fig.update_layout(
         xaxis_title=xlabel, yaxis_title=ylabel, height=460, margin={"t": 30}, hovermode="closest"
     )
@@ -117,11 +134,18 @@ def pareto(x, y, info: Sequence[dict], *, xlabel: str, ylabel: str, on_front=Non
     for mask, name, size in ((~front, "other designs", 6), (front, "Pareto front", 10)):
         idx = np.flatnonzero(mask)
         if idx.size:
-            fig.add_trace(go.Scatter(
-                x=x[idx], y=y[idx], mode="markers", name=name, marker={"size": size},
-                customdata=idx.tolist(), text=[info[i].get("label", "") for i in idx],
-                hovertemplate="%{text}<extra></extra>",
-            ))  # fmt: skip
+            fig.add_trace(
+                go.Scatter(
+                    x=x[idx],
+                    y=y[idx],
+                    mode="markers",
+                    name=name,
+                    marker={"size": size},
+                    customdata=idx.tolist(),
+                    text=[info[i].get("label", "") for i in idx],
+                    hovertemplate="%{text}<extra></extra>",
+                )
+            )
     fig.update_layout(
         xaxis_title=xlabel, yaxis_title=ylabel, height=460, margin={"t": 30}, hovermode="closest"
     )

@@ -69,15 +69,21 @@ def _design_info(out_dir: Path, w: dict, draw: bool, opt: dict) -> dict:
         d = design.load(src)
         p_max = max(opt["pressures_MPa"])
         kappa = float(np.asarray(analytic.response(d, np.array([p_max]), load="cap").curvature)[0])
-        png = render_design(d, out_dir / "designs" / f"{w['name']}.png", title=w["name"],
-                            curvatures={f"paper's formula, {fmt(p_max)} MPa": kappa})  # fmt: skip
+        png = render_design(
+            d,
+            out_dir / "designs" / f"{w['name']}.png",
+            title=w["name"],
+            curvatures={f"paper's formula, {fmt(p_max)} MPa": kappa},
+        )
         image = f"designs/{png.name}"
     lines = [f"<b>{esc(w['name'])}</b>{'' if w['feasible'] else ' (infeasible)'}"]
     lines += [f"{esc(k)} = {fmt(v)}" for k, v in {**w["parameters"], **w["objectives"]}.items()]
     fem = w.get("fem_check")
     if fem:
-        lines.append(f"3-D FEM: curvature differs by {fmt(fem.get('curvature_rel_diff'))} "
-                     f"({'meets' if fem.get('feasible') else 'misses'} the constraints)")  # fmt: skip
+        lines.append(
+            f"3-D FEM: curvature differs by {fmt(fem.get('curvature_rel_diff'))} "
+            f"({'meets' if fem.get('feasible') else 'misses'} the constraints)"
+        )
     return {"label": esc(w["name"]), "html": "<br>".join(lines), "image": image}
 
 
@@ -93,8 +99,16 @@ def _winners_table(opt: dict) -> str:
         *opt["objectives"],
         *(f"margin: {c}" for c in opt["constraints"]),
     ]
-    rows = [[Markup(esc(w["name"])), w["feasible"], *w["parameters"].values(), *w["objectives"].values(),
-             *w["constraints"].values()] for w in best]  # fmt: skip
+    rows = [
+        [
+            Markup(esc(w["name"])),
+            w["feasible"],
+            *w["parameters"].values(),
+            *w["objectives"].values(),
+            *w["constraints"].values(),
+        ]
+        for w in best
+    ]
     out = table(header, rows, left=1)
     if opt.get("robust"):
         head = [
@@ -102,16 +116,36 @@ def _winners_table(opt: dict) -> str:
             *(f"{o} p5/p50/p95" for o in opt["objectives"]),
             *(f"P({c})" for c in opt["constraints"]),
         ]
-        rows = [[Markup(esc(w["name"])),
-                 *(Markup(" / ".join(fmt(w["percentiles"][o][q]) for q in ("p5", "p50", "p95"))) for o in opt["objectives"]),
-                 *(w["probabilities"][c] for c in opt["constraints"])] for w in best]  # fmt: skip
-        out += f"<p>Robust: probability P = {fmt(opt['robust']['P'])} over {opt['robust']['samples']} samples of " + ", ".join(
-            f"<code>{esc(r['path'])}</code>" for r in opt["robust"]["ranges"]
-        ) + ".</p>" + table(head, rows, left=1)  # fmt: skip
+        rows = [
+            [
+                Markup(esc(w["name"])),
+                *(
+                    Markup(" / ".join(fmt(w["percentiles"][o][q]) for q in ("p5", "p50", "p95")))
+                    for o in opt["objectives"]
+                ),
+                *(w["probabilities"][c] for c in opt["constraints"]),
+            ]
+            for w in best
+        ]
+        out += (
+            f"<p>Robust: probability P = {fmt(opt['robust']['P'])} over {opt['robust']['samples']} samples "
+            "of "
+            + ", ".join(f"<code>{esc(r['path'])}</code>" for r in opt["robust"]["ranges"])
+            + ".</p>"
+            + table(head, rows, left=1)
+        )
     checks = [w for w in best if w.get("fem_check")]
     if checks:
-        rows = [[Markup(esc(w["name"])), Markup(esc(w["fem_check"]["status"])), w["fem_check"]["feasible"],
-                 w["fem_check"]["curvature_rel_diff"], *w["fem_check"]["objectives"].values()] for w in checks]  # fmt: skip
+        rows = [
+            [
+                Markup(esc(w["name"])),
+                Markup(esc(w["fem_check"]["status"])),
+                w["fem_check"]["feasible"],
+                w["fem_check"]["curvature_rel_diff"],
+                *w["fem_check"]["objectives"].values(),
+            ]
+            for w in checks
+        ]
         out += "<h3>3-D linear FEM re-check</h3>" + table(
             ["design", "status", "meets constraints", "|FEM − model| / model (κ)", *opt["objectives"]],
             rows,
@@ -125,7 +159,8 @@ def _winners_table(opt: dict) -> str:
 
 
 def write_optimum_report(out_dir: str | Path) -> Path:
-    """Write ``out_dir/index.html`` (and ``plotly.min.js``, ``convergence.png``) for an optimisation folder."""
+    """Write ``out_dir/index.html`` (and ``plotly.min.js``, ``convergence.png``) for an optimisation
+    folder."""
     out_dir = Path(out_dir)
     opt, hist = _read(out_dir)
     ia.write_plotly_js(out_dir)
@@ -141,16 +176,19 @@ def write_optimum_report(out_dir: str | Path) -> Path:
     cols.update({o: hist[o] for o in objs})
     cols.update({f"margin {c}": hist[f"margin {c}"].clip(lower=-1e3) for c in cons})
     body += "<h2>Every evaluation</h2>" + ia.chart(
-        ia.parallel(cols, color=objs[0]), "opt-parallel",
+        ia.parallel(cols, color=objs[0]),
+        "opt-parallel",
         "Parameters and results of every evaluated design; drag along an axis to brush a range.",
-    )  # fmt: skip
+    )
     info = [_design_info(out_dir, w, k < MAX_PICTURES, opt) for k, w in enumerate(opt["best"])]
     x = [w["objectives"][objs[0]] for w in opt["best"]]
     if len(objs) > 1:
         y, ylab = [w["objectives"][objs[1]] for w in opt["best"]], objs[1]
     else:
-        y, ylab = [w["constraints"][cons[0]] if cons else 0.0 for w in opt["best"]], (
-            f"margin {cons[0]}" if cons else "")  # fmt: skip
+        y, ylab = (
+            [w["constraints"][cons[0]] if cons else 0.0 for w in opt["best"]],
+            (f"margin {cons[0]}" if cons else ""),
+        )
     hy_src = hist[objs[1]] if len(objs) > 1 else (hist[f"margin {cons[0]}"] if cons else hist[objs[0]] * 0)
     hx_all, hy_all = hist[objs[0]].to_numpy(float), hy_src.to_numpy(float)
     winners = set(zip(np.asarray(x, float).tolist(), np.asarray(y, float).tolist(), strict=True))
@@ -158,15 +196,22 @@ def write_optimum_report(out_dir: str | Path) -> Path:
     feas = hist["feasible"].to_numpy(bool) & np.array(
         [(a, b) not in winners for a, b in zip(hx_all.tolist(), hy_all.tolist(), strict=True)], bool
     )
-    all_info = info + [{"label": f"evaluation {i}", "html": f"evaluation {i}", "image": ""}
-                       for i in np.flatnonzero(feas)]  # fmt: skip
+    all_info = info + [
+        {"label": f"evaluation {i}", "html": f"evaluation {i}", "image": ""} for i in np.flatnonzero(feas)
+    ]
     hx = np.concatenate([np.asarray(x, float), hx_all[feas]])
     hy = np.concatenate([np.asarray(y, float), hy_all[feas]])
     front = np.r_[np.ones(len(x), bool), np.zeros(int(feas.sum()), bool)]
     fig = ia.pareto(hx, hy, all_info, xlabel=objs[0], ylabel=ylab, on_front=front)
-    body += "<h2>Objectives</h2>" + ia.chart(
-        fig, "opt-pareto", "Feasible evaluations; the winners (Pareto front) large. Click a winner to see it."
-    ) + ia.click_panel("opt-pareto", all_info)  # fmt: skip
+    body += (
+        "<h2>Objectives</h2>"
+        + ia.chart(
+            fig,
+            "opt-pareto",
+            "Feasible evaluations; the winners (Pareto front) large. Click a winner to see it.",
+        )
+        + ia.click_panel("opt-pareto", all_info)
+    )
     png = _convergence_png(opt, hist, out_dir / "convergence.png")
     body += "<h2>Convergence</h2>" + figure(
         png.name, "First objective of every feasible evaluation (static, for print)."

@@ -74,12 +74,12 @@ def parse_constraint(text: str) -> Constraint:
         raise SelectionError(f"cannot parse '{text}': {exc.msg}") from None
     if isinstance(tree, ast.BoolOp):
         raise SelectionError(
-            f"in '{text}': operator '{op_name(tree.op)}' is not allowed; give one --constraint per condition"
+            f"in '{text}': operator '{op_name(tree.op)}' is not allowed; give one constraint per condition"
         )
     if not isinstance(tree, ast.Compare):
         raise SelectionError(f"'{text}' is not a comparison: use one of {' '.join(COMPARE.values())}")
     if len(tree.ops) != 1:
-        raise SelectionError(f"in '{text}': use one comparison per constraint (give several --constraint)")
+        raise SelectionError(f"in '{text}': use one comparison per constraint (give several constraints)")
     op = type(tree.ops[0])
     if op not in COMPARE:
         raise SelectionError(

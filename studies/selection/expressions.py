@@ -27,10 +27,23 @@ class SelectionError(SoftcathError):
 
 def op_name(node: ast.AST) -> str:
     names = {
-        ast.Pow: "**", ast.Mod: "%", ast.FloorDiv: "//", ast.BitAnd: "&", ast.BitOr: "|", ast.BitXor: "^",
-        ast.And: "and", ast.Or: "or", ast.Not: "not", ast.In: "in", ast.NotIn: "not in", ast.Is: "is",
-        ast.MatMult: "@", ast.LShift: "<<", ast.RShift: ">>", ast.Invert: "~",
-    }  # fmt: skip
+        ast.Pow: "**",
+        ast.Mod: "%",
+        ast.FloorDiv: "//",
+        ast.BitAnd: "&",
+        ast.BitOr: "|",
+        ast.BitXor: "^",
+        ast.And: "and",
+        ast.Or: "or",
+        ast.Not: "not",
+        ast.In: "in",
+        ast.NotIn: "not in",
+        ast.Is: "is",
+        ast.MatMult: "@",
+        ast.LShift: "<<",
+        ast.RShift: ">>",
+        ast.Invert: "~",
+    }
     return names.get(type(node), type(node).__name__)
 
 

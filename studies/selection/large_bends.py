@@ -57,7 +57,7 @@ def recheck_large_bends(
     selection: Selection,
     *,
     base_table: Mapping[str, Any],
-    pressures_MPa: Sequence[float],
+    pressures: Sequence[float],
     constraints: Sequence[str],
     workers: int | None = None,
 ) -> Selection:
@@ -70,9 +70,14 @@ def recheck_large_bends(
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
     problem = Problem(
-        base_table=base_table, variables=(), objectives=objs, constraints=cons, model="section-nonlinear",
-        load=selection.load, pressures_MPa=tuple(sorted(set(pressures_MPa))),
-    )  # fmt: skip
+        base_table=base_table,
+        variables=(),
+        objectives=objs,
+        constraints=cons,
+        model="section-nonlinear",
+        load=selection.load,
+        pressures_MPa=tuple(sorted(set(pressures))),
+    )
     swept = {p for r in selection.ranked for p in r["parameters"]}
     params = [
         {k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
@@ -91,18 +96,12 @@ def recheck_large_bends(
     order = sorted(
         range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
     )
-    ranked = []
-    for rank, k in enumerate(order, start=1):
-        r, vals = passing[k]
-        linear = dict(r["objectives"])
-        ranked.append({**r, "rank": rank, "pareto": bool(front[k]), "linear_rank": r["rank"],
-                       "objectives": {o.text: float(v) for o, v in zip(objs, vals, strict=True)},
-                       "linear_objectives": linear})  # fmt: skip
+    ranked = _rechecked_ranking(passing, order, front, objs)
     dropped = [r["design_id"] for i, r in enumerate(selection.ranked) if r not in [p[0] for p in passing]]
     note = (
-        f"{'; '.join(constraints)}: bends past {LINEAR_BEND_LIMIT_DEG:g} deg are beyond the {selection.model} "
-        f"model's validity; the {len(selection.ranked)} ranked designs were re-checked with the finite-strain "
-        f"section model ({len(passing)} still pass)"
+        f"{'; '.join(constraints)}: bends past {LINEAR_BEND_LIMIT_DEG:g} deg are beyond the "
+        f"{selection.model} model's validity; the {len(selection.ranked)} ranked designs were re-checked "
+        f"with the finite-strain section model ({len(passing)} still pass)"
     )
     recheck = {
         "model": "section-nonlinear",
@@ -119,7 +118,30 @@ def recheck_large_bends(
         },
     }
     return dataclasses.replace(
-        selection, ranked=ranked, model="section-nonlinear", recheck=recheck,
+        selection,
+        ranked=ranked,
+        model="section-nonlinear",
+        recheck=recheck,
         note="; ".join(x for x in (selection.note, note) if x),
         pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
-    )  # fmt: skip
+    )
+
+
+def _rechecked_ranking(passing: list, order: list[int], front, objs) -> list[dict]:
+    """The passing designs in ``order``, with the finite-strain objectives and their linear rank and
+    objectives."""
+    ranked = []
+    for rank, k in enumerate(order, start=1):
+        r, vals = passing[k]
+        linear = dict(r["objectives"])
+        ranked.append(
+            {
+                **r,
+                "rank": rank,
+                "pareto": bool(front[k]),
+                "linear_rank": r["rank"],
+                "objectives": {o.text: float(v) for o, v in zip(objs, vals, strict=True)},
+                "linear_objectives": linear,
+            }
+        )
+    return ranked

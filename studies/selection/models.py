@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.tiers import ALIASES, TIERS, tier_name
 
 __all__ = ["MODEL_NAMES", "resolve_model"]
 
-MODEL_NAMES = {
-    "paper": "the paper's formula",
-    "section": "the section model",
-    "fem": "the 3-D FEM",
-    "section-nonlinear": "the finite-strain section model",
-}
+#: The tiers a sweep's results have columns of (:mod:`softcath.studies.tiers`) -> their labels.
+MODEL_NAMES = {n: TIERS[n].label for n in ("paper", "section", "fem", "section-nonlinear")}
 
 
 def resolve_model(df, model: str | None = None, load: str | None = None):
@@ -24,6 +21,8 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
 
     loads = sorted(set(df["load"]))
     notes = []
+    if model in ALIASES:
+        model = tier_name(model)
     if model is None:
         if has_model(df, "section-nonlinear"):  # valid at every bend, small or large
             model = "section-nonlinear"

@@ -134,13 +134,10 @@ def select(
     cons = [parse_constraint(c) for c in constraints]
     objs = [parse_objective(o) for o in objectives]
     if not objs:
-        raise SelectionError("give at least one --objective, e.g. 'maximise bend_per_MPa_deg'")
+        raise SelectionError("give at least one objective, e.g. 'maximise bend_per_MPa_deg'")
     df, model, load, note = resolve_model(df, model, load)
     check_columns([*cons, *objs], df.columns)
-    loads = sorted(set(df["load"]))
-    if load not in loads:
-        raise SelectionError(f"load '{load}' is not in the results; available: {', '.join(loads)}")
-    sub = df[df["load"] == load].reset_index(drop=True)
+    sub = _load_rows(df, load)
     ids = sub["design_id"].to_numpy()
     all_ids = np.unique(ids)
     alive, rejected = _feasible(sub, ids, all_ids, cons)
@@ -157,19 +154,7 @@ def select(
     order = sorted(range(len(feasible)), key=lambda k: (not on_front[k], matrix[k, 0], feasible[k]))
     if not parameters:
         parameters = _default_parameters(df)
-    first = sub.drop_duplicates("design_id").set_index("design_id")
-    ranked = []
-    for rank, k in enumerate(order[: top if top else None], start=1):
-        did = feasible[k]
-        ranked.append(
-            {
-                "rank": rank,
-                "design_id": int(did),
-                "pareto": bool(on_front[k]),
-                "objectives": {o.text: obj_vals[o.text][did] for o in objs},
-                "parameters": {p: _jsonable(first.at[did, p]) for p in parameters if p in first.columns},
-            }
-        )
+    ranked = _ranked(sub, feasible, order[: top if top else None], on_front, objs, obj_vals, parameters)
     keep = order[:MAX_POINTS]
     points = [
         [int(feasible[k]), int(on_front[k]), *(float(obj_vals[o.text][feasible[k]]) for o in objs)]
@@ -188,6 +173,32 @@ def select(
         ranked=ranked,
         pareto_front=sorted(int(feasible[k]) for k in range(len(feasible)) if on_front[k]),
     )
+
+
+def _load_rows(df, load: str):
+    """The rows of ``load``; :class:`SelectionError` if the results do not have it."""
+    loads = sorted(set(df["load"]))
+    if load not in loads:
+        raise SelectionError(f"load '{load}' is not in the results; available: {', '.join(loads)}")
+    return df[df["load"] == load].reset_index(drop=True)
+
+
+def _ranked(sub, feasible: list, order: list[int], on_front, objs, obj_vals: dict, parameters) -> list[dict]:
+    """The ranked designs (in ``order``): rank, id, Pareto membership, objective and parameter values."""
+    first = sub.drop_duplicates("design_id").set_index("design_id")
+    ranked = []
+    for rank, k in enumerate(order, start=1):
+        did = feasible[k]
+        ranked.append(
+            {
+                "rank": rank,
+                "design_id": int(did),
+                "pareto": bool(on_front[k]),
+                "objectives": {o.text: obj_vals[o.text][did] for o in objs},
+                "parameters": {p: _jsonable(first.at[did, p]) for p in parameters if p in first.columns},
+            }
+        )
+    return ranked
 
 
 def _feasible(sub, ids, all_ids, cons) -> tuple[set[int], dict[str, int]]:

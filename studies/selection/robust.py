@@ -31,7 +31,8 @@ __all__ = ["sweep_ranges", "robust_select"]
 def sweep_ranges(
     base: str, base_table: Mapping[str, Any], vary: Sequence[str] = (), ranges_file: str | Path | None = None
 ) -> list:
-    """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's) defaults."""
+    """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's)
+    defaults."""
     from softcath.studies.predict.ranges import chosen_ranges
 
     ranges = chosen_ranges(base, base_table, vary, ranges_file)
@@ -44,7 +45,7 @@ def robust_select(
     selection: Selection,
     *,
     base_table: Mapping[str, Any],
-    pressures_MPa: Sequence[float],
+    pressures: Sequence[float],
     probability: float,
     ranges: Sequence,
     samples: int = 32,
@@ -60,9 +61,7 @@ def robust_select(
     that value); the result's ``robust`` records P, the samples, the ranges,
     the model and every design's probabilities and percentiles.
     """
-    from tqdm import tqdm
-
-    from softcath.studies.optimise import Backend, Problem, evaluate_parameters, make_robustness
+    from softcath.studies.optimise import Problem, make_robustness
 
     model = model or (selection.model if selection.model in ("paper", "section-nonlinear") else "section")
     swept = {p for r in selection.ranked for p in r["parameters"]}
@@ -75,49 +74,105 @@ def robust_select(
     check_work(model, dict(base_table), len(selection.ranked) * samples, param="samples", value=samples)
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
-    problem = Problem(base_table=base_table, variables=(), objectives=objs, constraints=cons, model=model,
-                      load=selection.load, pressures_MPa=tuple(sorted(set(pressures_MPa))))  # fmt: skip
-    designs = [{k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
-               for r in selection.ranked]  # fmt: skip
-    scores = []
-    with Backend(workers=workers, scheduler=scheduler) as backend, tqdm(
-        total=len(designs), desc="robust select", unit="design", disable=not progress
-    ) as bar:  # fmt: skip
-        for d in designs:  # one design (its whole sample) per batch: the bar moves as designs finish
-            scores.append(evaluate_parameters(problem, [d], backend, rob))
-            bar.update()
-    per_design, passing = {}, []
-    for r, s in zip(selection.ranked, scores, strict=True):
-        did = r["design_id"]
-        probs = {c.text: float(s.probabilities[0, j]) for j, c in enumerate(cons)}
-        pct = {o.text: dict(zip(("p5", "p50", "p95"), map(_num, s.percentiles[0, j]), strict=True))
-               for j, o in enumerate(objs)}  # fmt: skip
-        ok = bool(s.ok[0] and all(p >= probability for p in probs.values())
-                  and all(v["p50"] is not None for v in pct.values()))  # fmt: skip
-        per_design[str(did)] = {"passes": ok, "probabilities": probs, "percentiles": pct,
-                                "buildable_samples": int(s.samples_ok[0])}  # fmt: skip
-        if ok:
-            passing.append((r, [o.sign * pct[o.text]["p50"] for o in objs]))
+    problem = Problem(
+        base_table=base_table,
+        variables=(),
+        objectives=objs,
+        constraints=cons,
+        model=model,
+        load=selection.load,
+        pressures_MPa=tuple(sorted(set(pressures))),
+    )
+    designs = [
+        {k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
+        for r in selection.ranked
+    ]
+    scores = _robust_scores(problem, designs, rob, workers, scheduler, progress)
+    per_design, passing = _judge_designs(selection.ranked, scores, objs, cons, probability)
     matrix = np.array([v for _, v in passing], float).reshape(len(passing), len(objs))
     front = pareto_front(matrix)
     order = sorted(
         range(len(passing)), key=lambda k: (not front[k], matrix[k, 0], passing[k][0]["design_id"])
     )
+    robust = {
+        **rob.to_json(),
+        "model": model,
+        "left_out": left_out,
+        "n_evaluated": len(designs),
+        "n_passing": len(passing),
+        "designs": per_design,
+    }
+    return dataclasses.replace(
+        selection,
+        ranked=_robust_ranked(passing, order, front, per_design),
+        robust=robust,
+        pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
+    )
+
+
+def _robust_scores(problem, designs: list[dict], rob, workers, scheduler, progress: bool) -> list:
+    """Each design's robust score: its whole sample evaluated in one batch (the bar moves per design)."""
+    from tqdm import tqdm
+
+    from softcath.studies.optimise import Backend, evaluate_parameters
+
+    scores = []
+    with (
+        Backend(workers=workers, scheduler=scheduler) as backend,
+        tqdm(total=len(designs), desc="robust select", unit="design", disable=not progress) as bar,
+    ):
+        for d in designs:  # one design (its whole sample) per batch: the bar moves as designs finish
+            scores.append(evaluate_parameters(problem, [d], backend, rob))
+            bar.update()
+    return scores
+
+
+def _judge_designs(ranked: list[dict], scores: list, objs, cons, probability: float):
+    """Per design (by id): passes, probabilities, percentiles and buildable samples; and the passing
+    designs with their signed median objectives."""
+    per_design, passing = {}, []
+    for r, s in zip(ranked, scores, strict=True):
+        did = r["design_id"]
+        probs = {c.text: float(s.probabilities[0, j]) for j, c in enumerate(cons)}
+        pct = {
+            o.text: dict(zip(("p5", "p50", "p95"), map(_num, s.percentiles[0, j]), strict=True))
+            for j, o in enumerate(objs)
+        }
+        ok = bool(
+            s.ok[0]
+            and all(p >= probability for p in probs.values())
+            and all(v["p50"] is not None for v in pct.values())
+        )
+        per_design[str(did)] = {
+            "passes": ok,
+            "probabilities": probs,
+            "percentiles": pct,
+            "buildable_samples": int(s.samples_ok[0]),
+        }
+        if ok:
+            passing.append((r, [o.sign * pct[o.text]["p50"] for o in objs]))
+    return per_design, passing
+
+
+def _robust_ranked(passing: list, order: list[int], front, per_design: dict) -> list[dict]:
+    """The passing designs in robust ``order``, with their nominal rank, medians, percentiles and
+    probabilities."""
     ranked = []
     for rank, k in enumerate(order, start=1):
         r = passing[k][0]
         info = per_design[str(r["design_id"])]
-        ranked.append({**r, "rank": rank, "pareto": bool(front[k]), "nominal_rank": r["rank"],
-                       "objectives": {t: v["p50"] for t, v in info["percentiles"].items()},
-                       "percentiles": info["percentiles"], "probabilities": info["probabilities"]})  # fmt: skip
-    robust = {
-        **rob.to_json(), "model": model, "left_out": left_out, "n_evaluated": len(designs),
-        "n_passing": len(passing), "designs": per_design,
-    }  # fmt: skip
-    return dataclasses.replace(
-        selection, ranked=ranked, robust=robust,
-        pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
-    )  # fmt: skip
+        ranked.append(
+            {
+                **r,
+                "rank": rank,
+                "pareto": bool(front[k]),
+                "nominal_rank": r["rank"],
+                "objectives": {t: v["p50"] for t, v in info["percentiles"].items()},
+                "percentiles": info["percentiles"],
+                "probabilities": info["probabilities"],
+            }
+        )
+    return ranked
 
 
 def _num(v) -> float | None:

@@ -42,15 +42,21 @@ def connect(scheduler: str | None, dask_local: int | None):
     # per FEM design measured here, for a profile nobody reads in a batch sweep. The nanny's
     # MALLOC_TRIM_THRESHOLD_ costs ~30 % more CPU per FEM design (evaluators.restore_malloc_thresholds);
     # the workers keep glibc's dynamic thresholds and one BLAS thread each.
-    environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()
-               if k != "MALLOC_TRIM_THRESHOLD_"}  # fmt: skip
+    environ = {
+        k: v
+        for k, v in dask.config.get("distributed.nanny.pre-spawn-environ").items()
+        if k != "MALLOC_TRIM_THRESHOLD_"
+    }
     with dask.config.set(
         {"distributed.worker.profile.enabled": False, "distributed.nanny.pre-spawn-environ": environ}
     ):
         cluster = LocalCluster(
-            n_workers=dask_local, threads_per_worker=1, processes=True,
-            host="127.0.0.1", dashboard_address=None,
-        )  # fmt: skip
+            n_workers=dask_local,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+        )
     # (its worker processes die with this one by themselves: Dask's parent-alive pipe)
     return Client(cluster), cluster, f"dask-local({dask_local})"
 

@@ -1,4 +1,5 @@
-"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised), section model and FEM.
+"""Evaluate one task of a sweep: validate each design, run the analytic model (vectorised), section model and
+FEM.
 
 A task is a plain dict (picklable, so the same function runs in a local
 process pool or on Dask workers) and its result a :class:`pandas.DataFrame`
@@ -32,9 +33,19 @@ log = logging.getLogger(__name__)
 
 FEM_UNAVAILABLE = "fem evaluator unavailable"
 _FEM_KEYS = (
-    "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm",
-    "curvature_variation", "max_strain", "residual", "n_elements", "dofs", "mesh_seconds", "solve_seconds",
-)  # fmt: skip
+    "curvature_per_mm",
+    "elongation",
+    "bend_angle_rad",
+    "tip_x_mm",
+    "tip_y_mm",
+    "curvature_variation",
+    "max_strain",
+    "residual",
+    "n_elements",
+    "dofs",
+    "mesh_seconds",
+    "solve_seconds",
+)
 
 
 def fem_check_function():
@@ -171,7 +182,8 @@ _NONLINEAR_KEYS = {
 
 
 def _nonlinear_columns(design, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
-    """Finite-strain bend angle [rad], curvature [1/mm] and max silicone strain at ``pressures`` (0 MPa: 0)."""
+    """Finite-strain bend angle [rad], curvature [1/mm] and max silicone strain at ``pressures`` (0 MPa:
+    0)."""
     from softcath.fem.nonlinear import bend_curve
 
     positive = np.unique(pressures[pressures > 0])
@@ -240,12 +252,64 @@ def evaluate_task(task: dict) -> pd.DataFrame:
 
     restore_malloc_thresholds()
     t0, c0 = time.perf_counter(), time.process_time()
-    builder = _builder(task["base_table"])
     pressures = np.asarray(task["pressures_MPa"], dtype=float)
     loads = tuple(task["loads"])
     ids = list(task["design_ids"])
+    # set by the runner when a task crashed: rows without evaluation
+    designs, reasons = _build_designs(task, ids, task.get("fail_reason"))
+    ok = [i for i, d in enumerate(designs) if d is not None]
+    n_d = len(ids)
+
+    blocks = [_analytic_blocks(designs, ok, pressures, loads)]
+    analytic_seconds = (time.perf_counter() - t0) / max(n_d, 1)
+
+    fem_reason = [""] * n_d
+    evaluators = task["evaluators"]
+    blocks.append(
+        _fem_blocks(
+            designs, ok, ids, pressures, loads, task.get("mesh_size"), "fem" in evaluators, fem_reason
+        )
+    )
+    blocks.append(
+        _nonlinear_blocks(designs, ok, ids, pressures, loads, "fem-nonlinear" in evaluators, fem_reason)
+    )
+    blocks.append(
+        _section_blocks(
+            designs, ok, ids, pressures, loads, task.get("section"), "section" in evaluators, fem_reason
+        )
+    )
+    blocks.append(
+        _section_nonlinear_blocks(
+            designs,
+            ok,
+            ids,
+            pressures,
+            loads,
+            task.get("section"),
+            "section-nonlinear" in evaluators,
+            fem_reason,
+        )
+    )
+
+    cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
+    failures = [reasons[i] or fem_reason[i] for i in range(n_d)]
+    frames = [
+        pd.DataFrame(
+            _load_columns(task, load, designs, pressures, blocks, failures, analytic_seconds, cpu_seconds)
+        )
+        for load in loads
+    ]
+    df = pd.concat(frames, ignore_index=True)
+    # Derived columns (degrees, differences, feasibility) are added once, on the merged table.
+    return df.rename(columns=_FEM_RENAME).sort_values(
+        ["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True
+    )
+
+
+def _build_designs(task: dict, ids: list, forced: str | None) -> tuple[list, list[str]]:
+    """Build each variant of ``task``: the designs (``None`` if invalid or forced) and the failure reasons."""
+    builder = _builder(task["base_table"])
     designs, reasons = [], []
-    forced = task.get("fail_reason")  # set by the runner when a task crashed: rows without evaluation
     for did, variant in zip(ids, task["variants"], strict=True):
         if forced:
             designs.append(None)
@@ -257,125 +321,160 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         except DesignError as exc:
             designs.append(None)
             reasons.append(f"invalid design: {exc}")
-    ok = [i for i, d in enumerate(designs) if d is not None]
-    n_d, n_p = len(ids), len(pressures)
+    return designs, reasons
 
+
+def _analytic_blocks(designs: list, ok: list[int], pressures: np.ndarray, loads: tuple[str, ...]) -> dict:
+    """Analytic columns per load, a design × pressure block each (NaN for invalid designs)."""
+    n_d, n_p = len(designs), len(pressures)
     per_load: dict[str, dict[str, np.ndarray]] = {}
     for load in loads:
-        block = {k: _nan_block(n_d, n_p) for k in (
-            "curvature_analytic_per_mm", "elongation_analytic", "bend_angle_analytic_rad",
-            "tip_x_analytic_mm", "tip_y_analytic_mm", "max_strain_analytic",
-        )}  # fmt: skip
+        block = {
+            k: _nan_block(n_d, n_p)
+            for k in (
+                "curvature_analytic_per_mm",
+                "elongation_analytic",
+                "bend_angle_analytic_rad",
+                "tip_x_analytic_mm",
+                "tip_y_analytic_mm",
+                "max_strain_analytic",
+            )
+        }
         if ok:
             vals = _analytic([designs[i] for i in ok], pressures, load)
             for k, v in vals.items():
                 block[k][ok] = v
         per_load[load] = block
-    analytic_seconds = (time.perf_counter() - t0) / max(n_d, 1)
+    return per_load
 
+
+def _fem_blocks(designs, ok, ids, pressures, loads, mesh_size, enabled: bool, fem_reason: list[str]) -> dict:
+    """FEM columns per load; a design's failure is written to ``fem_reason`` (never ends the sweep)."""
+    n_d, n_p = len(designs), len(pressures)
     fem_cols = {load: {f"fem_{k}": _nan_block(n_d, n_p) for k in _FEM_KEYS} for load in loads}
-    fem_reason = [""] * n_d
-    if "fem" in task["evaluators"]:
-        check = fem_check_function()
-        for i in ok:
-            if check is None:
-                fem_reason[i] = FEM_UNAVAILABLE
-                continue
-            try:
-                rows = _fem_rows(check, designs[i], tuple(pressures), loads, task.get("mesh_size"))
-            except Exception as exc:  # a FEM failure is reported per design, never ends the sweep
-                raise_pending_stop()
-                log.warning("FEM failed for design %s: %s", ids[i], exc)
-                fem_reason[i] = f"fem failed: {type(exc).__name__}: {exc}"
-                continue
-            for load in loads:
-                for j, p in enumerate(pressures):
-                    row = rows.get((load, round(float(p), 12)))
-                    if row is None:
-                        fem_reason[i] = f"fem returned no result for load {load} at {p:g} MPa"
-                        continue
-                    for k in _FEM_KEYS:
-                        fem_cols[load][f"fem_{k}"][i, j] = row[k]
-
-    nl_cols = {load: {k: _nan_block(n_d, n_p) for k in _NONLINEAR_KEYS} for load in loads}
-    if "nonlinear" in task["evaluators"]:
-        for i in ok:
-            for load in loads:
-                try:
-                    values = _nonlinear_columns(designs[i], pressures, load)
-                except Exception as exc:  # a failed Newton solve is reported per design, never ends the sweep
-                    raise_pending_stop()
-                    log.warning("nonlinear FEM failed for design %s: %s", ids[i], exc)
-                    fem_reason[i] = f"nonlinear failed ({load}): {type(exc).__name__}: {exc}"
+    if not enabled:
+        return fem_cols
+    check = fem_check_function()
+    for i in ok:
+        if check is None:
+            fem_reason[i] = FEM_UNAVAILABLE
+            continue
+        try:
+            rows = _fem_rows(check, designs[i], tuple(pressures), loads, mesh_size)
+        except Exception as exc:  # a FEM failure is reported per design, never ends the sweep
+            raise_pending_stop()
+            log.warning("FEM failed for design %s: %s", ids[i], exc)
+            fem_reason[i] = f"fem failed: {type(exc).__name__}: {exc}"
+            continue
+        for load in loads:
+            for j, p in enumerate(pressures):
+                row = rows.get((load, round(float(p), 12)))
+                if row is None:
+                    fem_reason[i] = f"fem returned no result for load {load} at {p:g} MPa"
                     continue
-                for col, v in values.items():
-                    nl_cols[load][col][i] = v
+                for k in _FEM_KEYS:
+                    fem_cols[load][f"fem_{k}"][i, j] = row[k]
+    return fem_cols
 
-    sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}
-    if "section" in task["evaluators"]:
-        many = section_columns_many([designs[i] for i in ok], pressures, loads, task.get("section"))
-        for i, values in zip(ok, many, strict=True):
-            if isinstance(values, Exception):  # a section-model failure is reported per design
-                exc = values
-                log.warning("section model failed for design %s: %s", ids[i], exc)
-                why = f"section failed: {type(exc).__name__}: {exc}"
-                fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
-                continue
-            for load in loads:
-                for col, v in values[load].items():
-                    sec_cols[load][col][i] = v
 
-    sn_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_NONLINEAR_COLUMNS} for load in loads}
-    if "section-nonlinear" in task["evaluators"]:
-        for i in ok:
+def _nonlinear_blocks(designs, ok, ids, pressures, loads, enabled: bool, fem_reason: list[str]) -> dict:
+    """Nonlinear-FEM columns per load; a failed Newton solve is written to ``fem_reason``."""
+    n_d, n_p = len(designs), len(pressures)
+    nl_cols = {load: {k: _nan_block(n_d, n_p) for k in _NONLINEAR_KEYS} for load in loads}
+    if not enabled:
+        return nl_cols
+    for i in ok:
+        for load in loads:
             try:
-                values = section_nonlinear_columns(designs[i], pressures, loads, task.get("section"))
-            except Exception as exc:  # a stalled Newton walk is reported per design, never ends the sweep
+                values = _nonlinear_columns(designs[i], pressures, load)
+            except Exception as exc:  # a failed Newton solve is reported per design, never ends the sweep
                 raise_pending_stop()
-                log.warning("finite-strain section model failed for design %s: %s", ids[i], exc)
-                why = f"section-nonlinear failed: {type(exc).__name__}: {exc}"
-                fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+                log.warning("nonlinear FEM failed for design %s: %s", ids[i], exc)
+                fem_reason[i] = f"nonlinear failed ({load}): {type(exc).__name__}: {exc}"
                 continue
-            for load in loads:
-                for col, v in values[load].items():
-                    sn_cols[load][col][i] = v
+            for col, v in values.items():
+                nl_cols[load][col][i] = v
+    return nl_cols
 
-    cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
-    frames = []
-    for load in loads:
-        cols: dict[str, Any] = {
-            "design_id": np.repeat(ids, n_p),
-            "task_id": task["task_id"],
-        }
-        for path in task["param_paths"]:
-            cols[path] = np.repeat(np.array([v.get(path) for v in task["variants"]], dtype=object), n_p)
-        cols["outer_diameter_mm"] = np.repeat([d.outer_diameter if d else np.nan for d in designs], n_p)
-        cols["bending_length_mm"] = np.repeat([d.tip.bending_length if d else np.nan for d in designs], n_p)
-        cols["catalogue_fits"] = np.repeat([bool(d.catalogue_fits) if d else False for d in designs], n_p)
-        cols["pressure_MPa"] = np.tile(pressures, n_d)
-        cols["load"] = load
-        for k, v in per_load[load].items():
+
+def _section_blocks(
+    designs, ok, ids, pressures, loads, options, enabled: bool, fem_reason: list[str]
+) -> dict:
+    """Section-model columns per load; a design's failure is appended to ``fem_reason``."""
+    n_d, n_p = len(designs), len(pressures)
+    sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}
+    if not enabled:
+        return sec_cols
+    many = section_columns_many([designs[i] for i in ok], pressures, loads, options)
+    for i, values in zip(ok, many, strict=True):
+        if isinstance(values, Exception):  # a section-model failure is reported per design
+            exc = values
+            log.warning("section model failed for design %s: %s", ids[i], exc)
+            why = f"section failed: {type(exc).__name__}: {exc}"
+            fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+            continue
+        for load in loads:
+            for col, v in values[load].items():
+                sec_cols[load][col][i] = v
+    return sec_cols
+
+
+def _section_nonlinear_blocks(
+    designs, ok, ids, pressures, loads, options, enabled: bool, fem_reason: list[str]
+) -> dict:
+    """Finite-strain section-model columns per load; a stalled Newton walk is appended to ``fem_reason``."""
+    n_d, n_p = len(designs), len(pressures)
+    sn_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_NONLINEAR_COLUMNS} for load in loads}
+    if not enabled:
+        return sn_cols
+    for i in ok:
+        try:
+            values = section_nonlinear_columns(designs[i], pressures, loads, options)
+        except Exception as exc:  # a stalled Newton walk is reported per design, never ends the sweep
+            raise_pending_stop()
+            log.warning("finite-strain section model failed for design %s: %s", ids[i], exc)
+            why = f"section-nonlinear failed: {type(exc).__name__}: {exc}"
+            fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+            continue
+        for load in loads:
+            for col, v in values[load].items():
+                sn_cols[load][col][i] = v
+    return sn_cols
+
+
+def _load_columns(
+    task: dict,
+    load: str,
+    designs: list,
+    pressures: np.ndarray,
+    blocks: list[dict],
+    failures: list[str],
+    analytic_seconds: float,
+    cpu_seconds: float,
+) -> dict[str, Any]:
+    """Columns of one load's rows: identity, design parameters, every evaluator's block, status and timing."""
+    ids = list(task["design_ids"])
+    n_d, n_p = len(ids), len(pressures)
+    cols: dict[str, Any] = {
+        "design_id": np.repeat(ids, n_p),
+        "task_id": task["task_id"],
+    }
+    for path in task["param_paths"]:
+        cols[path] = np.repeat(np.array([v.get(path) for v in task["variants"]], dtype=object), n_p)
+    cols["outer_diameter_mm"] = np.repeat([d.outer_diameter if d else np.nan for d in designs], n_p)
+    cols["bending_length_mm"] = np.repeat([d.tip.bending_length if d else np.nan for d in designs], n_p)
+    cols["catalogue_fits"] = np.repeat([bool(d.catalogue_fits) if d else False for d in designs], n_p)
+    cols["pressure_MPa"] = np.tile(pressures, n_d)
+    cols["load"] = load
+    for block in blocks:
+        for k, v in block[load].items():
             cols[k] = v.ravel()
-        for k, v in fem_cols[load].items():
-            cols[k] = v.ravel()
-        for k, v in nl_cols[load].items():
-            cols[k] = v.ravel()
-        for k, v in sec_cols[load].items():
-            cols[k] = v.ravel()
-        for k, v in sn_cols[load].items():
-            cols[k] = v.ravel()
-        status, reason = [], []
-        for i in range(n_d):
-            r = reasons[i] or fem_reason[i]
-            status += ["failed" if r else "ok"] * n_p
-            reason += [r] * n_p
-        cols["status"] = status
-        cols["reason"] = reason
-        cols["analytic_seconds"] = analytic_seconds
-        cols["cpu_seconds"] = cpu_seconds
-        frames.append(pd.DataFrame(cols))
-    df = pd.concat(frames, ignore_index=True)
-    # Derived columns (degrees, differences, feasibility) are added once, on the merged table.
-    return df.rename(columns=_FEM_RENAME).sort_values(
-        ["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True
-    )
+    status, reason = [], []
+    for r in failures:
+        status += ["failed" if r else "ok"] * n_p
+        reason += [r] * n_p
+    cols["status"] = status
+    cols["reason"] = reason
+    cols["analytic_seconds"] = analytic_seconds
+    cols["cpu_seconds"] = cpu_seconds
+    return cols

@@ -44,9 +44,15 @@ from softcath.design.errors import DataError
 from softcath.studies.atomic import write_json
 
 __all__ = [
-    "add_derived_columns", "has_model", "model_columns", "read_results", "write_results", "COLUMN_UNITS",
-    "MODEL_COLUMNS", "SECTION_COLUMNS",
-]  # fmt: skip
+    "add_derived_columns",
+    "has_model",
+    "model_columns",
+    "read_results",
+    "write_results",
+    "COLUMN_UNITS",
+    "MODEL_COLUMNS",
+    "SECTION_COLUMNS",
+]
 
 _FEM_RENAME = {
     "fem_curvature_per_mm": "curvature_fem_per_mm",
@@ -59,55 +65,126 @@ _FEM_RENAME = {
 }
 
 COLUMN_UNITS = {
-    "design_id": "-", "task_id": "-", "outer_diameter_mm": "mm", "bending_length_mm": "mm",
-    "catalogue_fits": "bool", "pressure_MPa": "MPa", "at_p_max": "bool", "load": "cap|lumen",
-    "curvature_analytic_per_mm": "1/mm", "elongation_analytic": "-", "bend_angle_analytic_rad": "rad",
-    "bend_angle_analytic_deg": "deg", "tip_x_analytic_mm": "mm", "tip_y_analytic_mm": "mm",
-    "max_strain_analytic": "-", "curvature_fem_per_mm": "1/mm", "elongation_fem": "-",
-    "bend_angle_fem_rad": "rad", "bend_angle_fem_deg": "deg", "tip_x_fem_mm": "mm", "tip_y_fem_mm": "mm",
-    "max_strain_fem": "-", "curvature_variation_fem": "-", "fem_residual": "-", "fem_n_elements": "-",
-    "fem_dofs": "-", "rel_diff_curvature": "-", "rel_diff_elongation": "-", "rel_diff_bend_angle": "-",
-    "abs_rel_diff_curvature": "-", "curvature_per_mm": "1/mm", "elongation": "-", "bend_angle_deg": "deg",
-    "max_strain": "-", "bend_per_MPa_deg": "deg/MPa", "source": "analytic|section|fem|section-nonlinear", "feasible_strain": "bool",
-    "feasible": "bool", "status": "ok|failed", "reason": "text", "analytic_seconds": "s",
-    "fem_mesh_seconds": "s", "fem_solve_seconds": "s", "cpu_seconds": "s",
-    "nonlinear_bend_angle_rad": "rad", "nonlinear_curvature_per_mm": "1/mm", "nonlinear_max_strain": "-",
-    "curvature_section_per_mm": "1/mm", "elongation_section": "-", "bend_angle_section_rad": "rad",
-    "bend_angle_section_deg": "deg", "tip_x_section_mm": "mm", "tip_y_section_mm": "mm",
-    "max_strain_section": "-", "section_formula_ratio": "-", "section_seconds": "s",
-    "rel_diff_fem_section_curvature": "-", "fem_formula_ratio": "-",
-    "curvature_section_nonlinear_per_mm": "1/mm", "elongation_section_nonlinear": "-",
-    "bend_angle_section_nonlinear_rad": "rad", "bend_angle_section_nonlinear_deg": "deg",
-    "tip_x_section_nonlinear_mm": "mm", "tip_y_section_nonlinear_mm": "mm", "max_strain_section_nonlinear": "-",
-    "lumen_volume_change_section_nonlinear_mm3": "mm^3", "section_nonlinear_seconds": "s",
-}  # fmt: skip
+    "design_id": "-",
+    "task_id": "-",
+    "outer_diameter_mm": "mm",
+    "bending_length_mm": "mm",
+    "catalogue_fits": "bool",
+    "pressure_MPa": "MPa",
+    "at_p_max": "bool",
+    "load": "cap|lumen",
+    "curvature_analytic_per_mm": "1/mm",
+    "elongation_analytic": "-",
+    "bend_angle_analytic_rad": "rad",
+    "bend_angle_analytic_deg": "deg",
+    "tip_x_analytic_mm": "mm",
+    "tip_y_analytic_mm": "mm",
+    "max_strain_analytic": "-",
+    "curvature_fem_per_mm": "1/mm",
+    "elongation_fem": "-",
+    "bend_angle_fem_rad": "rad",
+    "bend_angle_fem_deg": "deg",
+    "tip_x_fem_mm": "mm",
+    "tip_y_fem_mm": "mm",
+    "max_strain_fem": "-",
+    "curvature_variation_fem": "-",
+    "fem_residual": "-",
+    "fem_n_elements": "-",
+    "fem_dofs": "-",
+    "rel_diff_curvature": "-",
+    "rel_diff_elongation": "-",
+    "rel_diff_bend_angle": "-",
+    "abs_rel_diff_curvature": "-",
+    "curvature_per_mm": "1/mm",
+    "elongation": "-",
+    "bend_angle_deg": "deg",
+    "max_strain": "-",
+    "bend_per_MPa_deg": "deg/MPa",
+    "source": "analytic|section|fem|section-nonlinear",
+    "feasible_strain": "bool",
+    "feasible": "bool",
+    "status": "ok|failed",
+    "reason": "text",
+    "analytic_seconds": "s",
+    "fem_mesh_seconds": "s",
+    "fem_solve_seconds": "s",
+    "cpu_seconds": "s",
+    "nonlinear_bend_angle_rad": "rad",
+    "nonlinear_curvature_per_mm": "1/mm",
+    "nonlinear_max_strain": "-",
+    "curvature_section_per_mm": "1/mm",
+    "elongation_section": "-",
+    "bend_angle_section_rad": "rad",
+    "bend_angle_section_deg": "deg",
+    "tip_x_section_mm": "mm",
+    "tip_y_section_mm": "mm",
+    "max_strain_section": "-",
+    "section_formula_ratio": "-",
+    "section_seconds": "s",
+    "rel_diff_fem_section_curvature": "-",
+    "fem_formula_ratio": "-",
+    "curvature_section_nonlinear_per_mm": "1/mm",
+    "elongation_section_nonlinear": "-",
+    "bend_angle_section_nonlinear_rad": "rad",
+    "bend_angle_section_nonlinear_deg": "deg",
+    "tip_x_section_nonlinear_mm": "mm",
+    "tip_y_section_nonlinear_mm": "mm",
+    "max_strain_section_nonlinear": "-",
+    "lumen_volume_change_section_nonlinear_mm3": "mm^3",
+    "section_nonlinear_seconds": "s",
+}
 
 #: Section-model columns; sweeps (or resumed task files) from before the section evaluator lack them.
 SECTION_COLUMNS = (
-    "curvature_section_per_mm", "elongation_section", "bend_angle_section_rad", "tip_x_section_mm",
-    "tip_y_section_mm", "max_strain_section", "section_formula_ratio", "section_seconds",
-)  # fmt: skip
+    "curvature_section_per_mm",
+    "elongation_section",
+    "bend_angle_section_rad",
+    "tip_x_section_mm",
+    "tip_y_section_mm",
+    "max_strain_section",
+    "section_formula_ratio",
+    "section_seconds",
+)
 
 #: Columns of the ``section-nonlinear`` evaluator (the finite-strain section model).
 SECTION_NONLINEAR_COLUMNS = (
-    "curvature_section_nonlinear_per_mm", "elongation_section_nonlinear", "bend_angle_section_nonlinear_rad",
-    "tip_x_section_nonlinear_mm", "tip_y_section_nonlinear_mm", "max_strain_section_nonlinear",
-    "lumen_volume_change_section_nonlinear_mm3", "section_nonlinear_seconds",
-)  # fmt: skip
+    "curvature_section_nonlinear_per_mm",
+    "elongation_section_nonlinear",
+    "bend_angle_section_nonlinear_rad",
+    "tip_x_section_nonlinear_mm",
+    "tip_y_section_nonlinear_mm",
+    "max_strain_section_nonlinear",
+    "lumen_volume_change_section_nonlinear_mm3",
+    "section_nonlinear_seconds",
+)
 
 #: Model -> its columns for the best-estimate quantities (see :func:`model_columns`).
 MODEL_COLUMNS = {
-    "paper": {"curvature_per_mm": "curvature_analytic_per_mm", "elongation": "elongation_analytic",
-              "bend_angle_deg": "bend_angle_analytic_deg", "max_strain": "max_strain_analytic"},
-    "section": {"curvature_per_mm": "curvature_section_per_mm", "elongation": "elongation_section",
-                "bend_angle_deg": "bend_angle_section_deg", "max_strain": "max_strain_section"},
-    "fem": {"curvature_per_mm": "curvature_fem_per_mm", "elongation": "elongation_fem",
-            "bend_angle_deg": "bend_angle_fem_deg", "max_strain": "max_strain_fem"},
-    "section-nonlinear": {"curvature_per_mm": "curvature_section_nonlinear_per_mm",
-                          "elongation": "elongation_section_nonlinear",
-                          "bend_angle_deg": "bend_angle_section_nonlinear_deg",
-                          "max_strain": "max_strain_section_nonlinear"},
-}  # fmt: skip
+    "paper": {
+        "curvature_per_mm": "curvature_analytic_per_mm",
+        "elongation": "elongation_analytic",
+        "bend_angle_deg": "bend_angle_analytic_deg",
+        "max_strain": "max_strain_analytic",
+    },
+    "section": {
+        "curvature_per_mm": "curvature_section_per_mm",
+        "elongation": "elongation_section",
+        "bend_angle_deg": "bend_angle_section_deg",
+        "max_strain": "max_strain_section",
+    },
+    "fem": {
+        "curvature_per_mm": "curvature_fem_per_mm",
+        "elongation": "elongation_fem",
+        "bend_angle_deg": "bend_angle_fem_deg",
+        "max_strain": "max_strain_fem",
+    },
+    "section-nonlinear": {
+        "curvature_per_mm": "curvature_section_nonlinear_per_mm",
+        "elongation": "elongation_section_nonlinear",
+        "bend_angle_deg": "bend_angle_section_nonlinear_deg",
+        "max_strain": "max_strain_section_nonlinear",
+    },
+}
 
 
 def _rel(fem: np.ndarray, ana: np.ndarray) -> np.ndarray:
@@ -165,7 +242,8 @@ def _bend_per_mpa(df) -> None:
 
 
 def _over_formula(df, kappa: np.ndarray) -> np.ndarray:
-    """``kappa`` over the paper's formula (the analytic cap-load curvature of the same design and pressure)."""
+    """``kappa`` over the paper's formula (the analytic cap-load curvature of the same design and
+    pressure)."""
     import pandas as pd
 
     cap = df[df["load"] == "cap"]

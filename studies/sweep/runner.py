@@ -104,14 +104,23 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
 # Failures of the machinery, not of the design: the task is not saved, so a rerun retries it.
 # (ModuleNotFoundError: a cluster worker without softcath installed.)
 _INFRASTRUCTURE = {
-    "BrokenProcessPool", "KilledWorker", "CancelledError", "CommClosedError", "TimeoutError", "ModuleNotFoundError",
-}  # fmt: skip
+    "BrokenProcessPool",
+    "KilledWorker",
+    "CancelledError",
+    "CommClosedError",
+    "TimeoutError",
+    "ModuleNotFoundError",
+}
 
 
 def _outcome(task: dict, exc: BaseException):
     if type(exc).__name__ in _INFRASTRUCTURE:
-        log.warning("sweep task %s lost (%s: %s); it will be retried on the next run", task["task_id"],
-                    type(exc).__name__, exc)  # fmt: skip
+        log.warning(
+            "sweep task %s lost (%s: %s); it will be retried on the next run",
+            task["task_id"],
+            type(exc).__name__,
+            exc,
+        )
         return task, None
     return task, _failed_frame(task, exc)
 
@@ -121,7 +130,7 @@ def _failed_frame(task: dict, exc: BaseException):
     reason = f"task failed: {type(exc).__name__}: {exc}"
     log.warning("sweep task %s failed: %s", task["task_id"], reason)
     try:
-        frame = evaluate_task(dict(task, evaluators=["analytic"]))
+        frame = evaluate_task(dict(task, evaluators=["paper"]))
     except Exception:  # even the analytic path fails: rows with the reason and no values
         raise_pending_stop()
         return evaluate_task(dict(task, fail_reason=reason))
@@ -185,11 +194,9 @@ def _pool(tasks, workers: int):
 
 
 def _check_options(workers, dask_local, scheduler) -> None:
-    chosen = [
-        n for n, v in (("--workers", workers), ("--dask-local", dask_local), ("--scheduler", scheduler)) if v
-    ]
+    chosen = [n for n, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler)) if v]
     if len(chosen) > 1:
-        raise DesignError("backend", " ".join(chosen), "choose one of --workers, --dask-local, --scheduler")
+        raise DesignError("backend", " ".join(chosen), "choose one of workers, dask_local, scheduler")
     for name, v in (("workers", workers), ("dask_local", dask_local)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
             raise DesignError(name, v, "must be an integer >= 1")
@@ -223,74 +230,31 @@ def run_sweep(
     progress
         Show a progress bar (count, failures, ETA) on stderr.
     """
-    import os
-
-    import pandas as pd
-    from tqdm import tqdm
-
-    from softcath.studies.sweep.results import add_derived_columns, write_results
-
     _check_options(workers, dask_local, scheduler)
     t0 = time.perf_counter()
     variants = expand(spec)
-    store = SweepStore(out_dir)
-    designs = pd.DataFrame(variants) if spec.parameters else pd.DataFrame(index=range(len(variants)))
-    designs.insert(0, "design_id", range(len(variants)))
     tasks = build_tasks(spec, variants)
-    manifest = {
-        "spec": spec.to_json(),
-        "base_table": spec.base_table,
-        "n_designs": len(variants),
-        "n_tasks": len(tasks),
-    }
-    store.prepare(manifest, designs)
+    store = _prepared_store(spec, out_dir, variants, tasks)
     done = store.finished()
     pending = [t for t in tasks if t["task_id"] not in done]
     skipped_designs = sum(len(t["design_ids"]) for t in tasks if t["task_id"] in done)
     run_id = uuid.uuid4().hex[:12]
 
-    client = cluster = None
-    if scheduler or dask_local:
-        from softcath.studies.sweep.dask_scale_out import connect, run_on_dask
-
-        client, cluster, backend = connect(scheduler, dask_local)
-        results = run_on_dask(pending, client)
-    else:
-        n = workers or os.cpu_count() or 1
-        n = min(n, max(len(pending), 1))
-        backend = "serial" if n == 1 else f"processes({n})"
-        results = _serial(pending) if n == 1 else _pool(pending, n)
-
-    evaluated_designs = failed_now = lost = 0
-    bar = tqdm(
-        total=len(variants), initial=skipped_designs, unit="design", desc=f"sweep {spec.name}",
-        disable=not progress, dynamic_ncols=True,
-    )  # fmt: skip
-    try:
-        for task, frame in results:
-            if frame is None:
-                lost += 1
-                continue
-            store.write_task(task["task_id"], frame, run_id=run_id)
-            n_d = len(task["design_ids"])
-            failed_now += int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
-            evaluated_designs += n_d
-            bar.update(n_d)
-            bar.set_postfix(failed=failed_now, refresh=False)
-    finally:
-        bar.close()
-        results.close()  # stops the backend generator (cancels queued work) if the loop ended early
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
+    results, backend, client, cluster = _start_backend(pending, workers, dask_local, scheduler)
+    evaluated_designs, lost = _store_results(
+        results,
+        store,
+        run_id=run_id,
+        total=len(variants),
+        initial=skipped_designs,
+        desc=f"sweep {spec.name}",
+        progress=progress,
+        closers=(client, cluster),
+    )
 
     if lost:
         log.warning("%d tasks were lost to worker crashes; run the same command again to retry them", lost)
-    df = store.read_all()
-    # Derived columns are recomputed on the merged table (cheap) so files from any run agree.
-    df = add_derived_columns(df, max_strain=spec.max_strain, p_max=spec.p_max)
-    csv_path, pq_path = write_results(df, store.root)
+    df, csv_path, pq_path = _merge_results(store, spec)
     per_design = df.drop_duplicates("design_id")
     summary = SweepSummary(
         out_dir=store.root,
@@ -309,3 +273,89 @@ def run_sweep(
     )
     log.info("sweep %s: %s", spec.name, summary)
     return summary
+
+
+def _prepared_store(
+    spec: SweepSpec, out_dir: str | Path, variants: list[dict], tasks: list[dict]
+) -> SweepStore:
+    """The sweep directory, prepared with the manifest and the design table (resumed if it holds this
+    sweep)."""
+    import pandas as pd
+
+    store = SweepStore(out_dir)
+    designs = pd.DataFrame(variants) if spec.parameters else pd.DataFrame(index=range(len(variants)))
+    designs.insert(0, "design_id", range(len(variants)))
+    manifest = {
+        "spec": spec.to_json(),
+        "base_table": spec.base_table,
+        "n_designs": len(variants),
+        "n_tasks": len(tasks),
+    }
+    store.prepare(manifest, designs)
+    return store
+
+
+def _start_backend(pending: list[dict], workers, dask_local, scheduler):
+    """Start evaluating ``pending``: the results iterator, the backend's name and the Dask client and
+    cluster (``None`` for local processes)."""
+    import os
+
+    client = cluster = None
+    if scheduler or dask_local:
+        from softcath.studies.sweep.dask_scale_out import connect, run_on_dask
+
+        client, cluster, backend = connect(scheduler, dask_local)
+        results = run_on_dask(pending, client)
+    else:
+        n = workers or os.cpu_count() or 1
+        n = min(n, max(len(pending), 1))
+        backend = "serial" if n == 1 else f"processes({n})"
+        results = _serial(pending) if n == 1 else _pool(pending, n)
+    return results, backend, client, cluster
+
+
+def _store_results(
+    results, store: SweepStore, *, run_id: str, total: int, initial: int, desc: str, progress: bool, closers
+) -> tuple[int, int]:
+    """Write each finished task to ``store`` with a progress bar, then stop the backend and close the
+    Dask ``closers``: the designs evaluated and the tasks lost to worker crashes."""
+    from tqdm import tqdm
+
+    evaluated_designs = failed_now = lost = 0
+    bar = tqdm(
+        total=total,
+        initial=initial,
+        unit="design",
+        desc=desc,
+        disable=not progress,
+        dynamic_ncols=True,
+    )
+    try:
+        for task, frame in results:
+            if frame is None:
+                lost += 1
+                continue
+            store.write_task(task["task_id"], frame, run_id=run_id)
+            n_d = len(task["design_ids"])
+            failed_now += int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
+            evaluated_designs += n_d
+            bar.update(n_d)
+            bar.set_postfix(failed=failed_now, refresh=False)
+    finally:
+        bar.close()
+        results.close()  # stops the backend generator (cancels queued work) if the loop ended early
+        for closer in closers:
+            if closer is not None:
+                closer.close()
+    return evaluated_designs, lost
+
+
+def _merge_results(store: SweepStore, spec: SweepSpec):
+    """The merged results with derived columns, and the CSV and Parquet files written from them."""
+    from softcath.studies.sweep.results import add_derived_columns, write_results
+
+    df = store.read_all()
+    # Derived columns are recomputed on the merged table (cheap) so files from any run agree.
+    df = add_derived_columns(df, max_strain=spec.max_strain, p_max=spec.p_max)
+    csv_path, pq_path = write_results(df, store.root)
+    return df, csv_path, pq_path

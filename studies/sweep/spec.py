@@ -7,9 +7,11 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["analytic"]      # and/or "section" (2-D section model, ~0.2 s/design),
+    evaluators = ["paper"]         # and/or "section" (2-D section model, ~0.2 s/design),
                                    # "section-nonlinear" (finite-strain section model, ~1 s/design
-                                   # and load: large bends), "fem", "nonlinear" (finite-strain FEM, slow)
+                                   # and load: large bends), "fem", "fem-nonlinear" (finite-strain
+                                   # FEM, slow); the names of softcath.studies.tiers ("analytic" and
+                                   # "nonlinear" still read, with a deprecation warning)
     seed = 7                       # Latin hypercube seed
     chunk_size = 500               # designs per task (FEM tasks are always one design)
 
@@ -48,19 +50,31 @@ from pathlib import Path
 from typing import Any
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
+from softcath.studies.tiers import TIERS, tier_name
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
 
-EVALUATORS = ("analytic", "section", "section-nonlinear", "fem", "nonlinear")
+EVALUATORS = tuple(TIERS)
+#: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
+#: tier names, so a sweep directory from then still resumes under the new names.
+_FINGERPRINT_NAMES = {"paper": "analytic", "fem-nonlinear": "nonlinear"}
 #: Designs per task at most when the section model runs (~0.2 s each): tasks of a few seconds.
 SECTION_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
-LOADS = ("cap", "lumen")
 _SWEEP_KEYS = {
-    "name", "base", "pressures_MPa", "loads", "evaluators", "seed", "chunk_size", "fem", "feasibility",
+    "name",
+    "base",
+    "pressures_MPa",
+    "loads",
+    "evaluators",
+    "seed",
+    "chunk_size",
+    "fem",
+    "feasibility",
     "section",
-}  # fmt: skip
+}
 _TOP_KEYS = {"sweep", "parameters", "sample"}
 
 
@@ -105,9 +119,9 @@ class SweepSpec:
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
-        From ``("analytic", "section", "section-nonlinear", "fem", "nonlinear")``: the analytic
-        model always runs; ``section-nonlinear`` is the finite-strain section model (~1 s per design
-        and load).
+        Tier names (:data:`softcath.studies.tiers.TIERS`) from ``("paper", "section",
+        "section-nonlinear", "fem", "fem-nonlinear")``: the paper's formula always runs;
+        ``section-nonlinear`` is the finite-strain section model (~1 s per design and load).
     n_samples
         Latin-hypercube sample size (0 when no parameter is ``lhs``).
     seed
@@ -141,7 +155,7 @@ class SweepSpec:
 
     @property
     def uses_fem(self) -> bool:
-        return "fem" in self.evaluators or "nonlinear" in self.evaluators
+        return "fem" in self.evaluators or "fem-nonlinear" in self.evaluators
 
     @property
     def uses_section(self) -> bool:
@@ -150,8 +164,11 @@ class SweepSpec:
     @property
     def section_options(self) -> dict:
         """Keyword options for ``softcath.fem.section_model.section_model`` (only those set)."""
-        opts = {"mesh_size": self.section_mesh_size, "coil_bending": self.section_coil_bending,
-                "mesher": self.section_mesher}  # fmt: skip
+        opts = {
+            "mesh_size": self.section_mesh_size,
+            "coil_bending": self.section_coil_bending,
+            "mesher": self.section_mesher,
+        }
         return {k: v for k, v in opts.items() if v is not None}
 
     @property
@@ -165,7 +182,7 @@ class SweepSpec:
             "parameters": [(p.path, p.kind, list(p.values), p.bounds) for p in self.parameters],
             "pressures_MPa": self.pressures_MPa,
             "loads": self.loads,
-            "evaluators": self.evaluators,
+            "evaluators": tuple(_FINGERPRINT_NAMES.get(e, e) for e in self.evaluators),
             "n_samples": self.n_samples,
             "seed": self.seed,
             "chunk_size": self.effective_chunk_size,
@@ -282,6 +299,42 @@ def _base_table(base: str, spec_dir: Path) -> dict:
 
 def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string>") -> SweepSpec:
     """Check a sweep specification's tables and build a :class:`SweepSpec`."""
+    sweep = _sweep_table(data)
+    base = sweep.get("base", "paper")
+    if not isinstance(base, str):
+        raise DesignError("sweep.base", base, "must be a preset name or a path")
+    base_table = _base_table(base, Path(spec_dir))
+    ps = _pressures(sweep)
+    loads, evals = _loads_and_evaluators(sweep)
+    seed, chunk = _seed_and_chunk(sweep)
+    mesh_size = _fem_mesh_size(sweep)
+    section_mesh, coil_bending, mesher = _section_table(sweep.get("section", {}))
+    max_strain = _max_strain(sweep)
+    params = _parameters(data, base_table)
+    n_samples = _n_samples(data, params)
+    name = sweep.get("name", Path(source).stem if source != "<string>" else "sweep")
+    return SweepSpec(
+        name=str(name),
+        base=base,
+        base_table=base_table,
+        parameters=params,
+        pressures_MPa=ps,
+        loads=loads,
+        evaluators=evals,
+        n_samples=n_samples,
+        seed=seed,
+        chunk_size=chunk,
+        mesh_size=None if mesh_size is None else float(mesh_size),
+        max_strain=max_strain,
+        section_mesh_size=section_mesh,
+        section_coil_bending=coil_bending,
+        section_mesher=mesher,
+        source=source,
+    )
+
+
+def _sweep_table(data: dict) -> dict:
+    """The ``[sweep]`` table, after checking the top-level tables' and its keys' names."""
     for key in data:
         if key not in _TOP_KEYS:
             raise DesignError(key, data[key], f"unknown table; allowed: {', '.join(sorted(_TOP_KEYS))}")
@@ -293,11 +346,11 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
             raise DesignError(
                 f"sweep.{key}", sweep[key], f"unknown key; allowed: {', '.join(sorted(_SWEEP_KEYS))}"
             )
-    base = sweep.get("base", "paper")
-    if not isinstance(base, str):
-        raise DesignError("sweep.base", base, "must be a preset name or a path")
-    base_table = _base_table(base, Path(spec_dir))
+    return sweep
 
+
+def _pressures(sweep: dict) -> tuple[float, ...]:
+    """``sweep.pressures_MPa``, sorted and deduplicated, in [0, :data:`MAX_PRESSURE_MPA`]."""
     pressures = sweep.get("pressures_MPa")
     if not isinstance(pressures, list) or not pressures:
         raise DesignError("sweep.pressures_MPa", pressures, "must be a non-empty list of pressures [MPa]")
@@ -306,44 +359,67 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         raise DesignError("sweep.pressures_MPa", ps[0], "must be >= 0")
     if ps[-1] > MAX_PRESSURE_MPA:
         raise DesignError("sweep.pressures_MPa", ps[-1], f"must be <= {MAX_PRESSURE_MPA:g} MPa")
+    return ps
 
+
+def _loads_and_evaluators(sweep: dict) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """``sweep.loads`` and ``sweep.evaluators`` (tier names; ``paper`` always), in canonical order."""
     loads = sweep.get("loads", ["cap", "lumen"])
     if not isinstance(loads, list) or not loads or any(x not in LOADS for x in loads):
         raise DesignError("sweep.loads", loads, f"must be a non-empty list from {list(LOADS)}")
-    evaluators = sweep.get("evaluators", ["analytic"])
-    if not isinstance(evaluators, list) or not evaluators or any(x not in EVALUATORS for x in evaluators):
+    evaluators = sweep.get("evaluators", ["paper"])
+    if not isinstance(evaluators, list) or not evaluators:
         raise DesignError("sweep.evaluators", evaluators, f"must be a non-empty list from {list(EVALUATORS)}")
-    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "analytic")
+    evaluators = [tier_name(x, parameter="sweep.evaluators") for x in evaluators]
+    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "paper")
+    return tuple(x for x in LOADS if x in loads), evals
 
+
+def _seed_and_chunk(sweep: dict) -> tuple[int, int]:
+    """``sweep.seed`` (>= 0) and ``sweep.chunk_size`` (>= 1)."""
     seed = sweep.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise DesignError("sweep.seed", seed, "must be an integer >= 0")
     chunk = sweep.get("chunk_size", 500)
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise DesignError("sweep.chunk_size", chunk, "must be an integer >= 1")
+    return seed, chunk
 
+
+def _fem_mesh_size(sweep: dict):
+    """``sweep.fem.mesh_size`` as given (> 0 mm), or ``None``."""
     fem = sweep.get("fem", {})
     if not isinstance(fem, dict) or set(fem) - {"mesh_size"}:
         raise DesignError("sweep.fem", fem, "must be a table with only mesh_size [mm]")
     mesh_size = fem.get("mesh_size")
     if mesh_size is not None and _real("sweep.fem.mesh_size", mesh_size) <= 0:
         raise DesignError("sweep.fem.mesh_size", mesh_size, "must be > 0 mm")
+    return mesh_size
 
-    section_mesh, coil_bending, mesher = _section_table(sweep.get("section", {}))
 
+def _max_strain(sweep: dict) -> float:
+    """``sweep.feasibility.max_strain`` (> 0, default 0.3)."""
     feas = sweep.get("feasibility", {})
     if not isinstance(feas, dict) or set(feas) - {"max_strain"}:
         raise DesignError("sweep.feasibility", feas, "must be a table with only max_strain")
     max_strain = _real("sweep.feasibility.max_strain", feas.get("max_strain", 0.3))
     if max_strain <= 0:
         raise DesignError("sweep.feasibility.max_strain", max_strain, "must be > 0")
+    return max_strain
 
+
+def _parameters(data: dict, base_table: dict) -> tuple[Parameter, ...]:
+    """The ``[parameters]`` table's parameters, their paths checked against the base design."""
     raw_params = data.get("parameters", {})
     if not isinstance(raw_params, dict):
         raise DesignError("parameters", raw_params, "must be a table of dotted design paths")
     params = tuple(_parameter(k, v) for k, v in _flatten(raw_params))
     _check_paths(params, base_table)
+    return params
 
+
+def _n_samples(data: dict, params: tuple[Parameter, ...]) -> int:
+    """``sample.n`` (required with an lhs parameter, else 0), after checking the sweep's size."""
     n_samples = 0
     if any(p.kind == "lhs" for p in params):
         sample = data.get("sample")
@@ -357,25 +433,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         raise DesignError(
             "parameters", f"{n_designs:.3g} designs", f"must give at most {MAX_DESIGNS:.0e} designs"
         )
-    name = sweep.get("name", Path(source).stem if source != "<string>" else "sweep")
-    return SweepSpec(
-        name=str(name),
-        base=base,
-        base_table=base_table,
-        parameters=params,
-        pressures_MPa=ps,
-        loads=tuple(x for x in LOADS if x in loads),
-        evaluators=evals,
-        n_samples=n_samples,
-        seed=seed,
-        chunk_size=chunk,
-        mesh_size=None if mesh_size is None else float(mesh_size),
-        max_strain=max_strain,
-        section_mesh_size=section_mesh,
-        section_coil_bending=coil_bending,
-        section_mesher=mesher,
-        source=source,
-    )
+    return n_samples
 
 
 def _section_table(table: Any) -> tuple[float | None, str | None, str | None]:

@@ -41,11 +41,14 @@ class SweepStore:
             try:
                 old = json.loads(path.read_text(encoding="utf-8"))
             except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-                raise DataError(f"{path}: unreadable sweep manifest ({exc}); use another --out") from None
+                raise DataError(
+                    f"{path}: unreadable sweep manifest ({exc}); use another output folder"
+                ) from None
             if old.get("spec", {}).get("fingerprint") != manifest["spec"]["fingerprint"]:
                 raise DataError(
-                    f"{self.root} holds a different sweep (fingerprint {old.get('spec', {}).get('fingerprint')}, "
-                    f"this spec is {manifest['spec']['fingerprint']}); use another --out"
+                    f"{self.root} holds a different sweep (fingerprint "
+                    f"{old.get('spec', {}).get('fingerprint')}, "
+                    f"this spec is {manifest['spec']['fingerprint']}); use another output folder"
                 )
         else:
             # designs.csv first: sweep.json marks a prepared directory

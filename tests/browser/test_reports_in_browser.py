@@ -1,4 +1,5 @@
-"""The HTML reports as a user sees them: opened in headless Chromium (Debian's, driven by Playwright), offline.
+"""The HTML reports as a user sees them: opened in headless Chromium (Debian's, driven by Playwright),
+offline.
 
 Each page must load with every image decoded, no console error or page error,
 the sections it promises, and no network request (all are blocked and
@@ -23,11 +24,18 @@ from softcath.cli.main import main
 CHROMIUM = Path("/usr/bin/chromium")
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH_ARGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
     # WebGL without a GPU: SwiftShader (software), which headless Chromium refuses unless told
-    "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-]  # fmt: skip
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+]
 
 # The viewer and the checks' own tests take a second or so each; a report page needs a run of softcath
 # first (3-15 s): those are marked slow.
@@ -143,8 +151,9 @@ def test_tip_view_draws_and_rotates_offline(browser, tmp_path):
 
     from softcath.fem.html_view import surface_of_grid, write_view_html
 
-    tube = pv.CylinderStructured(radius=np.linspace(0.2, 0.5, 3), height=6.0, direction=(0, 0, 1),
-                                 theta_resolution=24, z_resolution=30).cast_to_unstructured_grid()  # fmt: skip
+    tube = pv.CylinderStructured(
+        radius=np.linspace(0.2, 0.5, 3), height=6.0, direction=(0, 0, 1), theta_resolution=24, z_resolution=30
+    ).cast_to_unstructured_grid()
     grid = tube.triangulate()
     z = grid.points[:, 2] + 3.0
     grid.point_data["displacement"] = np.column_stack([0 * z, -0.05 * z**2, 0 * z])
@@ -350,7 +359,8 @@ def test_interactive_charts_respond_offline(browser, tmp_path):
 
 @pytest.mark.slow
 def test_sweep_explore_page(browser, tmp_path, spec_writer):
-    """`softcath report` after a two-objective select: explore.html's parity, parallel coordinates and Pareto."""
+    """`softcath report` after a two-objective select: explore.html's parity, parallel coordinates and
+    Pareto."""
     spec = spec_writer(
         """
         [sweep]
@@ -365,8 +375,19 @@ def test_sweep_explore_page(browser, tmp_path, spec_writer):
     )
     out = tmp_path / "run"
     assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
-    assert main(["select", str(out), "--objective", "maximise bend_per_MPa_deg",
-                 "--objective", "minimise elongation at p_max"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "select",
+                str(out),
+                "--objective",
+                "maximise bend_per_MPa_deg",
+                "--objective",
+                "minimise elongation at p_max",
+            ]
+        )
+        == 0
+    )
     assert main(["report", str(out)]) == 0
     opened = Opened(browser, out / "report" / "explore.html", tmp_path, "sweep_explore")
     try:
@@ -384,10 +405,31 @@ def test_sweep_explore_page(browser, tmp_path, spec_writer):
 def test_optimise_report_page(browser, tmp_path):
     """`softcath optimise` (NSGA-II on the formula): its report's parallel coordinates and Pareto click."""
     out = tmp_path / "opt"
-    assert main(["optimise", "paper", "--model", "paper", "--vary", "tube.h=-0.03:0.03",
-                 "--vary", "materials.medical_silicone_tubing.youngs_modulus=1:4",
-                 "--objective", "maximise bend_angle_deg at p=0.5", "--objective", "minimise max_strain at p=0.5",
-                 "--budget", "40", "--no-fem-check", "--no-progress", "--out", str(out)]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "optimise",
+                "paper",
+                "--model",
+                "paper",
+                "--vary",
+                "tube.h=-0.03:0.03",
+                "--vary",
+                "materials.medical_silicone_tubing.youngs_modulus=1:4",
+                "--objective",
+                "maximise bend_angle_deg at p=0.5",
+                "--objective",
+                "minimise max_strain at p=0.5",
+                "--budget",
+                "40",
+                "--no-fem-check",
+                "--no-progress",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     opened = Opened(browser, out / "index.html", tmp_path, "optimise_report")
     try:
         opened.check(headings=("Winners", "Every evaluation", "Objectives", "Convergence"))

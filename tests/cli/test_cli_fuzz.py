@@ -250,10 +250,46 @@ def sweep_dir(tmp_path_factory):
 
 
 TOKENS = [
-    "bend_angle_deg", "max_strain", "elongation", "bend_per_MPa_deg", "tube.h", "nosuch", "status", "reason",
-    "0", "1", "90", "1e999", "0.3", "-", "+", "*", "/", "**", "%", "(", ")", "abs(", "exp(", "<=", ">=", "<",
-    "==", "and", "or", "not", "at p_max", "at p=0.5", "at p=7", "at", "'x'", "__import__", ".", ",", "lambda",
-]  # fmt: skip
+    "bend_angle_deg",
+    "max_strain",
+    "elongation",
+    "bend_per_MPa_deg",
+    "tube.h",
+    "nosuch",
+    "status",
+    "reason",
+    "0",
+    "1",
+    "90",
+    "1e999",
+    "0.3",
+    "-",
+    "+",
+    "*",
+    "/",
+    "**",
+    "%",
+    "(",
+    ")",
+    "abs(",
+    "exp(",
+    "<=",
+    ">=",
+    "<",
+    "==",
+    "and",
+    "or",
+    "not",
+    "at p_max",
+    "at p=0.5",
+    "at p=7",
+    "at",
+    "'x'",
+    "__import__",
+    ".",
+    ",",
+    "lambda",
+]
 COLUMNS = ["bend_angle_deg", "max_strain", "elongation", "bend_per_MPa_deg", "tube.h", "curvature_per_mm"]
 well_formed = st.builds(
     lambda col, op, num, where: f"{col} {op} {num}{where}",
@@ -381,8 +417,17 @@ def test_record_options(cli, tmp_path, duration, pscale, escale, rate):
         return math.isfinite(v) and (v > 0 if positive else v != 0)
 
     assume(not (ok(duration, True) and ok(pscale, False) and ok(escale, False) and ok(rate, True)))
-    argv = ["record", "--pressure-port", "loop://", "--encoder-port", "loop://", f"--duration={duration}",
-            f"--pressure-scale={pscale}", f"--encoder-scale={escale}", f"--device-rate={rate}"]  # fmt: skip
+    argv = [
+        "record",
+        "--pressure-port",
+        "loop://",
+        "--encoder-port",
+        "loop://",
+        f"--duration={duration}",
+        f"--pressure-scale={pscale}",
+        f"--encoder-scale={escale}",
+        f"--device-rate={rate}",
+    ]
     r = cli(*argv, "--out", tmp_path / "r")
     _check(r, None, {}, ("--duration", "--pressure-scale", "--encoder-scale", "--device-rate"))
 
@@ -419,8 +464,21 @@ def test_bench_options(cli, tmp_path, freq, cycles, pmax, noise, fps, effect, se
     )
     assume(not valid)  # a valid run takes seconds of simulated devices: tests/hardware/test_bench.py
     out = tmp_path / "b"
-    argv = ["bench", f"--freq={freq}", "--cycles", cycles, f"--pressure-max={pmax}", f"--noise={noise}",
-            f"--fps={fps}", "--effect", effect, "--seed", seed, "--out", out]  # fmt: skip
+    argv = [
+        "bench",
+        f"--freq={freq}",
+        "--cycles",
+        cycles,
+        f"--pressure-max={pmax}",
+        f"--noise={noise}",
+        f"--fps={fps}",
+        "--effect",
+        effect,
+        "--seed",
+        seed,
+        "--out",
+        out,
+    ]
     r = cli(*argv)
     names = ("freq", "cycles", "pressure_max", "noise", "fps", "effect", "tau_s", "fraction", "seed")
     _check(r, out, {}, names)

@@ -47,8 +47,17 @@ def _wait_for(predicate, timeout_s: float, poll_s: float = 0.002) -> bool:
 
 def test_a_device_that_never_speaks_ends_a_timed_recording(tmp_path, cli):
     t0 = time.monotonic()
-    r = cli("record", "--pressure-port", "loop://", "--encoder-port", "loop://", "--duration", "0.3",
-            "--out", tmp_path / "r")  # fmt: skip
+    r = cli(
+        "record",
+        "--pressure-port",
+        "loop://",
+        "--encoder-port",
+        "loop://",
+        "--duration",
+        "0.3",
+        "--out",
+        tmp_path / "r",
+    )
     elapsed = time.monotonic() - t0
     line = r.error_line()
     assert "no rows recorded (no data): no device spoke within 0.3 s" in line
@@ -126,8 +135,17 @@ def test_sigkill_of_a_sweep_takes_its_workers_and_resume_is_exact(spec_writer, t
     )
     out = tmp_path / "s"
     # no pipes: a worker that outlived the sweep would hold them open
-    proc = _softcath("sweep", spec, "--out", out, "--workers", "2", "--no-progress",
-                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    proc = _softcath(
+        "sweep",
+        spec,
+        "--out",
+        out,
+        "--workers",
+        "2",
+        "--no-progress",
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     tasks = out / "tasks"
     assert _wait_for(lambda: tasks.is_dir() and len(list(tasks.glob("t*.parquet"))) >= 5, 120, 0.01)
     helpers = _descendants(proc.pid)  # the fork server, the pool's workers, a resource tracker

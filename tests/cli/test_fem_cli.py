@@ -19,9 +19,8 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_cli_writes_json_vtu_png(tmp_path, capsys):
     out = tmp_path / "out"
     code = main(
-        ["fem", "paper", "--pressure", "0.1", "--load", "cap", "--out", str(out),
-         "--mesh-size", "0.25"]
-    )  # fmt: skip
+        ["fem", "paper", "--pressure", "0.1", "--load", "cap", "--out", str(out), "--mesh-size", "0.25"]
+    )
     assert code == 0
     doc = json.loads((out / "fem.json").read_text())
     assert doc["load"] == "cap" and doc["pressure_MPa"] == 0.1
@@ -46,9 +45,25 @@ def test_cli_writes_json_vtu_png(tmp_path, capsys):
 def test_cli_bad_input_exits_2_naming_the_parameter(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     proc = subprocess.run(
-        [sys.executable, "-m", "softcath", "fem", "paper", "--pressure", "0.1",
-         "--out", str(tmp_path), "--mesh-size", "0.001", "--no-png"],
-        cwd=ROOT, env=env, capture_output=True, text=True, check=False,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "softcath",
+            "fem",
+            "paper",
+            "--pressure",
+            "0.1",
+            "--out",
+            str(tmp_path),
+            "--mesh-size",
+            "0.001",
+            "--no-png",
+        ],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines()[-1].startswith("softcath fem: error: --mesh-size = 0.001")

@@ -10,13 +10,40 @@ from softcath.cli.main import main
 
 @pytest.mark.slow
 def test_fem_nonlinear_cli_writes_json_sweep_and_series(tmp_path, capsys):
-    code = main(["fem", "paper", "--nonlinear", "--pressure", "0.05", "--steps", "2", "--load", "lumen",
-                 "--compare-linear", "--out", str(tmp_path)])  # fmt: skip
+    code = main(
+        [
+            "fem",
+            "paper",
+            "--nonlinear",
+            "--pressure",
+            "0.05",
+            "--steps",
+            "2",
+            "--load",
+            "lumen",
+            "--compare-linear",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert code == 0
     doc = json.loads((tmp_path / "fem.json").read_text())
-    for key in ("curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm", "load",
-                "pressure_MPa", "dofs", "n_elements", "residual", "analytic", "ratio_fem_over_analytic",
-                "steps", "newton_iterations"):  # fmt: skip
+    for key in (
+        "curvature_per_mm",
+        "elongation",
+        "bend_angle_rad",
+        "tip_x_mm",
+        "tip_y_mm",
+        "load",
+        "pressure_MPa",
+        "dofs",
+        "n_elements",
+        "residual",
+        "analytic",
+        "ratio_fem_over_analytic",
+        "steps",
+        "newton_iterations",
+    ):
         assert key in doc, key
     assert doc["pressure_MPa"] == pytest.approx(0.05) and len(doc["steps"]) == 2
     # small load: the finite-strain angle stays within 10 % of the linear FEM on the same mesh

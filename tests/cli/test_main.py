@@ -1,4 +1,5 @@
-"""softcath.cli.main: one error path for every command (one line, exit 2, --debug traceback, stdout failures)."""
+"""softcath.cli.main: one error path for every command (one line, exit 2, --debug traceback, stdout
+failures)."""
 
 from __future__ import annotations
 

@@ -16,7 +16,7 @@ from softcath.design.measurement import read_recording
 from softcath.hardware.protocol import encode_frame
 from softcath.hardware.recorder import Recorder, RecorderConfig
 from softcath.hardware.sensors import SerialSensor
-from softcath.virtualbench.render import Scene, render_frame, tip_pose
+from softcath.virtualbench.render import Scene, arc_end_pose, render_frame
 
 SCENE = Scene(px_per_mm=40.0)
 ANGLES = [15.0, 45.0, 90.0, 135.0]
@@ -52,7 +52,7 @@ def test_measure_cli_writes_csv_and_overlay(video, tmp_path, capsys, with_base):
     # known base: 2 % (as in test_vision); base found from the image: 3 %
     np.testing.assert_allclose(d["curvature_per_mm"][:4], k, rtol=0.02 if with_base else 0.03)
     assert np.isnan(d["curvature_per_mm"][4])
-    tips = np.array([tip_pose(ki, 5.0)[:2] for ki in k])
+    tips = np.array([arc_end_pose(ki, 5.0)[:2] for ki in k])
     np.testing.assert_allclose(d["tip_x_mm"][:4], tips[:, 0], atol=0.05)
     np.testing.assert_allclose(d["tip_y_mm"][:4], tips[:, 1], atol=0.05)
     cap = cv2.VideoCapture(str(tmp_path / "overlay.avi"))

@@ -1,4 +1,5 @@
-"""``softcath analytic --model`` and ``softcath calibrate --model``: the section model behind the same outputs."""
+"""``softcath analytic --model`` and ``softcath calibrate --model``: the section model behind the same
+outputs."""
 
 from __future__ import annotations
 
@@ -61,7 +62,8 @@ def test_analytic_model_section_writes_the_same_columns_from_the_section_model(t
 
 
 def test_calibrate_model_section_from_the_cli(tmp_path, capsys):
-    """Section-model data of a known shape through the CLI: the shape comes back (see the API test's tolerance)."""
+    """Section-model data of a known shape through the CLI: the shape comes back (see the API test's
+    tolerance)."""
     paper = design.preset("paper")
     shape = dict(paper.tube_shape, a_int=0.12, h=0.015)
     t = np.arange(0, 8.0, 1 / 100)

@@ -15,10 +15,30 @@ E_TUBE = "materials.medical_silicone_tubing.youngs_modulus"
 def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("softcath.studies.report.optimum.MAX_PICTURES", 2)  # pictures take ~0.3 s each
     out = tmp_path / "opt"
-    rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4", "--vary", "tube.h=-0.03:0.03",
-               "--objective", "maximise bend_angle_deg at p=0.5", "--objective", "minimise max_strain at p=0.5",
-               "--constraint", "bend_angle_deg >= 8 at p=0.5", "--budget", "30", "--no-fem-check",
-               "--no-progress", "--out", str(out)])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--model",
+            "paper",
+            "--vary",
+            f"{E_TUBE}=1:4",
+            "--vary",
+            "tube.h=-0.03:0.03",
+            "--objective",
+            "maximise bend_angle_deg at p=0.5",
+            "--objective",
+            "minimise max_strain at p=0.5",
+            "--constraint",
+            "bend_angle_deg >= 8 at p=0.5",
+            "--budget",
+            "30",
+            "--no-fem-check",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     doc = json.loads((out / "optimum.json").read_text())
     assert doc["model"] == "paper" and doc["evaluations"] <= 30
@@ -37,12 +57,36 @@ def test_optimise_writes_optimum_history_designs_and_report(tmp_path, capsys, mo
 
 
 def test_optimise_refusals_name_the_option(tmp_path, capsys):
-    rc = main(["optimise", "paper", "--vary", "tube.h=0.1:-0.1", "--objective", "maximise bend_angle_deg",
-               "--out", str(tmp_path / "o")])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--vary",
+            "tube.h=0.1:-0.1",
+            "--objective",
+            "maximise bend_angle_deg",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
     assert rc == 2
     assert "--vary tube.h" in capsys.readouterr().err
-    rc = main(["optimise", "paper", "--vary", "tube.h=0:0.01", "--objective", "maximise bend_angle_deg",
-               "--robust", "1.5", "--model", "paper", "--out", str(tmp_path / "o")])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--vary",
+            "tube.h=0:0.01",
+            "--objective",
+            "maximise bend_angle_deg",
+            "--robust",
+            "1.5",
+            "--model",
+            "paper",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
     assert rc == 2
     assert "robust = 1.5" in capsys.readouterr().err
 
@@ -68,10 +112,32 @@ def test_optimise_refuses_bad_objectives(tmp_path, capsys, bad):
 
 def test_optimise_robust_reports_probabilities(tmp_path):
     out = tmp_path / "rob"
-    rc = main(["optimise", "paper", "--model", "paper", "--vary", f"{E_TUBE}=1:4",
-               "--objective", "maximise bend_angle_deg at p=0.5", "--constraint", "bend_angle_deg <= 10 at p=0.5",
-               "--robust", "0.8", "--robust-vary", "materials.ecoflex_00_30.youngs_modulus=0.069:0.118",
-               "--samples", "8", "--budget", "30", "--no-fem-check", "--no-progress", "--out", str(out)])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--model",
+            "paper",
+            "--vary",
+            f"{E_TUBE}=1:4",
+            "--objective",
+            "maximise bend_angle_deg at p=0.5",
+            "--constraint",
+            "bend_angle_deg <= 10 at p=0.5",
+            "--robust",
+            "0.8",
+            "--robust-vary",
+            "materials.ecoflex_00_30.youngs_modulus=0.069:0.118",
+            "--samples",
+            "8",
+            "--budget",
+            "30",
+            "--no-fem-check",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     doc = json.loads((out / "optimum.json").read_text())
     assert doc["robust"]["P"] == 0.8 and doc["model_runs"] == 8 * doc["evaluations"]
@@ -100,8 +166,21 @@ def test_optimise_robust_reports_probabilities(tmp_path):
 def test_optimise_refuses_absurd_work_before_any_run_naming_the_option(tmp_path, capsys, extra, expected):
     """As every command: one line naming option, value and bound, before the folder or any model run."""
     out = tmp_path / "o"
-    rc = main(["optimise", "paper", "--vary", "tube.h=-0.03:0.03", "--objective", "maximise bend_angle_deg at p=0.5",
-               "--no-fem-check", "--no-progress", *extra, "--out", str(out)])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--vary",
+            "tube.h=-0.03:0.03",
+            "--objective",
+            "maximise bend_angle_deg at p=0.5",
+            "--no-fem-check",
+            "--no-progress",
+            *extra,
+            "--out",
+            str(out),
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert rc == 2 and expected in err and len(err.splitlines()) == 1
     assert not out.exists()
@@ -116,8 +195,23 @@ def test_optimise_leaves_no_partial_outputs_when_a_writer_fails(tmp_path, capsys
 
     monkeypatch.setattr("softcath.studies.report.optimum.write_optimum_report", broken)
     out = tmp_path / "opt"
-    rc = main(["optimise", "paper", "--model", "paper", "--vary", "tube.h=-0.03:0.03", "--objective",
-               "maximise bend_angle_deg at p=0.5", "--budget", "10", "--no-fem-check", "--no-progress",
-               "--out", str(out)])  # fmt: skip
+    rc = main(
+        [
+            "optimise",
+            "paper",
+            "--model",
+            "paper",
+            "--vary",
+            "tube.h=-0.03:0.03",
+            "--objective",
+            "maximise bend_angle_deg at p=0.5",
+            "--budget",
+            "10",
+            "--no-fem-check",
+            "--no-progress",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 2 and "disk full" in capsys.readouterr().err
     assert not out.exists() or not any(out.iterdir())

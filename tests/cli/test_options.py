@@ -1,4 +1,5 @@
-"""Every command spells DESIGN and ``--out`` the same way, and ``--out`` is honoured where files are written."""
+"""Every command spells DESIGN and ``--out`` the same way, and ``--out`` is honoured where files are
+written."""
 
 from __future__ import annotations
 
@@ -93,3 +94,12 @@ def test_report_and_select_honour_out(small_spec, tmp_path, capsys):
     assert not (sweep / "selection.json").exists()
     assert main(["report", str(sweep), "--out", str(tmp_path / "page")]) == 0
     assert (tmp_path / "page" / "index.html").is_file() and not (sweep / "report").exists()
+
+
+def test_model_option_takes_the_tier_names_and_maps_an_old_spelling(caplog):
+    from softcath.cli.options import model_name
+
+    assert model_name("section-nonlinear") == "section-nonlinear"
+    with caplog.at_level("WARNING"):
+        assert model_name("analytic") == "paper"
+    assert "deprecated" in caplog.text

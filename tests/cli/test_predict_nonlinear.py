@@ -1,4 +1,5 @@
-"""``softcath predict --nonlinear``: finite-strain curve bands and a measured curve compared point by point."""
+"""``softcath predict --nonlinear``: finite-strain curve bands and a measured curve compared point by
+point."""
 
 from __future__ import annotations
 
@@ -15,11 +16,28 @@ def test_predict_nonlinear_places_a_measured_curve_point_by_point(tmp_path, caps
     measured = tmp_path / "m.csv"
     p = np.repeat([0.2, 0.5], 10)
     k = np.where(p < 0.3, 0.06, 0.17)  # a convex curve, as the prototype's
-    write_measurement_csv(measured, Measurement({"time_s": np.arange(p.size) * 0.01, "pressure_MPa": p,
-                                                 "curvature_per_mm": k}))  # fmt: skip
+    write_measurement_csv(
+        measured, Measurement({"time_s": np.arange(p.size) * 0.01, "pressure_MPa": p, "curvature_per_mm": k})
+    )
     out = tmp_path / "pred"
-    argv = ["predict", "paper", "--model", "section", "--samples", "8", "--nonlinear", "--curve-samples", "3",
-            "--pressures", "0.2,0.5", "--measured", str(measured), "--no-progress", "--out", str(out)]  # fmt: skip
+    argv = [
+        "predict",
+        "paper",
+        "--model",
+        "section",
+        "--samples",
+        "8",
+        "--nonlinear",
+        "--curve-samples",
+        "3",
+        "--pressures",
+        "0.2,0.5",
+        "--measured",
+        str(measured),
+        "--no-progress",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 0
     doc = json.loads((out / "prediction.json").read_text())
     nl = doc["nonlinear"]

@@ -112,7 +112,8 @@ def test_select_refuses_non_finite_constants(quick_sweep, cli, expr):
 def test_sweep_spec_with_non_finite_values_is_refused(spec_writer, tmp_path, cli):
     for values, bad in (("[nan, inf]", "values[0] = nan"), ("[0.0, inf]", "values[1] = inf")):
         spec = spec_writer(
-            f'[sweep]\nbase = "paper"\npressures_MPa = [0.5]\n[parameters]\n"tube.h" = {{ values = {values} }}\n'
+            f'[sweep]\nbase = "paper"\npressures_MPa = [0.5]\n[parameters]\n"tube.h" = {{ values = {values} '
+            f"}}\n"
         )
         line = cli("sweep", spec, "--out", tmp_path / "s", "--workers", "1").error_line()
         assert f"parameters.tube.h.{bad}: must be a finite number" in line
@@ -123,7 +124,8 @@ def test_sweep_spec_with_non_finite_values_is_refused(spec_writer, tmp_path, cli
 def quick_sweep(spec_writer, tmp_path, cli):
     spec = spec_writer(
         '[sweep]\nbase = "paper"\npressures_MPa = [0.5, 1.0]\nchunk_size = 2\n'
-        '[parameters]\n"tube.h" = { values = [-0.02, 0.0, 0.02] }\n"tip.bending_length" = { values = [4.0, 6.0] }\n'
+        '[parameters]\n"tube.h" = { values = [-0.02, 0.0, 0.02] }\n"tip.bending_length" = { values = [4.0, '
+        "6.0] }\n"
     )
     out = tmp_path / "q"
     assert cli("sweep", spec, "--out", out, "--workers", "1", "--no-progress").status == 0
@@ -201,8 +203,17 @@ def test_record_refuses_non_finite_scales(tmp_path, cli):
             argv = ["record", "--pressure-port", "loop://", "--encoder-port", "loop://", flag, value]
             line = cli(*argv, "--duration", "1", "--out", tmp_path / "r").error_line()
             assert f"{flag} = {value if value != '0' else '0.0'}" in line or f"{flag} = {value}" in line
-    line = cli("record", "--pressure-port", "loop://", "--encoder-port", "loop://", "--duration", "nan",
-               "--out", tmp_path / "r").error_line()  # fmt: skip
+    line = cli(
+        "record",
+        "--pressure-port",
+        "loop://",
+        "--encoder-port",
+        "loop://",
+        "--duration",
+        "nan",
+        "--out",
+        tmp_path / "r",
+    ).error_line()
     assert "--duration = nan" in line
 
 

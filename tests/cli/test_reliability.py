@@ -28,8 +28,13 @@ from softcath.studies.atomic import check_outputs
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "studies" / "data"
-PROPS = settings(max_examples=60, deadline=None, derandomize=True, database=None,
-                 suppress_health_check=[HealthCheck.function_scoped_fixture])  # fmt: skip
+PROPS = settings(
+    max_examples=60,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 FLOATS = st.floats(allow_nan=True, allow_infinity=True, width=64)
 
 
@@ -237,8 +242,14 @@ def test_a_path_the_terminal_cannot_print_does_not_fail_after_the_outputs(tmp_pa
     env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONIOENCODING="ascii", LC_ALL="C")
     r = subprocess.run(
         [sys.executable, "-m", "softcath", "analytic", "paper", "--pressure", "0:0.1:3", "--out", str(out)],
-        capture_output=True, text=True, env=env, cwd=ROOT, timeout=120, encoding="utf-8", errors="replace",
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        timeout=120,
+        encoding="utf-8",
+        errors="replace",
+    )
     assert r.returncode == 0, r.stderr
     assert "r\\xe9sultat" in r.stdout and (out / "analytic.csv").exists()
 

@@ -8,9 +8,18 @@ import json
 from softcath.cli.main import main
 
 KEYS = (
-    "curvature_per_mm_per_MPa", "elongation_per_MPa", "EA_N", "EI_N_mm2", "neutral_axis_mm",
-    "lumen_area_change_mm2_per_MPa", "dofs", "seconds", "load", "poisson_ratio_silicone", "fem_formula_ratio",
-)  # fmt: skip
+    "curvature_per_mm_per_MPa",
+    "elongation_per_MPa",
+    "EA_N",
+    "EI_N_mm2",
+    "neutral_axis_mm",
+    "lumen_area_change_mm2_per_MPa",
+    "dofs",
+    "seconds",
+    "load",
+    "poisson_ratio_silicone",
+    "fem_formula_ratio",
+)
 
 
 def test_section_command_writes_json_csv_png(tmp_path, capsys):

@@ -14,9 +14,13 @@ def test_land_half_widths_match_the_fem_geometry():
     g = geometry_from_design(d)
     s = d.section
     lands = land_half_widths(
-        coil_inner_radius=s.coil_inner_radius, channel_outer_radius=s.channel_outer_radius,
-        channel_y=s.channel_center_y, tube_a=s.a, tube_b=s.b, tube_y=s.tube_center_y,
-    )  # fmt: skip
+        coil_inner_radius=s.coil_inner_radius,
+        channel_outer_radius=s.channel_outer_radius,
+        channel_y=s.channel_center_y,
+        tube_a=s.a,
+        tube_b=s.b,
+        tube_y=s.tube_center_y,
+    )
     assert lands == g.lands()
 
 

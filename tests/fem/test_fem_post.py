@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from softcath import analytic
-from softcath.fem.post import bending_fit, principal_strain_max, tip_pose
+from softcath.fem.post import bending_fit, principal_strain_max
 
 
 def _beam_nodes(length=5.0, n=41):
@@ -39,16 +38,6 @@ def test_curvature_variation_sees_a_linear_moment():
     zc = fit.z_profile
     expected = (0.1 * (zc.max() - zc.min()) / 10) / (0.1 * (1 - zc.mean() / 10))
     assert fit.curvature_variation == pytest.approx(expected, rel=1e-6)
-
-
-def test_tip_pose_matches_the_analytic_model():
-    k = np.array([0.0, 0.05, 0.2])
-    e = np.array([0.0, 0.01, 0.02])
-    theta, tx, ty = tip_pose(k, e, length=5.0)
-    ax, ay, ath = analytic.tip_pose(k, 5.0 * (1 + e))
-    np.testing.assert_allclose(theta, ath, rtol=1e-12)
-    np.testing.assert_allclose(tx, ax, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(ty, ay, rtol=1e-12)
 
 
 def test_principal_strain_of_a_known_tensor():

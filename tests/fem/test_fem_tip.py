@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from softcath import analytic, design, fem
-from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
 from softcath.fem.geometry import REGIONS
 from softcath.fem.materials import Isotropic
 from softcath.fem.pipeline import axial_modulus, run_tip
@@ -82,7 +82,7 @@ def composite_gains(g, laws):
 
 @pytest.mark.slow
 def test_catheter_cap_load_vs_composite_beam(geometry, paper):
-    laws = laws_from_design(paper)
+    laws = fem_laws_from_design(paper)
     # Without confinement (coil hoop modulus lowered to its axial one) the 3-D
     # section bends as the composite beam: within 5 %. The
     # residual (measured 3.3 %) is the Poisson mismatch between bonded regions
@@ -111,7 +111,7 @@ def test_paper_check_cap_and_lumen(paper):
     # The real (hoop-stiff) coil confines the near-incompressible silicone, which
     # then resists axial strain with ~ its P-wave modulus: the FEM bends less than
     # the composite beam of the same moduli (measured 0.75) and stretches less.
-    k_beam, e_beam = composite_gains(geometry_from_design(paper), laws_from_design(paper))
+    k_beam, e_beam = composite_gains(geometry_from_design(paper), fem_laws_from_design(paper))
     assert cap2.curvature_per_mm < 0.9 * 0.1 * k_beam
     assert cap2.elongation < 0.9 * 0.1 * e_beam
     # The (1 - 2 nu) closed form predicts that the wall load
@@ -125,11 +125,24 @@ def test_paper_check_cap_and_lumen(paper):
     assert cap2.curvature_variation < 0.05 and lum.curvature_variation < 0.05
     doc = r.to_json("lumen", 0.1)
     for key in (
-        "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm",
-        "curvature_variation", "max_strain", "load", "pressure_MPa", "n_nodes",
-        "n_elements", "dofs", "mesh_seconds", "solve_seconds", "residual", "analytic",
+        "curvature_per_mm",
+        "elongation",
+        "bend_angle_rad",
+        "tip_x_mm",
+        "tip_y_mm",
+        "curvature_variation",
+        "max_strain",
+        "load",
+        "pressure_MPa",
+        "n_nodes",
+        "n_elements",
+        "dofs",
+        "mesh_seconds",
+        "solve_seconds",
+        "residual",
+        "analytic",
         "ratio_fem_over_analytic",
-    ):  # fmt: skip
+    ):
         assert key in doc
     theta = lum.curvature_per_mm * 5.0 * (1 + lum.elongation)
     assert lum.bend_angle_rad == pytest.approx(theta, rel=1e-12)
@@ -156,15 +169,14 @@ def test_bad_inputs_name_the_parameter(paper):
     with pytest.raises(design.DesignError, match=r"load = \['torsion'\]"):
         fem.check(paper, pressures=[0.1], loads=("torsion",))
     with pytest.raises(design.DesignError, match="coil_modulus = 'steel'"):
-        laws_from_design(paper, coil_modulus="steel")
+        fem_laws_from_design(paper, coil_modulus="steel")
 
 
 @pytest.mark.slow
 def test_mesh_convergence_observed_order(paper, geometry):
-    laws = laws_from_design(paper)
+    laws = fem_laws_from_design(paper)
     sizes = (0.36, 0.24, 0.16)  # constant ratio 1.5 (layers scale with the size)
-    kappa = [run_tip(geometry, laws, loads=("cap",), mesh_size=h).fits["cap"].curvature_per_mm
-             for h in sizes]  # fmt: skip
+    kappa = [run_tip(geometry, laws, loads=("cap",), mesh_size=h).fits["cap"].curvature_per_mm for h in sizes]
     r = sizes[0] / sizes[1]
     d1, d2 = kappa[0] - kappa[1], kappa[1] - kappa[2]
     order = np.log(abs(d1 / d2)) / np.log(r)

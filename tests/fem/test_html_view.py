@@ -17,8 +17,9 @@ def bent_tube():
     """A thick tube along z (tets), bent in y by a parabola, strain rising along it."""
     import pyvista as pv
 
-    tube = pv.CylinderStructured(radius=np.linspace(0.2, 0.5, 3), height=6.0, direction=(0, 0, 1),
-                                 theta_resolution=30, z_resolution=60).cast_to_unstructured_grid()  # fmt: skip
+    tube = pv.CylinderStructured(
+        radius=np.linspace(0.2, 0.5, 3), height=6.0, direction=(0, 0, 1), theta_resolution=30, z_resolution=60
+    ).cast_to_unstructured_grid()
     grid = tube.triangulate()
     z = grid.points[:, 2] + 3.0
     grid.point_data["displacement"] = np.column_stack([0 * z, -0.05 * z**2, 0 * z])

@@ -1,4 +1,5 @@
-"""softcath.studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one line."""
+"""softcath.studies.atomic: outputs appear whole or not at all; strict JSON; output folders refused in one
+line."""
 
 from __future__ import annotations
 
@@ -26,9 +27,9 @@ from softcath.studies.atomic import (
 def test_prepare_out_dir_creates_and_refuses_files(tmp_path):
     assert prepare_out_dir(tmp_path / "a" / "b").is_dir()
     (tmp_path / "f").write_text("x")
-    with pytest.raises(DesignError, match=r"--out = '.*f': exists and is not a folder"):
+    with pytest.raises(DesignError, match=r"out_dir = '.*f': exists and is not a folder"):
         prepare_out_dir(tmp_path / "f")
-    with pytest.raises(DesignError, match=r"--out = '.*f/sub': .*f is a file, not a folder"):
+    with pytest.raises(DesignError, match=r"out_dir = '.*f/sub': .*f is a file, not a folder"):
         prepare_out_dir(tmp_path / "f" / "sub")
     with pytest.raises(DesignError, match=r"--step = '.*': is a folder; give a file path"):
         check_parent(tmp_path / "a", param="--step")

@@ -36,7 +36,8 @@ def test_coil_writes_json_and_png(tmp_path):
         assert ratios["bending/annulus_tension_EI"] == pytest.approx(
             e["bending_N_mm2"] / (k.axial_modulus_tension * k.second_moment)
         )
-        # Coil-bound: the contact stiffness is set to E·φ, the wire adds < 1 % compliance (or stiffness, the ring).
+        # Coil-bound: the contact stiffness is set to E·φ, the wire adds < 1 % compliance (or stiffness, the
+        # ring).
         assert ratios["axial_compression/coil_bound_EA"] == pytest.approx(1.0, abs=0.01)
         assert e["axial_compression_N"] > 1e3 * e["axial_tension_N"]
         assert e["n_elements"] == 32 and e["seconds"] > 0

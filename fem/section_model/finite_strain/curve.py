@@ -304,9 +304,11 @@ def _check_inputs(design, pressures, load):
     d = design_pkg.resolve(design)
     if not d.assembly.is_default:
         raise DesignError(
-            "assembly", d.assembly.to_dict(), "the finite-strain section model takes the bonded tip only "
-            "(interfaces and fillers as built are in the linear section model and the 3-D FEM)"
-        )  # fmt: skip
+            "assembly",
+            d.assembly.to_dict(),
+            "the finite-strain section model takes the bonded tip only "
+            "(interfaces and fillers as built are in the linear section model and the 3-D FEM)",
+        )
     return d, p
 
 
@@ -480,9 +482,16 @@ def _row(disc, wall, state) -> dict:
 
 def _rest_row(rest) -> dict:
     return {
-        "curvature": 0.0, "lateral": 0.0, "rate": 0.0, "elongation": 0.0, "area": rest.area,
-        "volume": rest.volume, "max_strain": 0.0, "iterations": 0, "residual": 0.0,
-    }  # fmt: skip
+        "curvature": 0.0,
+        "lateral": 0.0,
+        "rate": 0.0,
+        "elongation": 0.0,
+        "area": rest.area,
+        "volume": rest.volume,
+        "max_strain": 0.0,
+        "iterations": 0,
+        "residual": 0.0,
+    }
 
 
 def _linear_gain(problem, q_rest, loading) -> float:

@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.design.load_cases import LOADS
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 from softcath.fem.section_model.finite_strain.lumen import LumenWall, lumen_volume
 from softcath.fem.section_model.finite_strain.residual import internal, with_globals
@@ -37,10 +38,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: ``lumen``: follower pressure on the deformed lumen wall plus the cap force on the
-#: deformed lumen (the real load); ``cap``: the cap force alone (the paper's load).
-LOADS = ("lumen", "cap")
-
 
 class SectionConvergenceError(DesignError):
     """Newton did not converge; names the last load reached."""
@@ -55,6 +52,10 @@ class SectionConvergenceError(DesignError):
 @dataclass(frozen=True)
 class Loading:
     """Loads at unit factor: a lumen pressure [MPa] of kind ``load`` and end moments [N mm].
+
+    Both loads of :data:`~softcath.design.load_cases.LOADS` act on the deformed configuration:
+    ``lumen`` is a follower pressure on the deformed lumen wall plus the cap force on the
+    deformed lumen.
 
     The moments (M_1, M_2) do work on the section's turning rate lambda k; they are
     for verification (Rivlin's flexure), the catheter's loads are pressures.
@@ -153,7 +154,8 @@ def load_vector(problem: Problem, q: np.ndarray, loading: Loading) -> np.ndarray
 
 
 def _load_blocks(problem: Problem, u: np.ndarray, g: np.ndarray, loading: Loading, factor: float):
-    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force norm."""
+    """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force
+    norm."""
     r_g = np.zeros((1, N_GLOBAL))
     k_g = np.zeros((1, N_GLOBAL, N_GLOBAL))
     blocks = []
@@ -277,9 +279,14 @@ def walk(
             state = None
             if rate is not None:  # Euler predictor along the load path's tangent
                 state, new_lu, new_tan = newton(
-                    problem, q + trial * rate, loading, done + trial, tol=tol, max_iter=max_iter,
+                    problem,
+                    q + trial * rate,
+                    loading,
+                    done + trial,
+                    tol=tol,
+                    max_iter=max_iter,
                     pressure=pressures_after(problem, tan, trial * rate),
-                )  # fmt: skip
+                )
             if state is None:
                 state, new_lu, new_tan = newton(problem, q, loading, done + trial, tol=tol, max_iter=max_iter)
             if state is None:

@@ -110,9 +110,11 @@ def test_gain_scale_fits_a_scaled_model_exactly(paper):
     k, e = analytic.gains(truth, "cap")
     p = m0.pressure_MPa
     m = Measurement.from_arrays(
-        time_s=m0.time_s, pressure_MPa=p, curvature_per_mm=2.5 * k * p,
+        time_s=m0.time_s,
+        pressure_MPa=p,
+        curvature_per_mm=2.5 * k * p,
         arc_length_mm=truth.tip.bending_length * (1 + 0.5 * e * p),
-    )  # fmt: skip
+    )
     res = calibrate(m, paper, free=("a_int", "h"), gain_scale=(2.5, 0.5))
     assert res.reachable
     for key in ("a_int", "h"):

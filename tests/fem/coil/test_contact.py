@@ -25,7 +25,8 @@ def _solve(k, f):
 
 
 def test_active_set_on_two_springs_and_a_gap():
-    # Mass on a spring k1 pushed by F toward a stop (gap 0.1) backed by penalty k_c: closes only if F > 0.1 k1.
+    # Mass on a spring k1 pushed by F toward a stop (gap 0.1) backed by penalty k_c: closes only if F > 0.1
+    # k1.
     k = sp.csr_matrix([[1.0]])
     b = sp.csr_matrix([[-1.0]])  # gap = 0.1 - u
     for force, closed in ((0.05, False), (1.0, True)):
@@ -39,9 +40,15 @@ def test_active_set_that_cannot_settle_is_an_error():
     k = sp.csr_matrix([[1.0]])
     with pytest.raises(SolverError, match="did not settle"):
         solve_with_contact(
-            _solve, k, np.array([1.0]), sp.csr_matrix([[-1.0]]), np.array([0.1]), np.array([1e3]),
-            active=np.array([False]), max_iterations=1,
-        )  # fmt: skip
+            _solve,
+            k,
+            np.array([1.0]),
+            sp.csr_matrix([[-1.0]]),
+            np.array([0.1]),
+            np.array([1e3]),
+            active=np.array([False]),
+            max_iterations=1,
+        )
 
 
 def test_close_wound_coil_is_bilinear_and_pivots(paper):
@@ -62,7 +69,8 @@ def test_close_wound_coil_is_bilinear_and_pivots(paper):
     assert r.neutral_axis_y == pytest.approx(-coil.mean_radius, rel=1e-3)
     assert r.contact_fraction == pytest.approx(1 / r.elements_per_turn)
     # All turns closed: a ring of contact springs k_c per wire length, one layer per pitch p:
-    # EI = k_c p ∫ y² ds = k_c p π R³ (Σ y_k² = m R²/2 exactly for equally spaced pairs; wire compliance < 0.1 %).
+    # EI = k_c p ∫ y² ds = k_c p π R³ (Σ y_k² = m R²/2 exactly for equally spaced pairs; wire compliance < 0.1
+    # %).
     k_line = (
         coil.material.youngs_modulus
         * (np.pi * coil.wire_diameter / (4 * coil.pitch))

@@ -16,7 +16,8 @@ OPEN = {"radius": 1.0, "pitch": 0.3}  # spring index 20, helix angle 2.7°: an o
 
 
 def _cantilever(direction, n_elements, load):
-    """Tip displacement/rotation of a straight cantilever (length 2, clamped at node 0) along ``direction``."""
+    """Tip displacement/rotation of a straight cantilever (length 2, clamped at node 0) along
+    ``direction``."""
     direction = np.asarray(direction, float) / np.linalg.norm(direction)
     nodes = np.outer(np.linspace(0, 2.0, n_elements + 1), direction)
     elements = np.column_stack([np.arange(n_elements), np.arange(1, n_elements + 1)])
@@ -62,7 +63,8 @@ def _per_turn_stiffness(m, turns=None, geometry=OPEN):
 
 def test_open_coil_matches_spring_rate_and_wahl():
     ea, ei = _per_turn_stiffness(64)
-    # Same physics, exact energy (helix angle, shear, axial terms): only the chords' 9/m², 1.6/m² error remains.
+    # Same physics, exact energy (helix angle, shear, axial terms): only the chords' 9/m², 1.6/m² error
+    # remains.
     assert ea == pytest.approx(cf.helix_axial_energy(STEEL, **OPEN), rel=3e-3)
     assert ei == pytest.approx(cf.helix_bending_energy(STEEL, **OPEN), rel=6e-4)
     # Textbook forms (α → 0, torsion/bending only): they differ from the exact energy by 0.2 % here.

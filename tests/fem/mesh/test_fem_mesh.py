@@ -87,10 +87,20 @@ def test_bad_settings_name_parameter(paper_geometry):
 
 def test_bad_geometry_names_parameter():
     kw = dict(
-        coil_outer_radius=0.4, coil_inner_radius=0.3, channel_outer_radius=0.15,
-        channel_inner_radius=0.075, channel_y=-0.15, tube_a=0.2, tube_b=0.15, tube_y=0.15,
-        lumen_a=0.1, lumen_b=0.07, lumen_y=0.15, length=5.0, cap_thickness=0.3,
-    )  # fmt: skip
+        coil_outer_radius=0.4,
+        coil_inner_radius=0.3,
+        channel_outer_radius=0.15,
+        channel_inner_radius=0.075,
+        channel_y=-0.15,
+        tube_a=0.2,
+        tube_b=0.15,
+        tube_y=0.15,
+        lumen_a=0.1,
+        lumen_b=0.07,
+        lumen_y=0.15,
+        length=5.0,
+        cap_thickness=0.3,
+    )
     TipGeometry(**kw)
     with pytest.raises(DesignError, match=r"geometry\.cap_thickness = 6: must be < length"):
         TipGeometry(**{**kw, "cap_thickness": 6.0})
@@ -143,8 +153,14 @@ def test_meshing_leaves_sigpipe_ignored():
     root = Path(__file__).parents[3]
 
     def probe(mode: str) -> str:
-        r = subprocess.run([sys.executable, "-c", _SIGPIPE_PROBE, mode], capture_output=True, text=True,
-                           cwd=root, env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"}, timeout=120)  # fmt: skip
+        r = subprocess.run(
+            [sys.executable, "-c", _SIGPIPE_PROBE, mode],
+            capture_output=True,
+            text=True,
+            cwd=root,
+            env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"},
+            timeout=120,
+        )
         assert r.returncode == 0, r.stderr
         return r.stdout.strip().splitlines()[-1]
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from softcath import design
-from softcath.fem.adapter import geometry_from_design, laws_from_design
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
 from softcath.fem.elasticity import ElasticProblem
 from softcath.fem.mesh import mesh_tip
 from softcath.fem.tags import tag_facets
@@ -29,7 +29,7 @@ def test_loaded_surfaces_and_resultants(filled, tmp_path):
     m = mesh_tip(g, mesh_size=0.25, cache=tmp_path)
     sk = m.skfem_mesh()
     tags = tag_facets(sk, g)
-    pb = ElasticProblem(sk, m.labels, laws_from_design(d), [(tags["base"], (0, 1, 2))])
+    pb = ElasticProblem(sk, m.labels, fem_laws_from_design(d), [(tags["base"], (0, 1, 2))])
     cap = pb.pressure_load(tags["cap"]).reshape(-1, 3).sum(axis=0)
     wall = pb.pressure_load(tags["lumen"]).reshape(-1, 3).sum(axis=0)
     area = math.pi * g.lumen_a * g.lumen_b

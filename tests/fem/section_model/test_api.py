@@ -20,7 +20,7 @@ def test_response_is_linear_and_uses_eq9(paper):
     k, e = paper.gains("lumen")
     np.testing.assert_allclose(r.curvature, k * p)
     np.testing.assert_allclose(r.elongation, e * p)
-    x, y, th = analytic.pose.tip_pose(r.curvature, 5.0 * (1 + r.elongation))
+    x, y, th = analytic.tip_pose(r.curvature, 5.0 * (1 + r.elongation))
     np.testing.assert_allclose(r.tip_x, x)
     np.testing.assert_allclose(r.bend_angle, th)
     same = section_response("paper", p, load="lumen")

@@ -17,7 +17,7 @@ from softcath.fem.section_model.bilinear import annulus_fibres, bend_curve
 from softcath.fem.section_model.coil_models import helix_stiffness
 from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
-from softcath.fem.section_model.laws import laws_from_design
+from softcath.fem.section_model.laws import section_laws_from_design
 from softcath.fem.section_model.mesh import disk_section_mesh
 from softcath.fem.section_model.solve import solve
 
@@ -82,14 +82,15 @@ def test_meshed_bimodular_annulus_against_quadrature(paper, ratio, tol):
         mesh_size=0.02,
         segments=40,
     )
-    op = assemble(mesh, {COIL: laws_from_design(paper)[COIL]})
+    op = assemble(mesh, {COIL: section_laws_from_design(paper)[COIL]})
     et = design.coil_stiffness(paper.coil).axial_modulus_tension
     fib = annulus_fibres(op, mesh.labels, COIL, compression_modulus=ratio * et, initial_tension=0.0)
     k_rest = solve(op, ("cap",)).stiffness - fib.linear_stiffness(fib.tension_modulus)
     assert np.abs(k_rest).max() < 1e-12  # the coil's axial modulus is all the global block holds
     g, _, _ = solve_fibres(k_rest, fib, np.array([0.0, 0.0, 1e-3]))
-    ei, yn = bimodular_annulus_bending(outer_radius=ro, inner_radius=ri, tension_modulus=et,
-                                       compression_modulus=ratio * et)  # fmt: skip
+    ei, yn = bimodular_annulus_bending(
+        outer_radius=ro, inner_radius=ri, tension_modulus=et, compression_modulus=ratio * et
+    )
     assert 1e-3 / g[2] == pytest.approx(ei, rel=tol)
     assert -g[0] / g[2] == pytest.approx(yn, abs=tol * ro)
 
@@ -105,8 +106,14 @@ def test_ring_and_couple_reproduce_the_resolved_wire(paper, f0):
     k = design.coil_stiffness(coil)
     ea, ei = helix_stiffness(coil)
     r = coil.mean_radius
-    fib = ring_fibres(centre=(0.0, 0.0), radius=r, area=k.area, tension_axial=ea,
-                      compression_modulus=k.axial_modulus_compression, initial_tension=f0)  # fmt: skip
+    fib = ring_fibres(
+        centre=(0.0, 0.0),
+        radius=r,
+        area=k.area,
+        tension_axial=ea,
+        compression_modulus=k.axial_modulus_compression,
+        initial_tension=f0,
+    )
     couple = ei - 0.5 * ea * r**2
     g, kappa = None, []
     for m in moments:

@@ -19,11 +19,15 @@ def test_observed_order_and_default_mesh_at_nu_04999():
     seq = ((0.1, 16), (0.05, 32), (0.025, 64))
     k = np.array(
         [
-            [section_model("paper", silicone_poisson=0.4999, mesh_size=h, segments=s).curvature_per_mm_per_MPa[ld]
-             for ld in ("cap", "lumen")]
+            [
+                section_model(
+                    "paper", silicone_poisson=0.4999, mesh_size=h, segments=s
+                ).curvature_per_mm_per_MPa[ld]
+                for ld in ("cap", "lumen")
+            ]
             for h, s in seq
         ]
-    )  # fmt: skip
+    )
     d = np.abs(np.diff(k, axis=0))
     order = np.log2(d[0] / d[1])
     assert np.all(order > 1.5), order

@@ -17,7 +17,7 @@ from softcath import design
 from softcath.fem.adapter import geometry_from_design
 from softcath.fem.section_model.batch import _kernel
 from softcath.fem.section_model.element import assemble
-from softcath.fem.section_model.laws import laws_from_design
+from softcath.fem.section_model.laws import section_laws_from_design
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.template import morph, section_template
 from softcath.studies.sweep.random_designs import random_designs
@@ -29,7 +29,7 @@ def _setup(d):
     g = geometry_from_design(d)
     template = section_template(g, mesh_size=MESH_SIZE, segments=SEGMENTS)
     mesh = morph(template, g)
-    laws = laws_from_design(d, coil_modulus="tension")
+    laws = section_laws_from_design(d, coil_modulus="tension")
     kernel = _kernel(template)
     labels = kernel.labels  # the kernel's triangle order: straight-sided first
     D = np.stack([laws[int(k)].D for k in labels])[None]

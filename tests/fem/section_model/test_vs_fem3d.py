@@ -90,7 +90,7 @@ def test_finite_strain_mixed_fem_at_small_load(nu):
     from softcath.fem.nonlinear import bend_curve
     from softcath.fem.nonlinear.catheter import from_tip_mesh
     from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import from_tensor, laws_from_design
+    from softcath.fem.section_model.laws import from_tensor, section_laws_from_design
     from softcath.fem.section_model.mesh import catheter_section_mesh
     from softcath.fem.section_model.solve import solve
 
@@ -104,7 +104,7 @@ def test_finite_strain_mixed_fem_at_small_load(nu):
     )
     k_nl = _midspan_curvature(curve) / p
 
-    laws = dict(laws_from_design(d))
+    laws = dict(section_laws_from_design(d))
     e_max = max(d.tube.material.youngs_modulus, d.filler.youngs_modulus)
     for label, coil in ((COIL, d.coil), (CHANNEL, d.channel)):
         k = design.coil_stiffness(coil)

@@ -12,7 +12,7 @@ from softcath.hardware.errors import FrameSourceError
 from softcath.hardware.frames import VideoWriter, open_source
 from softcath.hardware.vision import Calibration, draw_overlay, measure
 from softcath.hardware.vision.scale import scale_from_chessboard, scale_from_points
-from softcath.virtualbench.render import Scene, render_chessboard, render_frame, tip_pose
+from softcath.virtualbench.render import Scene, arc_end_pose, render_chessboard, render_frame
 
 L_MM = 5.0
 SCENE = Scene(px_per_mm=40.0, noise=2.0)
@@ -32,7 +32,7 @@ def test_default_method_within_two_percent(bend_deg):
     assert m.ok
     # the requirement: 2 % of the true curvature over 10-150 degrees
     assert m.curvature_per_mm == pytest.approx(k, rel=0.02)
-    tx, ty, th = tip_pose(k, L_MM)
+    tx, ty, th = arc_end_pose(k, L_MM)
     # arc length and tip from the red centroid: within half a pixel-ish (0.025 mm at 40 px/mm)
     # plus the anti-aliased disc edge; 0.03 mm = 1.2 px
     assert m.arc_length_mm == pytest.approx(L_MM, abs=0.03)

@@ -114,8 +114,14 @@ def test_full_demo_subprocess(tmp_path):
     """`softcath demo --out DIR` end to end as a user runs it; no section may fail."""
     out = tmp_path / "demo"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.run([sys.executable, "-m", "softcath", "demo", "--out", str(out)], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=900)  # fmt: skip
+    proc = subprocess.run(
+        [sys.executable, "-m", "softcath", "demo", "--out", str(out)],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     sections = json.loads((out / "demo.json").read_text())["sections"]
     assert [s["key"] for s in sections] == [k for k, _, _ in demo.SECTIONS]

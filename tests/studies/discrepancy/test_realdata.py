@@ -183,8 +183,11 @@ def test_stand_in_designs_carry_the_data_gain(synthetic):
     paper = design.preset("paper")
     g_paper = analytic.gains(paper, "cap")[0]
     assert {p.stem for p in files["stand_ins"]} == {
-        "ijpelaar_two_chamber", "marchese_ribbed", "marchese_cylindrical", "marchese_pleated",
-    }  # fmt: skip
+        "ijpelaar_two_chamber",
+        "marchese_ribbed",
+        "marchese_cylindrical",
+        "marchese_pleated",
+    }
     for path in files["stand_ins"]:
         d = design.load(path)
         factor = paper.tube.material.youngs_modulus / d.tube.material.youngs_modulus

@@ -343,6 +343,6 @@ def test_fem_reference_through_fem_check_when_available(tmp_path):
     fn = fem_reference()
     if fn is None:
         pytest.skip("fem.check is not available in this checkout")
-    r = run_workflow(None, "paper", reference="fem", fem=fn, pressures_MPa=np.linspace(0, 1, 7))
+    r = run_workflow(None, "paper", reference="fem", fem=fn, pressures=np.linspace(0, 1, 7))
     # the FEM's real load is lumen + cap; the analytic cap model misses the lumen term
     assert r.named[:1] == ("lumen_wall",)

@@ -1,4 +1,5 @@
-"""softcath.studies.optimise: known optima of the paper's formula, seeds, invalid designs, backends, the FEM re-check."""
+"""softcath.studies.optimise: known optima of the paper's formula, seeds, invalid designs, backends, the FEM
+re-check."""
 
 from __future__ import annotations
 
@@ -41,8 +42,14 @@ def test_active_bound(table):
 
 def test_active_constraint(table):
     """Maximise the bend under a cap on it: the modulus where the cap is met exactly (root of the formula)."""
-    p = make_problem(table, variables=[f"{E_TUBE}=1:4"], objectives=[BEND],
-                     constraints=["bend_angle_deg <= 10 at p=0.5"], model="paper", load="cap")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=[f"{E_TUBE}=1:4"],
+        objectives=[BEND],
+        constraints=["bend_angle_deg <= 10 at p=0.5"],
+        model="paper",
+        load="cap",
+    )
     opt = optimise(p, budget=80, seed=1, progress=False)
     best = opt.best[0]
     e_star = brentq(lambda e: _bend_deg(table, {E_TUBE: e}) - 10.0, 1.0, 4.0, xtol=1e-10)
@@ -54,8 +61,9 @@ def test_active_constraint(table):
 
 def test_same_seed_same_result_and_invalid_designs_are_violations(table):
     """A lumen offset range much of which cannot be built: no crash, a buildable winner, reproducible."""
-    p = make_problem(table, variables=["tube.h=-0.3:0.3", f"{E_TUBE}=1:4"], objectives=[BEND],
-                     model="paper", load="cap")  # fmt: skip
+    p = make_problem(
+        table, variables=["tube.h=-0.3:0.3", f"{E_TUBE}=1:4"], objectives=[BEND], model="paper", load="cap"
+    )
     a = optimise(p, budget=60, seed=5, progress=False)
     b = optimise(p, budget=60, seed=5, progress=False)
     assert a.best == b.best
@@ -65,8 +73,13 @@ def test_same_seed_same_result_and_invalid_designs_are_violations(table):
 
 
 def test_pareto_set_is_nondominated(table):
-    p = make_problem(table, variables=["tube.h=-0.03:0.03", f"{E_TUBE}=1:4"],
-                     objectives=[BEND, "minimise max_strain at p=0.5"], model="paper", load="cap")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=["tube.h=-0.03:0.03", f"{E_TUBE}=1:4"],
+        objectives=[BEND, "minimise max_strain at p=0.5"],
+        model="paper",
+        load="cap",
+    )
     opt = optimise(p, budget=80, seed=2, progress=False)
     assert opt.algorithm.startswith("NSGA-II") and len(opt.best) >= 2
     f = np.array([[-w.objectives[BEND], w.objectives["minimise max_strain at p=0.5"]] for w in opt.best])
@@ -75,12 +88,21 @@ def test_pareto_set_is_nondominated(table):
 
 
 def test_robust_constraint_holds_with_probability(table):
-    """Robust: the winner meets its cap on at least P of the silicone lots, and is reported with p5/p50/p95."""
-    ranges = [Range(E_TUBE.replace("medical_silicone_tubing", "ecoflex_00_30"), low=0.05, high=0.2),
-              Range("materials.medical_silicone_tubing.poisson_ratio", low=0.45, high=0.49)]  # fmt: skip
+    """Robust: the winner meets its cap on at least P of the silicone lots, and is reported with
+    p5/p50/p95."""
+    ranges = [
+        Range(E_TUBE.replace("medical_silicone_tubing", "ecoflex_00_30"), low=0.05, high=0.2),
+        Range("materials.medical_silicone_tubing.poisson_ratio", low=0.45, high=0.49),
+    ]
     rob = make_robustness(0.9, ranges, samples=20, seed=0)
-    p = make_problem(table, variables=[f"{E_TUBE}=1:4"], objectives=[BEND],
-                     constraints=["bend_angle_deg <= 10 at p=0.5"], model="paper", load="cap")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=[f"{E_TUBE}=1:4"],
+        objectives=[BEND],
+        constraints=["bend_angle_deg <= 10 at p=0.5"],
+        model="paper",
+        load="cap",
+    )
     best = optimise(p, budget=60, seed=0, robust=rob, progress=False).best[0]
     cons = "bend_angle_deg <= 10 at p=0.5"
     assert best.probabilities[cons] >= 0.9
@@ -116,8 +138,13 @@ def test_dask_local_cluster_equals_local_processes(table):
     """A 2-worker Dask LocalCluster on loopback finds exactly what 2 local processes find."""
     from distributed import LocalCluster
 
-    p = make_problem(table, variables=["tube.h=-0.04:0.04"], objectives=["maximise bend_angle_deg at p=0.5"],
-                     constraints=["max_strain <= 0.3 at p=0.5"], model="section")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=["tube.h=-0.04:0.04"],
+        objectives=["maximise bend_angle_deg at p=0.5"],
+        constraints=["max_strain <= 0.3 at p=0.5"],
+        model="section",
+    )
     local = optimise(p, budget=12, seed=4, workers=2, progress=False)
     with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster:
         remote = optimise(p, budget=12, seed=4, scheduler=cluster.scheduler_address, progress=False)
@@ -132,8 +159,13 @@ def test_section_model_beats_a_grid_four_times_its_budget(table):
     from softcath.studies.optimise import Backend, evaluate_parameters
 
     obj, cons = "maximise bend_angle_deg at p=0.5", "max_strain <= 0.45 at p=0.5"
-    p = make_problem(table, variables=["tube.h=-0.04:0.04", "tube.a_int=0.07:0.13"], objectives=[obj],
-                     constraints=[cons], model="section")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=["tube.h=-0.04:0.04", "tube.a_int=0.07:0.13"],
+        objectives=[obj],
+        constraints=[cons],
+        model="section",
+    )
     opt = optimise(p, budget=30, seed=0, workers=2, progress=False)
     grid = [
         {"tube.h": h, "tube.a_int": a}
@@ -155,8 +187,12 @@ def test_winner_rechecked_by_the_3d_fem(table):
 
     if fem_check_function() is None:
         pytest.skip("fem.check not importable in this build")
-    p = make_problem(table, variables=["tube.h=-0.02:0.02"], objectives=["maximise bend_angle_deg at p=0.5"],
-                     model="section")  # fmt: skip
+    p = make_problem(
+        table,
+        variables=["tube.h=-0.02:0.02"],
+        objectives=["maximise bend_angle_deg at p=0.5"],
+        model="section",
+    )
     best = optimise(p, budget=10, seed=0, fem_check=True, progress=False).best[0]
     check = best.fem_check
     assert check["status"] == "ok", check["reason"]

@@ -56,8 +56,15 @@ def test_measured_percentile_is_the_share_of_e_above_the_matching_modulus():
     # 70 % of the strata (0.3 is a stratum edge for n = 400); one stratum (0.25 %) of slack.
     n = 400
     k_star = formula_gain(e_at(0.3))
-    r = predict_tier(TABLE, "paper", [Range(E_PATH, low=E_LOW, high=E_HIGH)], load="cap", samples=n, seed=5,
-                     measured_gain=k_star)  # fmt: skip
+    r = predict_tier(
+        TABLE,
+        "paper",
+        [Range(E_PATH, low=E_LOW, high=E_HIGH)],
+        load="cap",
+        samples=n,
+        seed=5,
+        measured_gain=k_star,
+    )
     assert r.measured["measured_percentile"] == pytest.approx(70.0, abs=100 / n)
     assert r.measured["measured_in_band"] is True and r.measured["measured_outside"] is None
 

@@ -37,8 +37,22 @@ def test_cli_adds_the_finite_strain_point_to_json_and_picture(tmp_path):
 
     from softcath.cli.main import main
 
-    argv = ["predict", "paper", "--model", "paper", "--samples", "8", "--finite-strain", "--pressures",
-            "0.005,0.01", "--measured-gain", "0.388", "--no-progress", "--out", str(tmp_path)]  # fmt: skip
+    argv = [
+        "predict",
+        "paper",
+        "--model",
+        "paper",
+        "--samples",
+        "8",
+        "--finite-strain",
+        "--pressures",
+        "0.005,0.01",
+        "--measured-gain",
+        "0.388",
+        "--no-progress",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 0
     fs = json.loads((tmp_path / "prediction.json").read_text())["finite_strain"]
     assert fs["pressures_MPa"] == [0.005, 0.01] and fs["load"] == "lumen"
@@ -48,8 +62,19 @@ def test_cli_adds_the_finite_strain_point_to_json_and_picture(tmp_path):
 def test_cli_refuses_bad_pressures_in_one_line(tmp_path, capsys):
     from softcath.cli.main import main
 
-    argv = ["predict", "paper", "--model", "paper", "--samples", "8", "--finite-strain", "--pressures", "0.1,x",
-            "--out", str(tmp_path)]  # fmt: skip
+    argv = [
+        "predict",
+        "paper",
+        "--model",
+        "paper",
+        "--samples",
+        "8",
+        "--finite-strain",
+        "--pressures",
+        "0.1,x",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert err == "softcath predict: error: --pressures = '0.1,x': must be comma-separated numbers in MPa"

@@ -17,15 +17,17 @@ def design_file(tmp_path):
 
 
 def test_design_file_without_ranges_or_vary_is_refused(design_file):
-    with pytest.raises(DesignError, match=r"no ranges file for design .*mine\.toml: give --vary or --ranges"):
+    with pytest.raises(
+        DesignError, match=r"no ranges file for design .*mine\.toml: give ranges to vary or a ranges file"
+    ):
         resolve_ranges(design_file)
 
 
 def test_design_file_with_its_ranges_file(design_file, tmp_path):
     rf = tmp_path / "r.toml"
     rf.write_text(
-        '[ranges."materials.medical_silicone_tubing.youngs_modulus"]\nlow = 2.0\nhigh = 3.0\nsource = "test bounds"\n'
-        '[ranges."tube.h"]\ndefault = false\nlow = -0.01\nhigh = 0.01\nsource = "off by default"\n',
+        '[ranges."materials.medical_silicone_tubing.youngs_modulus"]\nlow = 2.0\nhigh = 3.0\nsource = "test '
+        'bounds"\n[ranges."tube.h"]\ndefault = false\nlow = -0.01\nhigh = 0.01\nsource = "off by default"\n',
         encoding="utf-8",
     )
     (r,) = resolve_ranges(design_file, ranges_file=rf)

@@ -39,8 +39,15 @@ def sweep(tmp_path_factory):
 def _robust(sweep, seed=0):
     out, spec = sweep
     sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
-    return sel, robust_select(sel, base_table=spec.base_table, pressures_MPa=spec.pressures_MPa,
-                              probability=0.9, ranges=RANGES, samples=24, seed=seed)  # fmt: skip
+    return sel, robust_select(
+        sel,
+        base_table=spec.base_table,
+        pressures=spec.pressures_MPa,
+        probability=0.9,
+        ranges=RANGES,
+        samples=24,
+        seed=seed,
+    )
 
 
 def test_probabilities_match_the_formula_evaluated_directly(sweep):
@@ -73,9 +80,25 @@ def test_probabilities_match_the_formula_evaluated_directly(sweep):
 
 def test_select_cli_robust_writes_the_robust_block(sweep, tmp_path, capsys):
     out, _ = sweep
-    rc = main(["select", str(out), "--constraint", CONS, "--objective", OBJ, "--robust", "0.9",
-               "--vary", "materials.ecoflex_00_30.youngs_modulus=0.069:0.118", "--samples", "8",
-               "--no-progress", "--out", str(tmp_path / "sel")])  # fmt: skip
+    rc = main(
+        [
+            "select",
+            str(out),
+            "--constraint",
+            CONS,
+            "--objective",
+            OBJ,
+            "--robust",
+            "0.9",
+            "--vary",
+            "materials.ecoflex_00_30.youngs_modulus=0.069:0.118",
+            "--samples",
+            "8",
+            "--no-progress",
+            "--out",
+            str(tmp_path / "sel"),
+        ]
+    )
     assert rc == 0
     doc = json.loads((tmp_path / "sel" / "selection.json").read_text())
     assert set(doc["robust"]) >= {"P", "samples", "ranges", "designs"}
@@ -101,7 +124,7 @@ def test_work_beyond_two_hours_or_absurd_samples_is_refused_before_any_run(sweep
     sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
     kw = {
         "base_table": spec.base_table,
-        "pressures_MPa": spec.pressures_MPa,
+        "pressures": spec.pressures_MPa,
         "probability": 0.9,
         "ranges": RANGES,
     }

@@ -22,12 +22,20 @@ def _table() -> pd.DataFrame:
     for d, p in itertools.product(range(4), (0.5, 1.0)):
         rows.append(
             {
-                "design_id": d, "task_id": 0, "tube.h": 0.01 * d, "outer_diameter_mm": 0.8,
-                "pressure_MPa": p, "load": "cap", "bend_angle_deg": bend[d] * p, "max_strain": strain[d] * p,
-                "elongation": elong[d] * p, "bend_per_MPa_deg": bend[d],
-                "status": "failed" if d == 3 else "ok", "reason": "x" if d == 3 else "",
+                "design_id": d,
+                "task_id": 0,
+                "tube.h": 0.01 * d,
+                "outer_diameter_mm": 0.8,
+                "pressure_MPa": p,
+                "load": "cap",
+                "bend_angle_deg": bend[d] * p,
+                "max_strain": strain[d] * p,
+                "elongation": elong[d] * p,
+                "bend_per_MPa_deg": bend[d],
+                "status": "failed" if d == 3 else "ok",
+                "reason": "x" if d == 3 else "",
             }
-        )  # fmt: skip
+        )
     return pd.DataFrame(rows)
 
 
@@ -72,8 +80,11 @@ def test_bad_expressions_name_the_problem(constraint, objective, match):
 def test_constraints_and_ranking_by_hand():
     df = _table()
     # design 0: bend 40 at p_max -> fails >= 90; design 2: strain 0.5 at p_max -> fails <= 0.3 (all pressures)
-    sel = select(df, constraints=["bend_angle_deg >= 90 at p_max", "max_strain <= 0.3"],
-                 objectives=["maximise bend_per_MPa_deg"])  # fmt: skip
+    sel = select(
+        df,
+        constraints=["bend_angle_deg >= 90 at p_max", "max_strain <= 0.3"],
+        objectives=["maximise bend_per_MPa_deg"],
+    )
     assert sel.n_designs == 4 and sel.n_feasible == 1
     assert sel.rejected == {"status failed": 1, "bend_angle_deg >= 90 at p_max": 1, "max_strain <= 0.3": 1}
     assert [r["design_id"] for r in sel.ranked] == [1]
@@ -88,8 +99,11 @@ def test_constraints_and_ranking_by_hand():
     assert sel.ranked[0]["objectives"]["minimise elongation"] == pytest.approx(0.02)
     assert sel.ranked[0]["parameters"]["tube.h"] == pytest.approx(0.02)
     # points for the report's Pareto plot: [id, on front, objective values as defined (not negated)]
-    assert sel.points == [[2, 1, 120.0, pytest.approx(0.02)], [0, 1, 40.0, pytest.approx(0.01)],
-                          [1, 0, 100.0, pytest.approx(0.03)]]  # fmt: skip
+    assert sel.points == [
+        [2, 1, 120.0, pytest.approx(0.02)],
+        [0, 1, 40.0, pytest.approx(0.01)],
+        [1, 0, 100.0, pytest.approx(0.03)],
+    ]
 
 
 def test_pareto_front_against_brute_force():
@@ -102,8 +116,21 @@ def test_pareto_front_against_brute_force():
 def test_cli_select_writes_json_and_rejects_bad_input(small_spec, tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
-    assert main(["select", str(out), "--constraint", "max_strain <= 0.3", "--objective", "maximise bend_per_MPa_deg",
-                 "--objective", "minimise elongation at p_max"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "select",
+                str(out),
+                "--constraint",
+                "max_strain <= 0.3",
+                "--objective",
+                "maximise bend_per_MPa_deg",
+                "--objective",
+                "minimise elongation at p_max",
+            ]
+        )
+        == 0
+    )
     data = json.loads((out / "selection.json").read_text())
     assert data["n_designs"] == 12 and data["rejected"]["status failed"] == 2
     assert data["n_feasible"] == len(data["ranked"]) == 10

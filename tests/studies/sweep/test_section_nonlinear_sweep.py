@@ -1,4 +1,5 @@
-"""The sweep's ``section-nonlinear`` evaluator, and select's re-check of large bends ranked on a linear model."""
+"""The sweep's ``section-nonlinear`` evaluator, and select's re-check of large bends ranked on a linear
+model."""
 
 from __future__ import annotations
 
@@ -47,8 +48,9 @@ def test_section_nonlinear_columns_equal_the_finite_strain_curve(sweep):
         np.testing.assert_allclose(
             rows.bend_angle_section_nonlinear_deg, np.degrees(c.bend_angle_rad), rtol=1e-6
         )
-        np.testing.assert_allclose(rows.lumen_volume_change_section_nonlinear_mm3, c.lumen_volume_change_mm3,
-                                   rtol=1e-6, atol=1e-12)  # fmt: skip
+        np.testing.assert_allclose(
+            rows.lumen_volume_change_section_nonlinear_mm3, c.lumen_volume_change_mm3, rtol=1e-6, atol=1e-12
+        )
     # the best estimates come from the finite-strain section model, which bends more than the linear one
     assert set(df.source) == {"section-nonlinear"}
     np.testing.assert_array_equal(df.curvature_per_mm, df.curvature_section_nonlinear_per_mm)
@@ -78,8 +80,16 @@ def test_select_rechecks_a_large_bend_ranked_on_the_linear_model(sweep, tmp_path
     lin = df[df.pressure_MPa == 0.6].bend_angle_section_deg.max()
     fs = df[df.pressure_MPa == 0.6].bend_angle_section_nonlinear_deg.min()
     assert lin < 45 < fs  # the linear model misses what the tip does
-    argv = ["select", str(out), "--model", "section", "--constraint", "bend_angle_deg >= 30 at p_max",
-            "--objective", "maximise bend_per_MPa_deg"]  # fmt: skip
+    argv = [
+        "select",
+        str(out),
+        "--model",
+        "section",
+        "--constraint",
+        "bend_angle_deg >= 30 at p_max",
+        "--objective",
+        "maximise bend_per_MPa_deg",
+    ]
     assert main([*argv, "--out", str(tmp_path / "b")]) == 0
     doc = json.loads((tmp_path / "b" / "selection.json").read_text())
     assert doc["model"] == "section-nonlinear" and doc["recheck"]["linear_model"] == "section"

@@ -101,7 +101,7 @@ def test_model_columns_pick_one_model(section_sweep):
         model_columns(df, "beam")
 
 
-def _spec(extra: str, evaluators: str = '["analytic", "section"]') -> dict:
+def _spec(extra: str, evaluators: str = '["paper", "section"]') -> dict:
     import tomllib
 
     return tomllib.loads(
@@ -120,11 +120,11 @@ chunk_size = 500
 
 def test_spec_section_options_and_chunks():
     spec = parse_spec(_spec('[sweep.section]\nmesh_size = 0.08\ncoil_bending = "wahl"'))
-    assert spec.evaluators == ("analytic", "section")
+    assert spec.evaluators == ("paper", "section")
     assert spec.section_options == {"mesh_size": 0.08, "coil_bending": "wahl"}
     assert spec.effective_chunk_size == SECTION_CHUNK
     assert parse_spec(_spec("")).fingerprint() != spec.fingerprint()
-    plain = parse_spec(_spec("", '["analytic"]'))
+    plain = parse_spec(_spec("", '["paper"]'))
     assert plain.effective_chunk_size == 500 and "section" not in plain.evaluators
     with pytest.raises(DesignError, match=r"sweep.section.mesh_size = 0.9: must be in \[0.005, 0.5\] mm"):
         parse_spec(_spec("[sweep.section]\nmesh_size = 0.9"))

@@ -188,12 +188,18 @@ def test_fem_result_forms_are_read_the_same():
     assert expected[("lumen", 1.0)]["curvature_per_mm"] == pytest.approx(0.03)
     assert expected[("cap", 0.5)]["n_elements"] == 99 and np.isnan(expected[("cap", 0.5)]["max_strain"])
     flat = {
-        "load": [c.load for c in cases], "pressure_MPa": [c.pressure_MPa for c in cases],
-        "curvature_per_mm": [c.curvature_per_mm for c in cases], "elongation": [c.elongation for c in cases],
+        "load": [c.load for c in cases],
+        "pressure_MPa": [c.pressure_MPa for c in cases],
+        "curvature_per_mm": [c.curvature_per_mm for c in cases],
+        "elongation": [c.elongation for c in cases],
         "n_elements": 99,
-    }  # fmt: skip
-    grid = {**flat, "load": ["cap", "lumen"], "pressure_MPa": [0.5, 1.0],
-            "curvature_per_mm": np.reshape(flat["curvature_per_mm"], (2, 2))}  # fmt: skip
+    }
+    grid = {
+        **flat,
+        "load": ["cap", "lumen"],
+        "pressure_MPa": [0.5, 1.0],
+        "curvature_per_mm": np.reshape(flat["curvature_per_mm"], (2, 2)),
+    }
     grid["elongation"] = np.reshape(flat["elongation"], (2, 2))
     per_load = {
         "cap": [c for c in cases if c.load == "cap"],

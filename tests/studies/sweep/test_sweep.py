@@ -301,9 +301,11 @@ def test_material_paths_scale_exactly(spec_writer, tmp_path):
         assert hi.curvature_analytic_per_mm == pytest.approx(lo.curvature_analytic_per_mm / 2, rel=1e-12)
         assert hi.elongation_analytic == pytest.approx(lo.elongation_analytic / 2, rel=1e-12)
     # a void filler makes the section softer: more elongation at the same pressure
-    base = df[(df["materials.stainless_steel_sus304.youngs_modulus"] == 193000.0)
-              & (df["materials.medical_silicone_tubing.youngs_modulus"] == 2.46)
-              & (df["materials.ecoflex_00_30.youngs_modulus"] == 0.102)]  # fmt: skip
+    base = df[
+        (df["materials.stainless_steel_sus304.youngs_modulus"] == 193000.0)
+        & (df["materials.medical_silicone_tubing.youngs_modulus"] == 2.46)
+        & (df["materials.ecoflex_00_30.youngs_modulus"] == 0.102)
+    ]
     void, filled = (base[base["filler.material"] == f].iloc[0] for f in ("none", "ecoflex_00_30"))
     assert void.elongation_analytic > filled.elongation_analytic
 
@@ -378,8 +380,11 @@ def test_dask_malloc_threshold_is_undone_in_a_worker_process():
     plain = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert plain.stdout.split() == ["False", "False"]
     nanny = subprocess.run(
-        [sys.executable, "-c", code], env={**env, "MALLOC_TRIM_THRESHOLD_": "65536"},
-        capture_output=True, text=True, check=True,
-    )  # fmt: skip
+        [sys.executable, "-c", code],
+        env={**env, "MALLOC_TRIM_THRESHOLD_": "65536"},
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     expected = ["True", "False"] if sys.platform.startswith("linux") else ["False", "False"]
     assert nanny.stdout.split() == expected
