@@ -100,8 +100,9 @@ class _Kernel:
         r, s = X
         lam0 = 1 - r - s
         # P2 geometry: corners 0, 1, 2, midsides 01, 12, 20.
-        self.Ng = np.stack([lam0 * (2 * lam0 - 1), r * (2 * r - 1), s * (2 * s - 1),
-                            4 * lam0 * r, 4 * r * s, 4 * s * lam0])  # fmt: skip
+        self.Ng = np.stack(
+            [lam0 * (2 * lam0 - 1), r * (2 * r - 1), s * (2 * s - 1), 4 * lam0 * r, 4 * r * s, 4 * s * lam0]
+        )
         dr = np.stack([1 - 4 * lam0, 4 * r - 1, 0 * r, 4 * (lam0 - r), 4 * s, -4 * s])
         ds = np.stack([1 - 4 * lam0, 0 * r, 4 * s - 1, -4 * r, 4 * r, 4 * (lam0 - s)])
         self.dNg = np.stack([dr, ds], axis=1)  # (6, 2, nq)
@@ -188,8 +189,16 @@ class _Kernel:
         X = start.T[:, :, None] + self.l_dir[:, :, None] * self.l_s[None, None, :]  # (2, nf, nq)
         r, s_ = X
         lam0 = 1 - r - s_
-        self.l_N = np.stack([lam0 * (2 * lam0 - 1), r * (2 * r - 1), s_ * (2 * s_ - 1),
-                             4 * lam0 * r, 4 * r * s_, 4 * s_ * lam0])  # fmt: skip
+        self.l_N = np.stack(
+            [
+                lam0 * (2 * lam0 - 1),
+                r * (2 * r - 1),
+                s_ * (2 * s_ - 1),
+                4 * lam0 * r,
+                4 * r * s_,
+                4 * s_ * lam0,
+            ]
+        )
         dr = np.stack([1 - 4 * lam0, 4 * r - 1, 0 * r, 4 * (lam0 - r), 4 * s_, -4 * s_])
         ds = np.stack([1 - 4 * lam0, 0 * r, 4 * s_ - 1, -4 * r, 4 * r, 4 * (lam0 - s_)])
         self.l_dN = np.stack([dr, ds], axis=1)  # (6, 2, nf, nq)
@@ -254,8 +263,10 @@ class _Kernel:
         x0 = x6[:, 0]
         J = (x6[:, 1:3] - x0[:, None]).transpose(0, 2, 1)  # J[I, j] = dx_I / dX_j
         det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-        inv = np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1),
-                        np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2) / det[:, None, None]  # fmt: skip
+        inv = (
+            np.stack([np.stack([J[:, 1, 1], -J[:, 0, 1]], -1), np.stack([-J[:, 1, 0], J[:, 0, 0]], -1)], -2)
+            / det[:, None, None]
+        )
         adet = np.abs(det)[:, None]
         invT = inv.transpose(0, 2, 1)  # (e, I, j)
         C = (invT[:, :, None, :, None] * invT[:, None, :, None, :]).reshape(e, 4, 4)  # (IJ, jk)
@@ -284,8 +295,12 @@ class _Kernel:
         e, nb = x6.shape[0], self.nb
         J = np.einsum("ekI,kjq->eqIj", x6, self.dNg)  # dx_I / dX_j
         det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
-        inv = np.stack([np.stack([J[..., 1, 1], -J[..., 0, 1]], -1),
-                        np.stack([-J[..., 1, 0], J[..., 0, 0]], -1)], -2) / det[..., None, None]  # fmt: skip
+        inv = (
+            np.stack(
+                [np.stack([J[..., 1, 1], -J[..., 0, 1]], -1), np.stack([-J[..., 1, 0], J[..., 0, 0]], -1)], -2
+            )
+            / det[..., None, None]
+        )
         g = self.dphi.transpose(2, 0, 1)[None] @ inv  # physical gradients (e, nq, ns, 2)
         w = np.abs(det) * self.W  # (e, nq)
         xq = np.einsum("ekI,kq->Ieq", x6, self.Ng)
@@ -346,11 +361,18 @@ class _Kernel:
         ybar = ez_moments[..., 2].sum(axis=1) / ez_moments[..., 0].sum(axis=1)
         xq = np.einsum("mekI,kq->Imeq", x6, self.Ng)
         return {
-            "data": data, "K_ug": k_ug, "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1), "f": f,
-            "area": area, "centroid": np.stack([xl, yl], axis=1), "ybar": ybar,
-            "inv": inv.reshape(m, nel, -1, 2, 2).transpose(0, 3, 4, 1, 2), "xq": xq,
-            "xr": xr.reshape(m, nel, 2, nr), "xg": xg.reshape(m, nel, 2, 3),
-        }  # fmt: skip
+            "data": data,
+            "K_ug": k_ug,
+            "K_gg": k_gg.reshape(m, nel, 3, 3).sum(axis=1),
+            "f": f,
+            "area": area,
+            "centroid": np.stack([xl, yl], axis=1),
+            "ybar": ybar,
+            "inv": inv.reshape(m, nel, -1, 2, 2).transpose(0, 3, 4, 1, 2),
+            "xq": xq,
+            "xr": xr.reshape(m, nel, 2, nr),
+            "xg": xg.reshape(m, nel, 2, 3),
+        }
 
     def _lumen_load(self, x6: np.ndarray):
         """Unit lumen-pressure loads (m, n) and the lumens' areas and centroids."""
@@ -434,10 +456,20 @@ def _condense(k_loc, kug, k_gg):
         k_loc[:, nr, nr], k_loc[:, nr, nr + 1], k_loc[:, nr + 1, nr], k_loc[:, nr + 1, nr + 1]
     )
     kbr, kbg = k_loc[:, nr:, :nr], kug[:, nr:]
-    xr = np.stack([i00[:, None] * kbr[:, 0] + i01[:, None] * kbr[:, 1],
-                   i10[:, None] * kbr[:, 0] + i11[:, None] * kbr[:, 1]], axis=1)  # fmt: skip
-    xg = np.stack([i00[:, None] * kbg[:, 0] + i01[:, None] * kbg[:, 1],
-                   i10[:, None] * kbg[:, 0] + i11[:, None] * kbg[:, 1]], axis=1)  # fmt: skip
+    xr = np.stack(
+        [
+            i00[:, None] * kbr[:, 0] + i01[:, None] * kbr[:, 1],
+            i10[:, None] * kbr[:, 0] + i11[:, None] * kbr[:, 1],
+        ],
+        axis=1,
+    )
+    xg = np.stack(
+        [
+            i00[:, None] * kbg[:, 0] + i01[:, None] * kbg[:, 1],
+            i10[:, None] * kbg[:, 0] + i11[:, None] * kbg[:, 1],
+        ],
+        axis=1,
+    )
     kbr_t = kbr.transpose(0, 2, 1)
     k_rr = k_loc[:, :nr, :nr] - kbr_t @ xr
     k_rg = kug[:, :nr] - kbr_t @ xg
@@ -577,8 +609,21 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
         t1 = time.perf_counter()
         try:
             k_sec, out, backward = _solve_one(kernel, ops, j, loads, extra)
-            r = _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts,
-                        share + mesh.seconds + time.perf_counter() - t1)  # fmt: skip
+            r = _result(
+                d,
+                laws,
+                mesh,
+                ops,
+                j,
+                k_sec,
+                out,
+                backward,
+                kernel,
+                mesh_size,
+                segments,
+                opts,
+                share + mesh.seconds + time.perf_counter() - t1,
+            )
             results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
         except Exception as exc:
             raise_pending_stop()
@@ -591,8 +636,9 @@ def _solve_alone(d, mesher: str, loads, mesh_size, segments, opts):
     from softcath.fem.section_model.strain import silicone_strain_range
 
     try:
-        r = section_model(d, loads=loads, mesh_size=mesh_size, segments=segments, mesher=mesher,
-                          keep_fields=True, **opts)  # fmt: skip
+        r = section_model(
+            d, loads=loads, mesh_size=mesh_size, segments=segments, mesher=mesher, keep_fields=True, **opts
+        )
         strains = {ld: silicone_strain_range(r, ld) for ld in loads}
         return BatchItem(dataclasses.replace(r, fields=None), strains)
     except Exception as exc:

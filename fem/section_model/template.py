@@ -195,8 +195,15 @@ class SectionTemplate:
         return plan
 
 
-_FREE = ("coil_outer_radius", "coil_inner_radius", "channel_outer_radius", "channel_inner_radius",
-         "tube_a", "lumen_a", "lumen_b")  # fmt: skip
+_FREE = (
+    "coil_outer_radius",
+    "coil_inner_radius",
+    "channel_outer_radius",
+    "channel_inner_radius",
+    "tube_a",
+    "lumen_a",
+    "lumen_b",
+)
 
 
 @functools.lru_cache(maxsize=1)
@@ -229,8 +236,12 @@ def reference_geometry(geometry: TipGeometry) -> TipGeometry:
     """
     g = geometry
     ri, rco = g.coil_inner_radius, g.channel_outer_radius
-    tied = max(abs(g.channel_y + ri - rco), abs(g.tube_b - (ri - rco)), abs(g.tube_y - rco),
-               abs(g.lumen_y - g.tube_y))  # fmt: skip
+    tied = max(
+        abs(g.channel_y + ri - rco),
+        abs(g.tube_b - (ri - rco)),
+        abs(g.tube_y - rco),
+        abs(g.lumen_y - g.tube_y),
+    )
     section_only = {"length": 1.0, "cap_thickness": 0.1}  # the section alone
     if tied > 1e-9:
         return dataclasses.replace(g, **section_only)
@@ -245,9 +256,16 @@ def _snapped(free: tuple[float, ...], filled: bool, land_gap: float) -> TipGeome
     ri, rco = f["coil_inner_radius"], f["channel_outer_radius"]
     try:
         return TipGeometry(
-            **f, channel_y=-(ri - rco), tube_b=ri - rco, tube_y=rco, lumen_y=rco, length=1.0,
-            cap_thickness=0.1, filled=filled, land_gap=land_gap,
-        )  # fmt: skip
+            **f,
+            channel_y=-(ri - rco),
+            tube_b=ri - rco,
+            tube_y=rco,
+            lumen_y=rco,
+            length=1.0,
+            cap_thickness=0.1,
+            filled=filled,
+            land_gap=land_gap,
+        )
     except DesignError:
         return None
 
@@ -302,12 +320,23 @@ def _template(reference: TipGeometry, mesh_size: float, segments: int) -> Sectio
     interior = np.flatnonzero(count == 0)
     lu = splu(lap[interior][:, interior].tocsc())
     return SectionTemplate(
-        mesh=m, geometry=reference, curves=curves, on_curve=on, params=params, corners=corners,
-        corner_curves=corner_curves, edge_curve=edge_curve, edge_frac=edge_frac,
+        mesh=m,
+        geometry=reference,
+        curves=curves,
+        on_curve=on,
+        params=params,
+        corners=corners,
+        corner_curves=corner_curves,
+        edge_curve=edge_curve,
+        edge_frac=edge_frac,
         quality=_quality(m.points, m.triangles),
-        triangle_curved_edge=tri_curved, bent_triangles=np.flatnonzero((tri_curved >= 0).any(axis=1)),
-        interior=interior, boundary=boundary, laplace_ib=lap[interior][:, boundary], laplace_ii=lu,
-    )  # fmt: skip
+        triangle_curved_edge=tri_curved,
+        bent_triangles=np.flatnonzero((tri_curved >= 0).any(axis=1)),
+        interior=interior,
+        boundary=boundary,
+        laplace_ib=lap[interior][:, boundary],
+        laplace_ii=lu,
+    )
 
 
 def section_template(geometry: TipGeometry, *, mesh_size: float, segments: int) -> SectionTemplate:
@@ -350,8 +379,10 @@ def log_fallback(geometry: TipGeometry, exc: Exception) -> None:
     else:
         log.warning(
             "template mesh failed for %s (%s: %s); meshing with gmsh",
-            geometry.digest(), type(exc).__name__, exc,
-        )  # fmt: skip
+            geometry.digest(),
+            type(exc).__name__,
+            exc,
+        )
 
 
 def template_mesh(geometry: TipGeometry, *, mesh_size: float, segments: int):
@@ -421,9 +452,15 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
     mids = np.column_stack([mx, my])
     _check(template, geometry, xy, mids, _p2_triangles_valid)
     return SectionMesh(
-        xy, m.triangles, m.labels, ce, mids, m.lumen_edges, time.perf_counter() - t0,
+        xy,
+        m.triangles,
+        m.labels,
+        ce,
+        mids,
+        m.lumen_edges,
+        time.perf_counter() - t0,
         f"{geometry.digest()}|{m.key.split('|', 1)[1]}|template",
-    )  # fmt: skip
+    )
 
 
 def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid) -> None:
