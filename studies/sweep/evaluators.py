@@ -408,14 +408,9 @@ def _section_blocks(
     many = section_columns_many([designs[i] for i in ok], pressures, loads, options)
     for i, values in zip(ok, many, strict=True):
         if isinstance(values, Exception):  # a section-model failure is reported per design
-            exc = values
-            log.warning("section model failed for design %s: %s", ids[i], exc)
-            why = f"section failed: {type(exc).__name__}: {exc}"
-            fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
-            continue
-        for load in loads:
-            for col, v in values[load].items():
-                sec_cols[load][col][i] = v
+            _note_failure(fem_reason, i, "section", values, ids[i])
+        else:
+            _fill(sec_cols, i, values)
     return sec_cols
 
 
@@ -432,14 +427,24 @@ def _section_nonlinear_blocks(
             values = section_nonlinear_columns(designs[i], pressures, loads, options)
         except Exception as exc:  # a stalled Newton walk is reported per design, never ends the sweep
             raise_pending_stop()
-            log.warning("finite-strain section model failed for design %s: %s", ids[i], exc)
-            why = f"section-nonlinear failed: {type(exc).__name__}: {exc}"
-            fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+            _note_failure(fem_reason, i, "section-nonlinear", exc, ids[i])
             continue
-        for load in loads:
-            for col, v in values[load].items():
-                sn_cols[load][col][i] = v
+        _fill(sn_cols, i, values)
     return sn_cols
+
+
+def _note_failure(fem_reason: list[str], i: int, tier: str, exc: Exception, design_id) -> None:
+    """Log a tier's failure on design ``i`` and append it to that design's reason."""
+    log.warning("%s failed for design %s: %s", tier, design_id, exc)
+    why = f"{tier} failed: {type(exc).__name__}: {exc}"
+    fem_reason[i] = f"{fem_reason[i]}; {why}" if fem_reason[i] else why
+
+
+def _fill(cols: dict, i: int, values: dict) -> None:
+    """Copy design ``i``'s per-load column values into the sweep's column blocks."""
+    for load, block in cols.items():
+        for col, v in values[load].items():
+            block[col][i] = v
 
 
 def _load_columns(
