@@ -155,8 +155,13 @@ def _single_threaded_worker(sweep_pid: int | None = None) -> None:
     """
     import os
 
+    from threadpoolctl import threadpool_limits
+
     for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
-        os.environ.setdefault(var, "1")
+        os.environ.setdefault(var, "1")  # for libraries loaded from here on
+    # The process was preloaded with numpy: its BLAS read the variables already. One thread also
+    # makes a worker's results bit-identical to a Dask worker's (BLAS rounding depends on threads).
+    threadpool_limits(limits=1)
     if sweep_pid is not None:
         from softcath.studies.sweep.lifeline import tie_to_parent
 
