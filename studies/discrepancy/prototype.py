@@ -10,10 +10,11 @@ Each ingredient is a switch of the model:
     Silicone Poisson ratio 0.4999 (real rubber) instead of the design's.
 ``coil_resolved``
     The coils' EA and open-coil EI of the resolved wire instead of the annulus.
-``tube_coil_sliding``, ``tube_channel_sliding``, ``channel_coil_sliding``, ``filler_coil_sliding``,
-``filler_coat``, ``filler_none``, ``tube_free``
-    The as-built options (:class:`softcath.design.assembly.Assembly`;
-    ``tube_free``: the tube tied to the coil at the tip only, free at the base).
+the as-built switches
+    ``tube_coil_sliding``, ``tube_channel_sliding``, ``channel_coil_sliding``,
+    ``filler_coil_sliding``, ``filler_coat``, ``filler_none``, ``tube_free``: the as-built
+    options (:class:`softcath.design.assembly.Assembly`; ``tube_free``: the tube tied to the
+    coil at the tip only, free at the base).
 ``vision_bias``
     The paper's edge pipeline reads curvature 18-40 % low: the band is
     multiplied by [0.60, 0.82].
