@@ -42,6 +42,7 @@ import numpy as np
 
 from softcath.design.errors import DataError
 from softcath.studies.atomic import write_json
+from softcath.studies.sweep.section_eval import SECTION_KEYS
 
 __all__ = [
     "add_derived_columns",
@@ -135,16 +136,7 @@ COLUMN_UNITS = {
 }
 
 #: Section-model columns; sweeps (or resumed task files) from before the section evaluator lack them.
-SECTION_COLUMNS = (
-    "curvature_section_per_mm",
-    "elongation_section",
-    "bend_angle_section_rad",
-    "tip_x_section_mm",
-    "tip_y_section_mm",
-    "max_strain_section",
-    "section_formula_ratio",
-    "section_seconds",
-)
+SECTION_COLUMNS = SECTION_KEYS
 
 #: Columns of the ``section-nonlinear`` evaluator (the finite-strain section model).
 SECTION_NONLINEAR_COLUMNS = (
