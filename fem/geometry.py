@@ -54,7 +54,8 @@ def _land_half_widths(*args: float) -> tuple[float, ...]:
     """
     from softcath.design.cad import land_half_widths
 
-    names = ("coil_inner_radius", "channel_outer_radius", "channel_y", "tube_a", "tube_b", "tube_y", "land_gap")
+    names = ("coil_inner_radius", "channel_outer_radius", "channel_y", "tube_a", "tube_b", "tube_y")
+    names += ("land_gap",)
     lands = land_half_widths(**dict(zip(names, args, strict=True)))
     return tuple(lands[name] for name in _LAND_NAMES)
 

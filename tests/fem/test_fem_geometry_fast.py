@@ -87,3 +87,45 @@ def test_lands_are_the_functions_and_a_copy(paper_geometry):
     assert g.lands() == want
     other = dataclasses.replace(g, land_gap=0.02)  # a new geometry computes its own
     assert other.lands() != want
+
+
+def _land_half_widths_sampled(
+    *, coil_inner_radius, channel_outer_radius, channel_y, tube_a, tube_b, tube_y, land_gap
+):
+    """The land half-widths as first written: every gap on all 6001 samples."""
+    x = np.linspace(0.0, coil_inner_radius, 6001)
+    r_ci, r_co = coil_inner_radius, channel_outer_radius
+    ell = tube_b * np.sqrt(np.clip(1 - (x / tube_a) ** 2, 0, None))
+    circ = np.sqrt(np.clip(r_ci**2 - x**2, 0, None))
+    chan = np.sqrt(np.clip(r_co**2 - x**2, 0, None))
+    in_tube, in_chan = x < tube_a, x < r_co
+    gaps = {
+        "tube_coil": np.where(in_tube, circ - (tube_y + ell), np.inf),
+        "tube_channel": np.where(in_tube & in_chan, (tube_y - ell) - (channel_y + chan), np.inf),
+        "channel_coil": np.where(in_chan, (channel_y - chan) + circ, np.inf),
+    }
+    out = {}
+    for name, gap in gaps.items():
+        ok = gap >= land_gap
+        out[name] = float(x[int(np.argmax(ok))]) if ok.any() else float(x[-1])
+    return out
+
+
+def test_land_half_widths_equal_the_full_sampling(paper_geometry):
+    g = paper_geometry
+    rng = np.random.default_rng(7)
+    for i in range(300):
+        ri = g.coil_inner_radius * rng.uniform(0.7, 1.3)
+        rco = ri * rng.uniform(0.2, 1.1)  # up to a channel wider than the coil's bore
+        a = ri * rng.uniform(0.3, 1.2)  # up to a tube wider than the bore
+        b = (ri - rco) * rng.uniform(0.3, 1.2)
+        kw = {
+            "coil_inner_radius": ri,
+            "channel_outer_radius": rco,
+            "channel_y": -(ri - rco) + rng.normal(0, 1e-3),
+            "tube_a": a,
+            "tube_b": b,
+            "tube_y": rco + rng.normal(0, 1e-3),
+            "land_gap": [0.01, 0.0, 1e-6, 0.05, 10.0, np.inf][i % 6],
+        }
+        assert land_half_widths(**kw) == _land_half_widths_sampled(**kw), kw
