@@ -111,17 +111,22 @@ def _point(c: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _intersect(c1: np.ndarray, c2: np.ndarray, t0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Points of curves ``c1`` (parameter from ``t0``) on curves ``c2``, by Newton on ``c1``'s parameter."""
+    kind1, xc1, yc1, a1, b1 = c1.T
+    kind2, xc2, yc2, a2, b2 = c2.T
+    conic1, conic2 = kind1 == _CONIC, kind2 == _CONIC
+    # The curves' constants once, out of the loop (each numpy call on these ~16 corners costs
+    # about as much as its arithmetic); the arithmetic per step is as written out before.
+    na1, a2sq, b2sq = -a1, a2**2, b2**2
     t = t0.copy()
     for _ in range(30):
-        x, y = _point(c1, t)
-        kind1, _, _, a1, b1 = c1.T
-        dx = np.where(kind1 == _CONIC, -a1 * np.sin(t), 0.0)
-        dy = np.where(kind1 == _CONIC, b1 * np.cos(t), 1.0)
-        kind2, xc2, yc2, a2, b2 = c2.T
-        f = np.where(kind2 == _CONIC, ((x - xc2) / a2) ** 2 + ((y - yc2) / b2) ** 2 - 1.0, x - xc2)
-        fx = np.where(kind2 == _CONIC, 2 * (x - xc2) / a2**2, 1.0)
-        fy = np.where(kind2 == _CONIC, 2 * (y - yc2) / b2**2, 0.0)
-        df = fx * dx + fy * dy
+        cos, sin = np.cos(t), np.sin(t)
+        x = np.where(conic1, xc1 + a1 * cos, xc1)
+        y = np.where(conic1, yc1 + b1 * sin, t)
+        dx = np.where(conic1, na1 * sin, 0.0)
+        dy = np.where(conic1, b1 * cos, 1.0)
+        ex, ey = x - xc2, y - yc2
+        f = np.where(conic2, (ex / a2) ** 2 + (ey / b2) ** 2 - 1.0, ex)
+        df = np.where(conic2, 2 * ex / a2sq * dx + 2 * ey / b2sq * dy, dx)
         step = f / np.where(np.abs(df) > 1e-300, df, 1e-300)
         t = t - step
         if np.abs(step).max() < 1e-15:
@@ -131,10 +136,50 @@ def _intersect(c1: np.ndarray, c2: np.ndarray, t0: np.ndarray) -> tuple[np.ndarr
 
 def _quality(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Shape quality 4 sqrt(3) A / sum of squared edge lengths (1 for equilateral), signed."""
-    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    return _corner_quality(p[tri])
+
+
+def _corner_quality(corners: np.ndarray) -> np.ndarray:
+    """:func:`_quality` of triangles given by their corners ``(m, 3, 2)``."""
+    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
     e1, e2, e3 = b - a, c - b, a - c
     area = 0.5 * (e1[:, 0] * (-e3[:, 1]) - e1[:, 1] * (-e3[:, 0]))
     return 4 * np.sqrt(3) * area / ((e1**2).sum(1) + (e2**2).sum(1) + (e3**2).sum(1))
+
+
+@dataclass(frozen=True)
+class _MorphPlan:
+    """A template's morph bookkeeping that does not depend on the geometry (worked out once).
+
+    Attributes
+    ----------
+    bad_line
+        The first land line with fewer than two corners (the morph refuses it), or -1.
+    entry_node, entry_curve, entry_param, entry_conic
+        Every (corner, curve) pair of the curves with corners: its template parameter and
+        whether the curve is a conic (whose corner parameters shift, wrapped to (-pi, pi]).
+    free_node, free_curve, free_base, weights
+        The other curve nodes, their curve, their template parameter on a conic (0 on a
+        land line) and their linear-interpolation weights over the entries: the new
+        parameter is ``free_base + weights @ entry values`` (the template's
+        :func:`numpy.interp` between the curve's corners, as a matrix).
+    first_curve
+        Per boundary node, the first curve it lies on.
+    bent_hit
+        Rows and midside columns of the bent triangles' curved edges, and those edges.
+    """
+
+    bad_line: int
+    entry_node: np.ndarray
+    entry_curve: np.ndarray
+    entry_param: np.ndarray
+    entry_conic: np.ndarray
+    free_node: np.ndarray
+    free_curve: np.ndarray
+    free_base: np.ndarray
+    weights: np.ndarray
+    first_curve: np.ndarray
+    bent_hit: tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -193,6 +238,58 @@ class SectionTemplate:
             order = np.argsort(self.params[corner, c])
             plan.append((c, nodes, corner, ~np.isin(nodes, self.corners), order))
         return plan
+
+    @functools.cached_property
+    def morph_plan(self) -> _MorphPlan:
+        """The morph's geometry-independent bookkeeping (:class:`_MorphPlan`), once per template."""
+        return _morph_plan(self)
+
+
+def _morph_plan(template: SectionTemplate) -> _MorphPlan:
+    """Work out :class:`_MorphPlan`: the per-curve interpolation of the morph as one matrix.
+
+    Per curve, the template's :func:`numpy.interp` of a value at the curve's corners
+    (sorted by template parameter; periodic on a conic) is linear in those values, so
+    interpolating the unit vectors gives its weights.
+    """
+    params, old = template.params, template.curves
+    bad_line, entries, frees, blocks = -1, [], [], []
+    for c, nodes, corner, free, order in template.curve_plan:
+        conic = old[c, 0] == _CONIC
+        if not conic and corner.size < 2:
+            bad_line = c if bad_line < 0 else bad_line
+            continue
+        if corner.size == 0:  # a conic without corners keeps its nodes' parameters
+            continue
+        ta, t_free = params[corner, c][order], params[nodes[free], c]
+        unit = np.eye(corner.size)
+        period = 2 * np.pi if conic else None
+        blocks.append(np.column_stack([np.interp(t_free, ta, u, period=period) for u in unit]))
+        entries += [(k, c, t, conic) for k, t in zip(corner[order], ta, strict=True)]
+        frees += [(i, c, t if conic else 0.0) for i, t in zip(nodes[free], t_free, strict=True)]
+    weights = np.zeros((len(frees), len(entries)))
+    r = q = 0
+    for block in blocks:  # block diagonal: a curve's nodes follow that curve's corners only
+        weights[r : r + block.shape[0], q : q + block.shape[1]] = block
+        r, q = r + block.shape[0], q + block.shape[1]
+    e = np.array(entries, dtype=float).reshape(-1, 4)
+    f = np.array(frees, dtype=float).reshape(-1, 3)
+    first = np.argmax(template.on_curve, axis=1)
+    which = template.triangle_curved_edge[template.bent_triangles]
+    rows, cols = np.nonzero(which >= 0)
+    return _MorphPlan(
+        bad_line=int(bad_line),
+        entry_node=e[:, 0].astype(np.int64),
+        entry_curve=e[:, 1].astype(np.int64),
+        entry_param=e[:, 2],
+        entry_conic=e[:, 3].astype(bool),
+        free_node=f[:, 0].astype(np.int64),
+        free_curve=f[:, 1].astype(np.int64),
+        free_base=f[:, 2],
+        weights=weights,
+        first_curve=first[template.boundary],
+        bent_hit=(rows, cols + 3, which[rows, cols]),
+    )
 
 
 _FREE = (
@@ -405,9 +502,7 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
     from softcath.fem.section_model.mesh import SectionMesh
 
     t0 = time.perf_counter()
-    m, on, params = template.mesh, template.on_curve, template.params
-    old, new = template.curves, _curves(geometry)
-    n, nc = on.shape
+    m, params, new = template.mesh, template.params, _curves(geometry)
     new_params = params.copy()
     # 1. corners: Newton on the first curve's parameter to meet the second curve.
     c1, c2 = template.corner_curves[:, 0], template.corner_curves[:, 1]
@@ -419,24 +514,16 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
     new_params[k, c1] = _param(new[c1], cx, cy)
     new_params[k, c2] = _param(new[c2], cx, cy)
     # 2. other curve nodes: parameter shift interpolated between the curve's corners.
-    for c, nodes, corner, free, order in template.curve_plan:
-        t_old = params[nodes, c]
-        ta = params[corner, c][order]
-        if old[c, 0] == _CONIC:
-            if corner.size == 0:
-                new_params[nodes, c] = t_old
-                continue
-            shift = np.angle(np.exp(1j * (new_params[corner, c][order] - ta)))
-            delta = np.interp(t_old, ta, shift, period=2 * np.pi)
-            new_params[nodes[free], c] = t_old[free] + delta[free]
-        else:
-            if corner.size < 2:
-                raise MorphError("template", c, "a land line needs two corners")
-            new_params[nodes[free], c] = np.interp(t_old[free], ta, new_params[corner, c][order])
+    plan = template.morph_plan
+    if plan.bad_line >= 0:
+        raise MorphError("template", plan.bad_line, "a land line needs two corners")
+    value = new_params[plan.entry_node, plan.entry_curve]
+    shift = np.angle(np.exp(1j * (value - plan.entry_param)))
+    value = np.where(plan.entry_conic, shift, value)  # conics: the shift; lines: the parameter
+    new_params[plan.free_node, plan.free_curve] = plan.free_base + plan.weights @ value
     xy = m.points.copy()
-    first = np.argmax(on, axis=1)
-    b = template.boundary
-    bx, by = _point(new[first[b]], new_params[b, first[b]])
+    b, first = template.boundary, plan.first_curve
+    bx, by = _point(new[first], new_params[b, first])
     xy[b, 0], xy[b, 1] = bx, by
     xy[k, 0], xy[k, 1] = cx, cy
     # 3. interior: harmonic extension of the boundary displacement.
@@ -466,22 +553,19 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
 def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid) -> None:
     """Raise :class:`MorphError` if the morph degraded a triangle beyond the bounds."""
     m = template.mesh
-    q = _quality(xy, m.triangles)
-    ratio = q / template.quality
+    corners = xy[m.triangles]  # (m, 3, 2), gathered once for the three checks
+    ratio = _corner_quality(corners) / template.quality
     if not (np.isfinite(ratio).all() and ratio.min() >= QUALITY_RATIO):
         raise MorphError("morph.quality_ratio", float(np.nanmin(ratio)), f"must be >= {QUALITY_RATIO}")
-    tri = m.triangles
     # Only triangles with a curved edge can fold by curvature (the others are checked by their area).
-    bent = template.bent_triangles
-    t3 = tri[bent]
-    x6 = np.concatenate([xy[t3], 0.5 * (xy[t3] + xy[t3[:, [1, 2, 0]]])], axis=1)
-    which = template.triangle_curved_edge[bent]
-    hit = which >= 0
-    x6[:, 3:][hit] = mids[which[hit]]
+    c3 = corners[template.bent_triangles]
+    x6 = np.concatenate([c3, 0.5 * (c3 + c3[:, [1, 2, 0]])], axis=1)
+    rows, cols, edges = template.morph_plan.bent_hit
+    x6[rows, cols] = mids[edges]
     valid = p2_valid(x6)
     if not valid.all():
         raise MorphError("morph.p2_jacobian", int((~valid).sum()), "curved triangles folded")
-    cen = xy[tri].mean(axis=1)
+    cen = corners.mean(axis=1)
     labels = geometry.classify(cen[:, 0], cen[:, 1], np.zeros(len(cen)))
     bad = int((labels != m.labels).sum())
     if bad:
