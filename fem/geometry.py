@@ -26,7 +26,7 @@ import functools
 import hashlib
 import json
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -148,7 +148,7 @@ class TipGeometry:
     # -- identity -----------------------------------------------------------
     def digest(self) -> str:
         """Content hash of the geometry (used to key the mesh cache)."""
-        d = asdict(self)
+        d = {f.name: getattr(self, f.name) for f in fields(self)}  # asdict, without its deep copy
         if d["filler_coat"] == 0.0:  # the fully filled tip keeps its historical digest
             del d["filler_coat"]
         blob = json.dumps(d, sort_keys=True, separators=(",", ":"))
@@ -238,19 +238,20 @@ class TipGeometry:
         """
         x = np.asarray(x, float)
         y = np.asarray(y, float)
-        r2 = x**2 + y**2
-        rc2 = x**2 + (y - self.channel_y) ** 2
+        x2, ax = x**2, np.abs(x)  # each used more than once (a morph classifies every design)
+        r2 = x2 + y**2
+        rc2 = x2 + (y - self.channel_y) ** 2
         lab = np.full(x.shape, VOID, dtype=np.int8)
         inner = r2 < self.coil_inner_radius**2
         lands = self.lands()
         in_tube_ell = (x / self.tube_a) ** 2 + ((y - self.tube_y) / self.tube_b) ** 2 < 1
-        top_land = (np.abs(x) < lands["tube_coil"]) & (y > self.tube_y)
-        bot_land = (np.abs(x) < lands["tube_channel"]) & (y < self.tube_y) & (y > self.channel_y)
+        top_land = (ax < lands["tube_coil"]) & (y > self.tube_y)
+        bot_land = (ax < lands["tube_channel"]) & (y < self.tube_y) & (y > self.channel_y)
         tube = (in_tube_ell | top_land | bot_land) & inner & (rc2 > self.channel_outer_radius**2)
         lumen = (x / self.lumen_a) ** 2 + ((y - self.lumen_y) / self.lumen_b) ** 2 < 1
         if z is not None:
             lumen = lumen & (np.asarray(z) < self.length - self.cap_thickness)
-        cc_land = (np.abs(x) < lands["channel_coil"]) & (y < self.channel_y)
+        cc_land = (ax < lands["channel_coil"]) & (y < self.channel_y)
         rest = inner & ~tube
         if self.filled and self.filler_coat > 0:
             lab[rest & (rc2 < (self.channel_outer_radius + self.filler_coat) ** 2)] = FILLER
