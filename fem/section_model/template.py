@@ -110,28 +110,55 @@ def _point(c: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _intersect(c1: np.ndarray, c2: np.ndarray, t0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Points of curves ``c1`` (parameter from ``t0``) on curves ``c2``, by Newton on ``c1``'s parameter."""
-    kind1, xc1, yc1, a1, b1 = c1.T
+    """Points of curves ``c1`` (parameter from ``t0``) on curves ``c2``: Newton's limit on ``c1``'s parameter.
+
+    A land line (``x = xc``, parameter y) meets a conic where
+    ``y = yc + b sqrt(1 - ((xc - x_conic) / a)^2)`` on the side of ``t0``: the root Newton
+    converges to from ``t0`` (on a convex quadratic it never crosses the vertex), in closed
+    form. The few other corners (conic on conic) run Newton one by one in scalar arithmetic:
+    a numpy call on a handful of numbers costs more than its arithmetic.
+    """
+    t = np.array(t0, dtype=float)
+    kind1, xc1 = c1[:, 0], c1[:, 1]
     kind2, xc2, yc2, a2, b2 = c2.T
-    conic1, conic2 = kind1 == _CONIC, kind2 == _CONIC
-    # The curves' constants once, out of the loop (each numpy call on these ~16 corners costs
-    # about as much as its arithmetic); the arithmetic per step is as written out before.
-    na1, a2sq, b2sq = -a1, a2**2, b2**2
-    t = t0.copy()
-    for _ in range(30):
-        cos, sin = np.cos(t), np.sin(t)
-        x = np.where(conic1, xc1 + a1 * cos, xc1)
-        y = np.where(conic1, yc1 + b1 * sin, t)
-        dx = np.where(conic1, na1 * sin, 0.0)
-        dy = np.where(conic1, b1 * cos, 1.0)
-        ex, ey = x - xc2, y - yc2
-        f = np.where(conic2, (ex / a2) ** 2 + (ey / b2) ** 2 - 1.0, ex)
-        df = np.where(conic2, 2 * ex / a2sq * dx + 2 * ey / b2sq * dy, dx)
-        step = f / np.where(np.abs(df) > 1e-300, df, 1e-300)
-        t = t - step
-        if np.abs(step).max() < 1e-15:
-            break
+    line = (kind1 == _VLINE) & (kind2 == _CONIC)
+    if line.any():
+        u = (xc1[line] - xc2[line]) / a2[line]
+        side = np.sign(t[line] - yc2[line])
+        with np.errstate(invalid="ignore"):  # NaN where they do not meet: the caller refuses it
+            t[line] = yc2[line] + side * b2[line] * np.sqrt(1.0 - u**2)
+    for i in np.flatnonzero(~line):
+        t[i] = _newton(c1[i].tolist(), c2[i].tolist(), float(t[i]))
     return _point(c1, t)
+
+
+def _newton(c1: list[float], c2: list[float], t: float) -> float:
+    """Newton on curve ``c1``'s parameter ``t`` for a point on curve ``c2`` (rows ``(kind, xc, yc, a, b)``).
+
+    The arithmetic of the vectorised Newton, per corner (``t`` stops moving by 1e-15).
+    """
+    kind1, xc1, yc1, a1, b1 = c1
+    kind2, xc2, yc2, a2, b2 = c2
+    for _ in range(30):
+        if not math.isfinite(t):  # diverged: no intersection (math.cos would raise)
+            return math.nan
+        if kind1 == _CONIC:
+            cos, sin = math.cos(t), math.sin(t)
+            x, y, dx, dy = xc1 + a1 * cos, yc1 + b1 * sin, -a1 * sin, b1 * cos
+        else:
+            x, y, dx, dy = xc1, t, 0.0, 1.0
+        ex, ey = x - xc2, y - yc2
+        if kind2 == _CONIC:
+            p, q = ex / a2, ey / b2  # squares by products: ** raises OverflowError on floats
+            f = p * p + q * q - 1.0
+            df = 2 * ex / (a2 * a2) * dx + 2 * ey / (b2 * b2) * dy
+        else:
+            f, df = ex, dx
+        step = f / (df if abs(df) > 1e-300 else 1e-300)
+        t -= step
+        if abs(step) < 1e-15:
+            break
+    return t
 
 
 def _quality(p: np.ndarray, tri: np.ndarray) -> np.ndarray:

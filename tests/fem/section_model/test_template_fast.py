@@ -19,6 +19,7 @@ from softcath.fem.section_model.template import (
     QUALITY_RATIO,
     MorphError,
     _curves,
+    _intersect,
     _param,
     _point,
     _quality,
@@ -169,3 +170,29 @@ def test_p2_validity_equals_the_pointwise_check():
     np.testing.assert_array_equal(got, want)
     assert 100 < got.sum() < 3900
     assert _p2_triangles_valid(np.zeros((0, 6, 2))).shape == (0,)
+
+
+def test_intersections_equal_newton_and_a_miss_is_nan():
+    rng = np.random.default_rng(4)
+    rows1, rows2, t0 = [], [], []
+    for _ in range(200):  # a land line or a circle, on an ellipse, from near the root's side
+        a, b, yc = rng.uniform(0.1, 0.5), rng.uniform(0.1, 0.5), rng.uniform(-0.2, 0.2)
+        x = a * rng.uniform(-0.9, 0.9)
+        side = rng.choice([-1.0, 1.0])
+        y = yc + side * b * np.sqrt(1 - (x / a) ** 2)
+        rows2.append((_CONIC, 0.0, yc, a, b))
+        if rng.random() < 0.5:
+            rows1.append((1, x, 0.0, 1.0, 1.0))  # the land line x = const, parameter y
+            t0.append(y + rng.normal(0, 0.02))
+        else:  # a circle through (x, y) centred off the ellipse's centre, parameter its angle
+            r = rng.uniform(0.2, 0.6)
+            ang = rng.uniform(-np.pi, np.pi)
+            rows1.append((_CONIC, x - r * np.cos(ang), y - r * np.sin(ang), r, r))
+            t0.append(ang + rng.normal(0, 0.02))
+    c1, c2, t0 = np.array(rows1), np.array(rows2), np.array(t0)
+    got, want = np.column_stack(_intersect(c1, c2, t0)), np.column_stack(_straight_intersect(c1, c2, t0))
+    ok = np.abs(_residual(c2, *want.T)) < 1e-12  # where the straightforward Newton converged
+    assert ok.sum() > 150
+    np.testing.assert_allclose(got[ok], want[ok], rtol=0, atol=1e-12)
+    miss = np.array([[1, 2.0, 0.0, 1.0, 1.0]]), np.array([[_CONIC, 0.0, 0.0, 0.5, 0.5]])
+    assert np.isnan(_intersect(*miss, np.array([0.1]))[1]).all()
