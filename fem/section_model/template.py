@@ -163,15 +163,20 @@ def _newton(c1: list[float], c2: list[float], t: float) -> float:
 
 def _quality(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """Shape quality 4 sqrt(3) A / sum of squared edge lengths (1 for equilateral), signed."""
-    return _corner_quality(p[tri])
+    return _corner_quality(p[:, 0][tri], p[:, 1][tri])
 
 
-def _corner_quality(corners: np.ndarray) -> np.ndarray:
-    """:func:`_quality` of triangles given by their corners ``(m, 3, 2)``."""
-    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
-    e1, e2, e3 = b - a, c - b, a - c
-    area = 0.5 * (e1[:, 0] * (-e3[:, 1]) - e1[:, 1] * (-e3[:, 0]))
-    return 4 * np.sqrt(3) * area / ((e1**2).sum(1) + (e2**2).sum(1) + (e3**2).sum(1))
+def _corner_quality(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """:func:`_quality` of triangles given by their corners' coordinates ``x``, ``y`` (m, 3).
+
+    Coordinates apart, not (m, 3, 2) corners: every operation then runs on contiguous
+    columns (3x faster for a morph's ~700 triangles).
+    """
+    e1x, e1y = x[:, 1] - x[:, 0], y[:, 1] - y[:, 0]
+    e2x, e2y = x[:, 2] - x[:, 1], y[:, 2] - y[:, 1]
+    e3x, e3y = x[:, 0] - x[:, 2], y[:, 0] - y[:, 2]
+    area = 0.5 * (e1x * (-e3y) - e1y * (-e3x))
+    return 4 * np.sqrt(3) * area / ((e1x**2 + e1y**2) + (e2x**2 + e2y**2) + (e3x**2 + e3y**2))
 
 
 @dataclass(frozen=True)
@@ -534,12 +539,13 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
     # 1. corners: Newton on the first curve's parameter to meet the second curve.
     c1, c2 = template.corner_curves[:, 0], template.corner_curves[:, 1]
     k = template.corners
-    cx, cy = _intersect(new[c1], new[c2], params[k, c1])
-    miss = np.maximum(np.abs(_residual(new[c1], cx, cy)), np.abs(_residual(new[c2], cx, cy)))
+    n1, n2 = new[c1], new[c2]
+    cx, cy = _intersect(n1, n2, params[k, c1])
+    miss = np.maximum(np.abs(_residual(n1, cx, cy)), np.abs(_residual(n2, cx, cy)))
     if not (np.isfinite(miss).all() and miss.max() < _ON_CURVE_MM):
         raise MorphError("geometry", geometry.digest(), "a region corner of the template has no counterpart")
-    new_params[k, c1] = _param(new[c1], cx, cy)
-    new_params[k, c2] = _param(new[c2], cx, cy)
+    new_params[k, c1] = _param(n1, cx, cy)
+    new_params[k, c2] = _param(n2, cx, cy)
     # 2. other curve nodes: parameter shift interpolated between the curve's corners.
     plan = template.morph_plan
     if plan.bad_line >= 0:
@@ -580,21 +586,23 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
 def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid) -> None:
     """Raise :class:`MorphError` if the morph degraded a triangle beyond the bounds."""
     m = template.mesh
-    corners = xy[m.triangles]  # (m, 3, 2), gathered once for the three checks
-    ratio = _corner_quality(corners) / template.quality
+    x, y = xy[:, 0][m.triangles], xy[:, 1][m.triangles]  # (m, 3) corners, for the three checks
+    ratio = _corner_quality(x, y) / template.quality
     if not (np.isfinite(ratio).all() and ratio.min() >= QUALITY_RATIO):
         raise MorphError("morph.quality_ratio", float(np.nanmin(ratio)), f"must be >= {QUALITY_RATIO}")
     # Only triangles with a curved edge can fold by curvature (the others are checked by their area).
-    c3 = corners[template.bent_triangles]
-    x6 = np.concatenate([c3, 0.5 * (c3 + c3[:, [1, 2, 0]])], axis=1)
+    bent = template.bent_triangles
+    x6 = np.empty((bent.size, 6, 2))
+    for d, corner in enumerate((x[bent], y[bent])):
+        x6[:, :3, d] = corner
+        x6[:, 3:, d] = 0.5 * (corner + corner[:, [1, 2, 0]])
     rows, cols, edges = template.morph_plan.bent_hit
     x6[rows, cols] = mids[edges]
     valid = p2_valid(x6)
     if not valid.all():
         raise MorphError("morph.p2_jacobian", int((~valid).sum()), "curved triangles folded")
-    cen = corners.mean(axis=1)
     # At z = 0 (as the section mesh's labels were made): no z tests, they all pass there.
-    labels = geometry.classify(cen[:, 0], cen[:, 1])
+    labels = geometry.classify(x.sum(axis=1) / 3, y.sum(axis=1) / 3)
     bad = int((labels != m.labels).sum())
     if bad:
         raise MorphError("morph.labels", bad, "triangles changed region; must be 0")
