@@ -38,6 +38,7 @@ import logging
 import math
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from scipy import sparse
@@ -46,6 +47,9 @@ from scipy.sparse.linalg import splu
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import TipGeometry
 from softcath.interrupts import raise_pending_stop
+
+if TYPE_CHECKING:
+    from softcath.fem.section_model.mesh import SectionMesh
 
 __all__ = [
     "QUALITY_RATIO",
@@ -585,7 +589,7 @@ def morph(template: SectionTemplate, geometry: TipGeometry):
 
 def _check(template: SectionTemplate, geometry: TipGeometry, xy, mids, p2_valid) -> None:
     """Raise :class:`MorphError` if the morph degraded a triangle beyond the bounds."""
-    m = template.mesh
+    m = cast("SectionMesh", template.mesh)
     x, y = xy[:, 0][m.triangles], xy[:, 1][m.triangles]  # (m, 3) corners, for the three checks
     ratio = _corner_quality(x, y) / template.quality
     if not (np.isfinite(ratio).all() and ratio.min() >= QUALITY_RATIO):
