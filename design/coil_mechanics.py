@@ -109,6 +109,7 @@ def coil_stiffness(coil: Coil) -> CoilStiffness:
 # float are not taken for each other); a CoilStiffness is immutable, so sharing it is safe.
 @functools.lru_cache(maxsize=256, typed=True)
 def _coil_stiffness(od, idia, wire, pitch, youngs_modulus, poisson_ratio) -> CoilStiffness:
+    """:func:`coil_stiffness` of a coil given by its six numbers."""
     values = coil_stiffness_arrays(
         outer_diameter=od,
         inner_diameter=idia,
