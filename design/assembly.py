@@ -25,6 +25,7 @@ True
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
@@ -85,7 +86,7 @@ class Assembly:
     @property
     def is_default(self) -> bool:
         """True for the bonded, fully filled, clamped tip (today's model)."""
-        return self == Assembly()
+        return self == _default()
 
     def interface(self, a: str, b: str) -> str:
         """The kind of the interface between parts ``a`` and ``b`` (order free; bonded if not a pair)."""
@@ -126,3 +127,9 @@ class Assembly:
             else:
                 changes[key] = value
         return replace(self, **changes)
+
+
+@functools.cache
+def _default() -> Assembly:
+    """The default assembly, made once (``is_default`` is asked for every design of a sweep)."""
+    return Assembly()

@@ -62,19 +62,29 @@ def land_half_widths(
     """
     x = np.linspace(0.0, coil_inner_radius, 6001)
     r_ci, r_co = coil_inner_radius, channel_outer_radius
-    ell = tube_b * np.sqrt(np.clip(1 - (x / tube_a) ** 2, 0, None))
-    circ = np.sqrt(np.clip(r_ci**2 - x**2, 0, None))
-    chan = np.sqrt(np.clip(r_co**2 - x**2, 0, None))
-    in_tube, in_chan = x < tube_a, x < r_co
+    # Each gap is finite only where its boundaries exist (x below the tube's or the channel's
+    # half-width, a prefix of the samples) and counts as reached beyond: it is evaluated on
+    # that prefix alone (a morph asks for every design's lands).
+    n_tube, n_chan = int(np.count_nonzero(x < tube_a)), int(np.count_nonzero(x < r_co))
+    xx = x[: max(n_tube, n_chan)] ** 2
+    ell = tube_b * np.sqrt(np.maximum(1 - (x[:n_tube] / tube_a) ** 2, 0))
+    circ = np.sqrt(np.maximum(r_ci**2 - xx, 0))
+    chan = np.sqrt(np.maximum(r_co**2 - xx[:n_chan], 0))
+    n_both = min(n_tube, n_chan)
     gaps = {
-        "tube_coil": np.where(in_tube, circ - (tube_y + ell), np.inf),
-        "tube_channel": np.where(in_tube & in_chan, (tube_y - ell) - (channel_y + chan), np.inf),
-        "channel_coil": np.where(in_chan, (channel_y - chan) + circ, np.inf),
+        "tube_coil": circ[:n_tube] - (tube_y + ell),
+        "tube_channel": (tube_y - ell[:n_both]) - (channel_y + chan[:n_both]),
+        "channel_coil": (channel_y - chan) + circ[:n_chan],
     }
+    beyond_reached = bool(np.inf >= land_gap)
     out = {}
     for name, gap in gaps.items():
         ok = gap >= land_gap
-        out[name] = float(x[int(np.argmax(ok))]) if ok.any() else float(x[-1])
+        first = int(np.argmax(ok)) if ok.size else 0
+        if ok.size and ok[first]:
+            out[name] = float(x[first])
+        else:
+            out[name] = float(x[gap.size]) if beyond_reached and gap.size < x.size else float(x[-1])
     return out
 
 

@@ -22,6 +22,7 @@ Formulas (Wahl, *Mechanical Springs*, 1963; Timoshenko & Gere):
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -93,12 +94,28 @@ def coil_stiffness_arrays(
 
 def coil_stiffness(coil: Coil) -> CoilStiffness:
     """Homogenised stiffness of ``coil`` (see module docstring for formulas)."""
+    return _coil_stiffness(
+        coil.outer_diameter,
+        coil.inner_diameter,
+        coil.wire_diameter,
+        coil.pitch,
+        coil.material.youngs_modulus,
+        coil.material.poisson_ratio,
+    )
+
+
+# A section model asks twice per coil (its law, then its bending couple), and a sweep over
+# silicones asks again for the same coils: cached on the six numbers (typed, so an int and a
+# float are not taken for each other); a CoilStiffness is immutable, so sharing it is safe.
+@functools.lru_cache(maxsize=256, typed=True)
+def _coil_stiffness(od, idia, wire, pitch, youngs_modulus, poisson_ratio) -> CoilStiffness:
+    """:func:`coil_stiffness` of a coil given by its six numbers."""
     values = coil_stiffness_arrays(
-        outer_diameter=coil.outer_diameter,
-        inner_diameter=coil.inner_diameter,
-        wire_diameter=coil.wire_diameter,
-        pitch=coil.pitch,
-        youngs_modulus=coil.material.youngs_modulus,
-        poisson_ratio=coil.material.poisson_ratio,
+        outer_diameter=od,
+        inner_diameter=idia,
+        wire_diameter=wire,
+        pitch=pitch,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
     )
     return CoilStiffness(**{k: float(v) for k, v in values.items()})

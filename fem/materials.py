@@ -105,6 +105,10 @@ class TransverselyIsotropic:
 
     def tensor(self) -> np.ndarray:
         """Stiffness tensor ``C[i, j, k, l]`` in MPa."""
+        return voigt_to_tensor(self.voigt())
+
+    def voigt(self) -> np.ndarray:
+        """6x6 Voigt stiffness (MPa, engineering shear; order of :func:`voigt_to_tensor`)."""
         el, et = self.axial_modulus, self.transverse_modulus
         ntt, nc, gl = self.transverse_poisson, self.coupling_poisson, self.axial_shear_modulus
         s13 = -nc / np.sqrt(el * et)
@@ -115,7 +119,7 @@ class TransverselyIsotropic:
         s[2, 2] = 1.0 / el
         s[3, 3] = s[4, 4] = 1.0 / gl
         s[5, 5] = 2.0 * (1.0 + ntt) / et
-        return voigt_to_tensor(np.linalg.inv(s))
+        return np.linalg.inv(s)
 
 
 def _positive(name: str, value: float) -> None:
