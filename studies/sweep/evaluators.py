@@ -293,17 +293,34 @@ def evaluate_task(task: dict) -> pd.DataFrame:
 
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
     failures = [reasons[i] or fem_reason[i] for i in range(n_d)]
-    frames = [
-        pd.DataFrame(
-            _load_columns(task, load, designs, pressures, blocks, failures, analytic_seconds, cpu_seconds)
-        )
+    per_load = [
+        _load_columns(task, load, designs, pressures, blocks, failures, analytic_seconds, cpu_seconds)
         for load in loads
     ]
-    df = pd.concat(frames, ignore_index=True)
     # Derived columns (degrees, differences, feasibility) are added once, on the merged table.
-    return df.rename(columns=_FEM_RENAME).sort_values(
-        ["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True
-    )
+    return pd.DataFrame(_sorted_columns(per_load))
+
+
+def _sorted_columns(per_load: list[dict[str, Any]]) -> dict[str, Any]:
+    """The loads' columns stacked, FEM columns renamed, rows ordered by design, load and pressure.
+
+    One frame built from numpy columns costs a fraction of a frame per load, concatenated,
+    renamed and sorted by pandas; ``np.lexsort`` is stable like the ``kind="stable"`` sort
+    it replaces, so the rows come in the same order.
+    """
+    n = len(per_load[0]["design_id"])
+    stacked = {
+        _FEM_RENAME.get(k, k): np.concatenate([_column(c[k], n) for c in per_load]) for k in per_load[0]
+    }
+    order = np.lexsort((stacked["pressure_MPa"], stacked["load"], stacked["design_id"]))
+    return {k: v[order] for k, v in stacked.items()}
+
+
+def _column(value: Any, n: int) -> np.ndarray:
+    """``value`` as a column of ``n`` rows (a scalar is repeated, as the DataFrame constructor does)."""
+    if np.ndim(value) == 0:
+        return np.full(n, value)
+    return np.asarray(value)
 
 
 def _build_designs(task: dict, ids: list, forced: str | None) -> tuple[list, list[str]]:
