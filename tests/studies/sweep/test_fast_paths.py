@@ -1,0 +1,63 @@
+"""The sweep's fast paths equal the straightforward computations they replace."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pytest
+
+from softcath.studies.sweep import build_tasks, evaluate_task, expand, load_spec
+from softcath.studies.sweep.results import _stringify_objects
+from softcath.studies.sweep.store import arrow_table, design_counts
+
+
+@pytest.fixture(scope="module")
+def task_frame(tmp_path_factory):
+    """The rows of one analytic task: 12 designs, 2 of them invalid (a failed status and a reason)."""
+    root = tmp_path_factory.mktemp("fast_paths")
+    (root / "spec.toml").write_text(
+        """
+[sweep]
+name = "fast"
+base = "paper"
+pressures_MPa = [0.0, 0.5, 1.0]
+loads = ["cap", "lumen"]
+evaluators = ["paper"]
+[parameters]
+"tube.h" = { values = [0.0, 0.03, 0.06] }
+"tip.bending_length" = { lhs = [10.0, 20.0] }
+[sample]
+n = 4
+""",
+        encoding="utf-8",
+    )
+    spec = load_spec(root / "spec.toml")
+    tasks = build_tasks(spec, expand(spec))
+    return pd.concat([evaluate_task(t) for t in tasks], ignore_index=True)
+
+
+def _variants(frame: pd.DataFrame) -> list[pd.DataFrame]:
+    """The task's frame, and copies with swept columns of names, mixed numbers and ints."""
+    names = frame.copy()
+    names["tube.h"] = np.array(["a", 1.0] * (len(frame) // 2), dtype=object)
+    ints = frame.copy()
+    ints["tube.h"] = np.array([1, 2.5] * (len(frame) // 2), dtype=object)
+    empty = frame.iloc[:0].copy()
+    return [frame, names, ints, empty]
+
+
+def test_arrow_table_equals_from_pandas_of_the_stringified_frame(task_frame):
+    assert task_frame["tube.h"].dtype == object and (task_frame.status == "failed").any()
+    for frame in _variants(task_frame):
+        fast = arrow_table(frame)
+        ref = pa.Table.from_pandas(_stringify_objects(frame), preserve_index=False)
+        assert fast.equals(ref)  # types, values and nulls (NaN → null); not the pandas metadata
+        pd.testing.assert_frame_equal(fast.to_pandas(), ref.to_pandas(), check_exact=True)
+
+
+def test_design_counts_equal_the_pandas_counts(task_frame):
+    for frame in (task_frame, task_frame.iloc[::-1], task_frame.iloc[:0]):
+        failed = int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
+        assert design_counts(frame) == (frame["design_id"].nunique(), failed)
+    assert design_counts(task_frame) == (12, 4)  # h = 0.06 is invalid at each of the 4 samples
