@@ -21,7 +21,7 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.interrupts import raise_pending_stop
 from softcath.studies.sweep.results import _FEM_RENAME, SECTION_NONLINEAR_COLUMNS
-from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns_many
+from softcath.studies.sweep.section_eval import SECTION_KEYS, section_blocks_many
 from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
 
 if TYPE_CHECKING:
@@ -422,12 +422,12 @@ def _section_blocks(
     sec_cols = {load: {k: _nan_block(n_d, n_p) for k in SECTION_KEYS} for load in loads}
     if not enabled:
         return sec_cols
-    many = section_columns_many([designs[i] for i in ok], pressures, loads, options)
-    for i, values in zip(ok, many, strict=True):
-        if isinstance(values, Exception):  # a section-model failure is reported per design
-            _note_failure(fem_reason, i, "section", values, ids[i])
-        else:
-            _fill(sec_cols, i, values)
+    many, errors = section_blocks_many([designs[i] for i in ok], pressures, loads, options)
+    for j, exc in errors.items():  # a section-model failure is reported per design
+        _note_failure(fem_reason, ok[j], "section", exc, ids[ok[j]])
+    for load, block in many.items():
+        for k, v in block.items():
+            sec_cols[load][k][ok] = v
     return sec_cols
 
 

@@ -61,3 +61,56 @@ def test_design_counts_equal_the_pandas_counts(task_frame):
         failed = int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
         assert design_counts(frame) == (frame["design_id"].nunique(), failed)
     assert design_counts(task_frame) == (12, 4)  # h = 0.06 is invalid at each of the 4 samples
+
+
+def _section_columns_one_by_one(items, pressures, loads):
+    """The section evaluator's columns computed per design from ``SectionResult.response``."""
+    out = []
+    for item in items:
+        if isinstance(item, Exception):
+            out.append(item)
+            continue
+        r, cols = item.result, {}
+        for load in loads:
+            resp = r.response(pressures, load)
+            low, high = item.strain_range[load]
+            cols[load] = {
+                "curvature_section_per_mm": resp.curvature,
+                "elongation_section": resp.elongation,
+                "bend_angle_section_rad": resp.bend_angle,
+                "tip_x_section_mm": resp.tip_x,
+                "tip_y_section_mm": resp.tip_y,
+                "max_strain_section": np.where(pressures >= 0, pressures * high, pressures * low),
+                "section_formula_ratio": np.full(pressures.shape, r.fem_formula_ratio[load]),
+                "section_seconds": np.full(pressures.shape, r.seconds),
+            }
+        out.append(cols)
+    return out
+
+
+def test_section_blocks_equal_the_response_of_each_design(monkeypatch):
+    from dataclasses import replace
+
+    from softcath.fem.section_model import batch
+    from softcath.studies.sweep.random_designs import random_designs
+    from softcath.studies.sweep.section_eval import SECTION_KEYS, section_blocks_many
+
+    designs = random_designs(3, seed=4)
+    # a valid design beyond the section model's Poisson ratio: a failure in the middle of the batch
+    tube = designs[1].tube
+    designs.insert(
+        1, replace(designs[1], tube=replace(tube, material=replace(tube.material, poisson_ratio=0.4999999)))
+    )
+    pressures, loads = np.array([0.0, 0.5, 1.0, 0.25]), ("cap", "lumen")
+    items = batch.section_models(designs, loads=loads)
+    monkeypatch.setattr(batch, "section_models", lambda *a, **k: items)  # the same solves for both
+    cols, errors = section_blocks_many(designs, pressures, loads)
+    ref = _section_columns_one_by_one(items, pressures, loads)
+    assert list(errors) == [1] and str(errors[1]) == str(ref[1])
+    for load in loads:
+        assert list(cols[load]) == list(SECTION_KEYS)
+        for k in SECTION_KEYS:
+            assert np.isnan(cols[load][k][1]).all()
+            for j in (0, 2, 3):
+                # the same elementwise operations on arrays: equal to round-off
+                np.testing.assert_allclose(cols[load][k][j], ref[j][load][k], rtol=1e-14, atol=1e-300)
