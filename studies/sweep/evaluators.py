@@ -73,30 +73,39 @@ def _builder(base_table: dict):
     return _BUILDERS[key]
 
 
-def _analytic(designs: list, pressures: np.ndarray, load: str) -> dict[str, np.ndarray]:
-    """Analytic response of many designs at many pressures, arrays of shape (n_designs, n_pressures)."""
+def _analytic(
+    designs: list, pressures: np.ndarray, loads: tuple[str, ...]
+) -> dict[str, dict[str, np.ndarray]]:
+    """Analytic response of many designs at many pressures per load, arrays of shape (n_designs,
+    n_pressures).
+
+    The design inputs and the section are computed once for all loads (they do not depend on the load).
+    """
     from softcath import analytic
     from softcath.analytic.section import section_arrays
 
     inputs = [analytic.design_inputs(d) for d in designs]
     inp = {k: np.array([x[k] for x in inputs], dtype=float)[:, None] for k in inputs[0]}
-    r = analytic.response_arrays(inp, pressures[None, :], load)
     s = section_arrays(inp)
     # Axial strain of the composite beam, ε + κ (y − ȳ), at the tube's top and bottom fibres:
     # the largest silicone strain of the Euler–Bernoulli section.
     y_top = s["tube_centre_y"] + s["b"] - s["neutral_axis_y"]
     y_bot = s["tube_centre_y"] - s["b"] - s["neutral_axis_y"]
-    strain = np.maximum(
-        np.abs(r.elongation + r.curvature * y_top), np.abs(r.elongation + r.curvature * y_bot)
-    )
-    return {
-        "curvature_analytic_per_mm": r.curvature,
-        "elongation_analytic": r.elongation,
-        "bend_angle_analytic_rad": r.bend_angle,
-        "tip_x_analytic_mm": r.tip_x,
-        "tip_y_analytic_mm": r.tip_y,
-        "max_strain_analytic": strain,
-    }
+    out = {}
+    for load in loads:
+        r = analytic.response_arrays(inp, pressures[None, :], load)
+        strain = np.maximum(
+            np.abs(r.elongation + r.curvature * y_top), np.abs(r.elongation + r.curvature * y_bot)
+        )
+        out[load] = {
+            "curvature_analytic_per_mm": r.curvature,
+            "elongation_analytic": r.elongation,
+            "bend_angle_analytic_rad": r.bend_angle,
+            "tip_x_analytic_mm": r.tip_x,
+            "tip_y_analytic_mm": r.tip_y,
+            "max_strain_analytic": strain,
+        }
+    return out
 
 
 def _fem_rows(check, design, pressures: tuple[float, ...], loads: tuple[str, ...], mesh_size) -> dict:
@@ -108,6 +117,14 @@ def _fem_rows(check, design, pressures: tuple[float, ...], loads: tuple[str, ...
 
 
 _CONTAINERS = ("cases", "results", "rows", "records")
+_ANALYTIC_KEYS = (
+    "curvature_analytic_per_mm",
+    "elongation_analytic",
+    "bend_angle_analytic_rad",
+    "tip_x_analytic_mm",
+    "tip_y_analytic_mm",
+    "max_strain_analytic",
+)
 
 
 def _as_mapping(obj: Any) -> dict | None:
@@ -344,24 +361,11 @@ def _build_designs(task: dict, ids: list, forced: str | None) -> tuple[list, lis
 def _analytic_blocks(designs: list, ok: list[int], pressures: np.ndarray, loads: tuple[str, ...]) -> dict:
     """Analytic columns per load, a design × pressure block each (NaN for invalid designs)."""
     n_d, n_p = len(designs), len(pressures)
-    per_load: dict[str, dict[str, np.ndarray]] = {}
-    for load in loads:
-        block = {
-            k: _nan_block(n_d, n_p)
-            for k in (
-                "curvature_analytic_per_mm",
-                "elongation_analytic",
-                "bend_angle_analytic_rad",
-                "tip_x_analytic_mm",
-                "tip_y_analytic_mm",
-                "max_strain_analytic",
-            )
-        }
-        if ok:
-            vals = _analytic([designs[i] for i in ok], pressures, load)
+    per_load = {load: {k: _nan_block(n_d, n_p) for k in _ANALYTIC_KEYS} for load in loads}
+    if ok:
+        for load, vals in _analytic([designs[i] for i in ok], pressures, loads).items():
             for k, v in vals.items():
-                block[k][ok] = v
-        per_load[load] = block
+                per_load[load][k][ok] = v
     return per_load
 
 
