@@ -76,8 +76,7 @@ def _builder(base_table: dict):
 def _analytic(
     designs: list, pressures: np.ndarray, loads: tuple[str, ...]
 ) -> dict[str, dict[str, np.ndarray]]:
-    """Analytic response of many designs at many pressures per load, arrays of shape (n_designs,
-    n_pressures).
+    """Analytic response of many designs per load: ``{load: {column: array (n_designs, n_pressures)}}``.
 
     The design inputs and the section are computed once for all loads (they do not depend on the load).
     """
