@@ -114,3 +114,41 @@ def test_section_blocks_equal_the_response_of_each_design(monkeypatch):
             for j in (0, 2, 3):
                 # the same elementwise operations on arrays: equal to round-off
                 np.testing.assert_allclose(cols[load][k][j], ref[j][load][k], rtol=1e-14, atol=1e-300)
+
+
+def test_task_frame_equals_the_pandas_concat_rename_and_sort(tmp_path, monkeypatch):
+    """One frame in np.lexsort order = a frame per load, concatenated, renamed and stably sorted."""
+    from softcath.studies.sweep import evaluators
+    from softcath.studies.sweep.results import _FEM_RENAME
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        """
+[sweep]
+name = "order"
+base = "paper"
+pressures_MPa = [0.0, 0.5, 1.0]
+loads = ["lumen", "cap"]
+evaluators = ["paper"]
+[parameters]
+"tube.h" = { values = [0.06, 0.0, 0.03] }
+""",
+        encoding="utf-8",
+    )
+    seen = []
+    real = evaluators._sorted_columns
+    monkeypatch.setattr(
+        evaluators, "_sorted_columns", lambda per_load: seen.append(per_load) or real(per_load)
+    )
+    s = load_spec(spec)
+    task = build_tasks(s, expand(s))[0]
+    # unsorted and repeated pressures (a spec sorts them; a task need not): the stable order matters
+    fast = evaluate_task(dict(task, pressures_MPa=[1.0, 0.0, 0.5, 0.5], loads=["lumen", "cap"]))
+    frames = [pd.DataFrame(cols) for cols in seen[0]]
+    ref = (
+        pd.concat(frames, ignore_index=True)
+        .rename(columns=_FEM_RENAME)
+        .sort_values(["design_id", "load", "pressure_MPa"], kind="stable", ignore_index=True)
+    )
+    pd.testing.assert_frame_equal(fast, ref, check_exact=True)
+    assert (fast.status == "failed").sum() == 8  # h = 0.06: 2 loads x 4 pressures
