@@ -28,7 +28,7 @@ from softcath.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
 from softcath.studies.sweep.sampling import expand
 from softcath.studies.sweep.spec import SweepSpec
-from softcath.studies.sweep.store import SweepStore
+from softcath.studies.sweep.store import SweepStore, design_counts
 
 __all__ = ["SweepSummary", "run_sweep", "build_tasks"]
 
@@ -342,7 +342,7 @@ def _store_results(
                 continue
             store.write_task(task["task_id"], frame, run_id=run_id)
             n_d = len(task["design_ids"])
-            failed_now += int((frame.drop_duplicates("design_id")["status"] == "failed").sum())
+            failed_now += design_counts(frame)[1]
             evaluated_designs += n_d
             bar.update(n_d)
             bar.set_postfix(failed=failed_now, refresh=False)

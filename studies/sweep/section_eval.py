@@ -16,7 +16,13 @@ import numpy as np
 
 from softcath.interrupts import raise_pending_stop
 
-__all__ = ["SECTION_KEYS", "SECTION_OPTIONS", "section_columns", "section_columns_many"]
+__all__ = [
+    "SECTION_KEYS",
+    "SECTION_OPTIONS",
+    "section_blocks_many",
+    "section_columns",
+    "section_columns_many",
+]
 
 log = logging.getLogger(__name__)
 
@@ -81,37 +87,86 @@ def section_columns_many(
     reused), whose answers are the section model's on the same meshes; with
     ``mesher = "gmsh"`` each design is solved alone.
     """
+    cols, errors = section_blocks_many(designs, pressures, loads, options)
+    return [
+        errors[j] if j in errors else {ld: {k: v[j] for k, v in block.items()} for ld, block in cols.items()}
+        for j in range(len(designs))
+    ]
+
+
+def section_blocks_many(
+    designs: list, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
+) -> tuple[dict, dict[int, Exception]]:
+    """The section columns of many designs as blocks, and the designs' failures.
+
+    Returns
+    -------
+    cols
+        ``{load: {column: array (n_designs, n_pressures)}}``, NaN rows for the failed designs.
+    errors
+        ``{design index: the exception it raised}``, in design order.
+
+    See :func:`section_columns_many` (its values, per design).
+    """
     opts = {k: v for k, v in (options or {}).items() if v is not None}
+    cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}
+    errors: dict[int, Exception] = {}
     if opts.pop("mesher", "template") == "gmsh":
-        out = []
-        for d in designs:
+        for j, d in enumerate(designs):
             try:
-                out.append(section_columns(d, pressures, loads, {**opts, "mesher": "gmsh"}))
+                values = section_columns(d, pressures, loads, {**opts, "mesher": "gmsh"})
             except Exception as exc:  # reported per design by the caller
                 raise_pending_stop()
-                out.append(exc)
-        return out
+                errors[j] = exc
+                continue
+            for ld, block in cols.items():
+                for k, v in values[ld].items():
+                    block[k][j] = v
+        return cols, errors
     from softcath.fem.section_model.batch import section_models
 
-    out = []
-    for item in section_models(designs, loads=loads, **opts):
-        if isinstance(item, Exception):
-            out.append(item)
-            continue
-        r = item.result
-        cols = {}
-        for load in loads:
-            resp = r.response(pressures, load)
-            low, high = item.strain_range[load]
-            cols[load] = {
-                "curvature_section_per_mm": np.asarray(resp.curvature, float),
-                "elongation_section": np.asarray(resp.elongation, float),
-                "bend_angle_section_rad": np.asarray(resp.bend_angle, float),
-                "tip_x_section_mm": np.asarray(resp.tip_x, float),
-                "tip_y_section_mm": np.asarray(resp.tip_y, float),
-                "max_strain_section": np.where(pressures >= 0, pressures * high, pressures * low),
-                "section_formula_ratio": np.full(pressures.shape, r.fem_formula_ratio[load]),
-                "section_seconds": np.full(pressures.shape, r.seconds),
-            }
-        out.append(cols)
+    items = section_models(designs, loads=loads, **opts)
+    errors = {j: item for j, item in enumerate(items) if isinstance(item, Exception)}
+    good = [j for j in range(len(items)) if j not in errors]
+    if good:
+        for ld, block in _response_blocks([items[j] for j in good], pressures, loads).items():
+            for k, v in block.items():
+                cols[ld][k][good] = v
+    return cols, errors
+
+
+def _response_blocks(items: list, pressures: np.ndarray, loads: tuple[str, ...]) -> dict:
+    """``SectionResult.response`` and the strain range of batched section models, over all designs at once.
+
+    The same elementwise operations as :meth:`SectionResult.response` (gains times pressure,
+    eq. 9 pose of the stretched arc), on (designs, pressures) arrays: ~25 designs a task would
+    otherwise make 2 x 25 response objects of 3 values each.
+    """
+    from softcath.analytic.pose import tip_pose
+    from softcath.design.errors import DesignError
+
+    p = np.asarray(pressures, dtype=float)
+    if not np.all(np.isfinite(p)):
+        raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
+    p = p[None, :]
+    results = [it.result for it in items]
+    length0 = np.array([[r.length_mm] for r in results], dtype=float)
+    seconds = np.array([[r.seconds] for r in results], dtype=float)
+    out = {}
+    for ld in loads:
+        gains = np.array([r.gains(ld) for r in results], dtype=float).reshape(-1, 2)
+        low, high = np.array([it.strain_range[ld] for it in items], dtype=float).reshape(-1, 2).T
+        kappa, eps = gains[:, :1] * p, gains[:, 1:] * p
+        tip_x, tip_y, theta = tip_pose(kappa, length0 * (1 + eps))
+        ratio = np.array([[r.fem_formula_ratio[ld]] for r in results], dtype=float)
+        out[ld] = {
+            "curvature_section_per_mm": kappa,
+            "elongation_section": eps,
+            "bend_angle_section_rad": theta,
+            "tip_x_section_mm": tip_x,
+            "tip_y_section_mm": tip_y,
+            "max_strain_section": np.where(p >= 0, p * high[:, None], p * low[:, None]),
+            "section_formula_ratio": np.broadcast_to(ratio, kappa.shape),
+            "section_seconds": np.broadcast_to(seconds, kappa.shape),
+        }
     return out
