@@ -275,14 +275,15 @@ class _Kernel:
 class _SpdFactor:
     """Repeated numeric factorisations of one SPD pattern: PARDISO when available, else QDLDL.
 
-    Measured on a 2,969-unknown section, one thread: PARDISO (METIS order, analysis kept)
-    2.4-2.6 ms a factorisation and 0.85 ms for four right-hand sides, QDLDL (AMD order,
-    ``update``) 5.1 and 1.06 ms.
+    Measured on the sweep's sections (2.9k unknowns; 200 designs over 69 templates, one
+    thread, 2026-11-26): PARDISO with its analysis kept 2.5-2.65 ms a factorisation and
+    0.7 ms for the four right-hand sides (two-level factorisation; 2.87 and 1.09 ms with the
+    classic one), QDLDL (AMD order, ``update``) 5.1 and 1.06 ms.
     """
 
     #: PARDISO settings (0-based iparm): user values, METIS order, no iterative refinement
-    #: (every solve's backward error is checked by the caller).
-    IPARM = {0: 1, 1: 2, 7: 0}
+    #: (every solve's backward error is checked by the caller), two-level factorisation.
+    IPARM = {0: 1, 1: 2, 7: 0, 23: 1}
 
     def __init__(self, kernel: _Kernel) -> None:
         from softcath.fem import pardiso
