@@ -10,13 +10,13 @@ In one run:
    once with the 3-D mesh from its cache (conservative);
 2. a section sweep of N distinct designs (default 10^4, a Latin hypercube over
    coil and channel size, lumen shape, silicone moduli and tip length) through
-   the ``softcath sweep`` machinery (``analytic`` + ``section`` evaluators,
+   the ``softcath sweep`` machinery (``paper`` + ``section`` evaluators,
    3 pressures x 2 loads, results written) on 2 local worker processes;
    target: 10^5 designs in <= 10 min on 2 cores, extrapolated linearly from
    N (said so; the one-off template meshes make this conservative);
 3. the time split of the sweep path per design (laws, template, morph,
    assembly, factorisation, solve, post) measured in-process on a sample, and
-   the sweep machinery's own share (analytic model, tasks, serialisation,
+   the sweep machinery's own share (paper formula, tasks, serialisation,
    result writing): the sweep's wall time x 2 workers minus the in-process
    section time.
 
@@ -113,7 +113,7 @@ def split(n: int) -> float:
 
 
 def sweep(n: int, in_process: float | None = None) -> None:
-    """``softcath sweep`` machinery, ``analytic`` + ``section`` evaluators, 2 local workers, n distinct
+    """``softcath sweep`` machinery, ``paper`` + ``section`` evaluators, 2 local workers, n distinct
     designs."""
     import tempfile
 
@@ -126,7 +126,7 @@ name = "bench-section"
 base = "paper"
 pressures_MPa = [0.0, 0.5, 1.0]
 loads = ["cap", "lumen"]
-evaluators = ["analytic", "section"]
+evaluators = ["paper", "section"]
 seed = 9
 [sample]
 n = {n}
@@ -147,7 +147,7 @@ n = {n}
         read = time.perf_counter() - t
     per = wall / n
     print(
-        f"section sweep (softcath sweep, analytic + section, 2 local workers), {n} designs: {wall:.1f} s "
+        f"section sweep (softcath sweep, paper + section, 2 local workers), {n} designs: {wall:.1f} s "
         f"({per * 1000:.1f} ms/design wall; {summary}) [{_load()}]"
     )
     for total in (10_000, 100_000):
@@ -155,14 +155,14 @@ n = {n}
         print(f"  {total:.0e} designs: {per * total / 60:.1f} min ({label})")
     print(f"  target 10^5 in <= 10 min (6 ms/design wall): {'OK' if per * 1e5 <= 600 else 'MISSED'}")
     print(
-        f"  worker CPU per design (the table's cpu_seconds: analytic + section + task): {cpu * 1e3:.1f} ms; "
+        f"  worker CPU per design (the table's cpu_seconds: formula + section + task): {cpu * 1e3:.1f} ms; "
         f"on 2 unshared cores 10^5 designs would take ~{cpu * 1e5 / 2 / 60:.1f} min (CPU-bound estimate)"
     )
     print(f"  reading the written table back: {read:.2f} s ({len(table)} rows)")
     if in_process is not None:
         print(
             f"  section path in-process {in_process * 1e3:.1f} ms CPU/design; the rest of the worker CPU "
-            f"(analytic model, task building, frames): {(cpu - in_process) * 1e3:.1f} ms; the parent's share "
+            f"(paper formula, task building, frames): {(cpu - in_process) * 1e3:.1f} ms; the parent's share "
             f"(serialisation, writing, progress) is wall - CPU/2: {(per - cpu / 2) * 1e3:.1f} ms/design"
         )
 

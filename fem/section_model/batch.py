@@ -309,6 +309,7 @@ class _SpdFactor:
             self.qdldl = None
 
     def factorise(self, data: np.ndarray) -> None:
+        """Numeric factorisation of the block with these values (in the pattern's order)."""
         values = data.take(self.at)
         if self.handle is not None:
             self.handle.factorise(values)
@@ -323,9 +324,13 @@ class _SpdFactor:
             self.qdldl.update(upper, upper=True)
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """Solutions of (n, k) right-hand sides with the current factors."""
         if self.handle is not None:
             return self.handle.solve(rhs).reshape(rhs.shape)
-        return np.column_stack([self.qdldl.solve(rhs[:, c]) for c in range(rhs.shape[1])])
+        factor = self.qdldl
+        if factor is None:
+            raise RuntimeError("solve before factorise")
+        return np.column_stack([factor.solve(rhs[:, c]) for c in range(rhs.shape[1])])
 
 
 _KERNELS: dict[str, _Kernel] = {}
