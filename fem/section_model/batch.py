@@ -120,8 +120,7 @@ class _Kernel:
             edge_curved[hit, j] = order[pos[hit]]
         self.tri, self.edge_curved, self.dofs = tri, edge_curved, dofs
         self.labels = m.labels
-        self.silicone = np.isin(self.labels, (TUBE, FILLER))
-        self.silicone_elements = np.flatnonzero(self.silicone)
+        self.silicone_elements = np.flatnonzero(np.isin(self.labels, (TUBE, FILLER)))
 
     def _pattern(self) -> None:
         """Sparse pattern of the free-free block and the scatters into it."""
@@ -291,22 +290,20 @@ class _SpdFactor:
         k = kernel
         n = k.free.size
         row_of = np.repeat(np.arange(n), np.diff(k.indptr))
-        if pardiso.available():
-            # CSR upper triangle (column >= row) in the pattern's order
-            self.at = np.flatnonzero(k.indices >= row_of)
-            count = np.bincount(row_of[self.at], minlength=n)
-            indptr = np.concatenate([[0], np.cumsum(count)])
+        use_pardiso = pardiso.available()
+        # PARDISO reads the CSR upper triangle (column >= row); QDLDL the upper triangle in CSC,
+        # which for a symmetric matrix is the CSR lower triangle (column <= row).
+        self.at = np.flatnonzero(k.indices >= row_of if use_pardiso else k.indices <= row_of)
+        count = np.bincount(row_of[self.at], minlength=n)
+        indptr = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
+        self.handle = None
+        self.qdldl = None
+        if use_pardiso:
             self.handle = pardiso.PardisoHandle(indptr, k.indices[self.at], mtype=2)
             for i, v in self.IPARM.items():
                 self.handle.iparm[i] = v
         else:
-            # QDLDL reads the upper triangle in CSC: for a symmetric matrix, the CSR rows of its
-            # lower triangle (column <= row)
-            self.at = np.flatnonzero(k.indices <= row_of)
-            count = np.bincount(row_of[self.at], minlength=n)
-            self.pattern = (k.indices[self.at], np.concatenate([[0], np.cumsum(count)]).astype(np.int32), n)
-            self.handle = None
-            self.qdldl = None
+            self.pattern = (k.indices[self.at], indptr, n)
 
     def factorise(self, data: np.ndarray) -> None:
         """Numeric factorisation of the block with these values (in the pattern's order)."""
