@@ -11,7 +11,13 @@ from __future__ import annotations
 from softcath.analytic.beam import LOADS, BeamResponse, gains, gains_arrays, response, response_arrays
 from softcath.analytic.inverse import pressure_for_bend_angle, pressure_for_tip
 from softcath.analytic.pose import pose_matrix, tip_pose
-from softcath.analytic.section import CompositeSection, composite_section, design_inputs, section_arrays
+from softcath.analytic.section import (
+    CompositeSection,
+    composite_section,
+    design_inputs,
+    design_inputs_many,
+    section_arrays,
+)
 
 __all__ = [
     "LOADS",
@@ -19,6 +25,7 @@ __all__ = [
     "CompositeSection",
     "composite_section",
     "design_inputs",
+    "design_inputs_many",
     "gains",
     "gains_arrays",
     "pose_matrix",

@@ -30,7 +30,14 @@ from softcath.analytic import shapes
 from softcath.design import TipDesign
 from softcath.design.coil_mechanics import coil_stiffness_arrays
 
-__all__ = ["CompositeSection", "composite_section", "design_inputs", "section_arrays", "INPUT_KEYS"]
+__all__ = [
+    "CompositeSection",
+    "composite_section",
+    "design_inputs",
+    "design_inputs_many",
+    "section_arrays",
+    "INPUT_KEYS",
+]
 
 INPUT_KEYS = (
     "coil_od",
@@ -79,6 +86,12 @@ def design_inputs(design: TipDesign) -> dict[str, float]:
         **shape,
         "length": design.tip.bending_length,
     }
+
+
+def design_inputs_many(designs) -> dict[str, np.ndarray]:
+    """:func:`design_inputs` of many designs as arrays (one entry per design), for :func:`section_arrays`."""
+    rows = [design_inputs(d) for d in designs]
+    return {k: np.array([r[k] for r in rows], dtype=float) for k in INPUT_KEYS}
 
 
 def section_arrays(inp: dict) -> dict[str, np.ndarray]:

@@ -140,10 +140,11 @@ class _Kernel:
         self.nnz = uniq.size
         # Where each entry of the triangles' retained blocks goes: its slot in the free-free
         # pattern (-1: a pinned row or column), and its row x column in K_ug (n, 3).
-        self.slot_k = np.full(rows.size, -1, dtype=np.int64)
-        self.slot_k[ok] = slot
-        rdofs = dofs[: nb - 2].T.ravel()
-        self.slot_g = (rdofs[:, None] * 3 + np.arange(3)).ravel().astype(np.int64)
+        self.slot_rr = np.full(rows.size, -1, dtype=np.int64)
+        self.slot_rr[ok] = slot
+        self.slot_rr = self.slot_rr.reshape(nel, nb - 2, nb - 2)
+        rdofs = dofs[: nb - 2].T
+        self.slot_rg = (rdofs[:, :, None] * 3 + np.arange(3)).astype(np.int64)  # (nel, nr, 3)
 
     def _lumen(self, m, mesh) -> None:
         t = mesh.t
@@ -187,15 +188,12 @@ class _Kernel:
 
     def geometry(self, meshes: Sequence) -> np.ndarray:
         """(m, nel, 6, 2) P2 node positions of each design's triangles."""
-        tri = self.tri
-        out = []
-        for sm in meshes:
-            p = sm.points[tri]  # (nel, 3, 2)
-            mids = 0.5 * (p + p[:, [1, 2, 0]])
-            curved = self.edge_curved >= 0
-            mids[curved] = sm.curved_midpoints[self.edge_curved[curved]]
-            out.append(np.concatenate([p, mids], axis=1))
-        return np.stack(out)
+        points = np.stack([sm.points for sm in meshes])  # one template: one node count
+        p = points[:, self.tri]  # (m, nel, 3, 2)
+        mids = 0.5 * (p + p[:, :, [1, 2, 0]])
+        curved = self.edge_curved >= 0
+        mids[:, curved] = np.stack([sm.curved_midpoints for sm in meshes])[:, self.edge_curved[curved]]
+        return np.concatenate([p, mids], axis=2)
 
     def assemble(self, x6: np.ndarray, D: np.ndarray, lam: np.ndarray, ez: np.ndarray) -> dict:
         """The condensed operators of ``m`` designs (``element.assemble``'s algebra, compiled).
@@ -203,7 +201,7 @@ class _Kernel:
         ``x6`` (m, nel, 6, 2) node positions; ``D`` (m, nel, 4, 4), ``lam`` and ``ez`` (m, nel)
         the region laws per triangle (:func:`~softcath.fem.section_model.element_kernel.element_blocks`).
         """
-        from softcath.fem.section_model.element_kernel import element_blocks, scatter_rows
+        from softcath.fem.section_model.element_kernel import element_blocks
 
         m, nel, nr, nq = x6.shape[0], self.nel, self.nb - 2, self.W.size
         M = m * nel
@@ -215,17 +213,17 @@ class _Kernel:
             W=self.W,
             Ng=self.Ng,
             dNg=self.dNg,
+            slot_rr=self.slot_rr,
+            slot_rg=self.slot_rg,
+            nnz=self.nnz,
+            n_ug=3 * self.n,
         )
-        k_rr = blocks["k_rr"].reshape(m, -1)
-        k_rg = blocks["k_rg"].reshape(m, -1)
-        data = np.stack([scatter_rows(k_rr[j], self.slot_k, self.nnz) for j in range(m)])
-        k_ug = np.stack([scatter_rows(k_rg[j], self.slot_g, 3 * self.n).reshape(self.n, 3) for j in range(m)])
         f, area, xl, yl = self._lumen_load(x6)
         ez_moments = ez.reshape(m, nel, 1) * blocks["moments"].reshape(m, nel, 3)
         ybar = ez_moments[..., 2].sum(axis=1) / ez_moments[..., 0].sum(axis=1)
         return {
-            "data": data,
-            "K_ug": k_ug,
+            "data": blocks["data"],
+            "K_ug": blocks["K_ug"].reshape(m, self.n, 3),
             "K_gg": blocks["k_gg"].reshape(m, nel, 3, 3).sum(axis=1),
             "f": f,
             "area": area,
@@ -257,77 +255,13 @@ class _Kernel:
         yl = -(0.5 * xg[1] ** 2 * normal[1] * wds).sum(axis=(1, 2)) / a_l
         return f, a_l, xl, yl
 
-    def factorise(self, data: np.ndarray):
-        """Numeric factorisation of one design's free-free block (the analysis of the pattern is reused).
-
-        Returns the block (CSR) and a ``solve(rhs)`` for (n, k) right-hand sides: MKL PARDISO
-        (SPD, no iterative refinement) where it is installed, QDLDL otherwise.
-        """
-        n = self.free.size
-        kff = sparse.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
+    def spd_factor(self):
+        """The free-free block's :class:`~softcath.fem.section_model.spd_factor.SpdFactor` (analysis kept)."""
         if self.factor is None:
-            self.factor = _SpdFactor(self)
-        self.factor.factorise(data)
-        return kff, self.factor.solve
+            from softcath.fem.section_model.spd_factor import SpdFactor
 
-
-class _SpdFactor:
-    """Repeated numeric factorisations of one SPD pattern: PARDISO when available, else QDLDL.
-
-    Measured on the sweep's sections (2.9k unknowns; 200 designs over 69 templates, one
-    thread, 2026-11-26): PARDISO with its analysis kept 2.5-2.65 ms a factorisation and
-    0.7 ms for the four right-hand sides (two-level factorisation; 2.87 and 1.09 ms with the
-    classic one), QDLDL (AMD order, ``update``) 5.1 and 1.06 ms.
-    """
-
-    #: PARDISO settings (0-based iparm): user values, METIS order, no iterative refinement
-    #: (every solve's backward error is checked by the caller), two-level factorisation.
-    IPARM = {0: 1, 1: 2, 7: 0, 23: 1}
-
-    def __init__(self, kernel: _Kernel) -> None:
-        from softcath.fem import pardiso
-
-        k = kernel
-        n = k.free.size
-        row_of = np.repeat(np.arange(n), np.diff(k.indptr))
-        use_pardiso = pardiso.available()
-        # PARDISO reads the CSR upper triangle (column >= row); QDLDL the upper triangle in CSC,
-        # which for a symmetric matrix is the CSR lower triangle (column <= row).
-        self.at = np.flatnonzero(k.indices >= row_of if use_pardiso else k.indices <= row_of)
-        count = np.bincount(row_of[self.at], minlength=n)
-        indptr = np.concatenate([[0], np.cumsum(count)]).astype(np.int32)
-        self.handle = None
-        self.qdldl = None
-        if use_pardiso:
-            self.handle = pardiso.PardisoHandle(indptr, k.indices[self.at], mtype=2)
-            for i, v in self.IPARM.items():
-                self.handle.iparm[i] = v
-        else:
-            self.pattern = (k.indices[self.at], indptr, n)
-
-    def factorise(self, data: np.ndarray) -> None:
-        """Numeric factorisation of the block with these values (in the pattern's order)."""
-        values = data.take(self.at)
-        if self.handle is not None:
-            self.handle.factorise(values)
-            return
-        import qdldl
-
-        indices, indptr, n = self.pattern
-        upper = sparse.csc_matrix((values, indices, indptr), shape=(n, n))
-        if self.qdldl is None:
-            self.qdldl = qdldl.Solver(upper, upper=True)
-        else:
-            self.qdldl.update(upper, upper=True)
-
-    def solve(self, rhs: np.ndarray) -> np.ndarray:
-        """Solutions of (n, k) right-hand sides with the current factors."""
-        if self.handle is not None:
-            return self.handle.solve(rhs).reshape(rhs.shape)
-        factor = self.qdldl
-        if factor is None:
-            raise RuntimeError("solve before factorise")
-        return np.column_stack([factor.solve(rhs[:, c]) for c in range(rhs.shape[1])])
+            self.factor = SpdFactor(self.indptr, self.indices)
+        return self.factor
 
 
 _KERNELS: dict[str, _Kernel] = {}
@@ -347,16 +281,13 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
     from softcath.fem.section_model.element_kernel import strain_extremes
 
     t0 = time.perf_counter()
-    kff, solve = kernel.factorise(ops["data"][j])
+    factor = kernel.spd_factor()
+    factor.factorise(ops["data"][j])
     t0 = _tick("factorisation", t0)
     free, n = kernel.free, kernel.n
     k_ug = ops["K_ug"][j][free]
     rhs = np.column_stack([k_ug, ops["f"][j][free]])
-    sol = solve(rhs)
-    resid = kff @ sol - rhs
-    row_sum = np.add.reduceat(np.abs(kff.data), kff.indptr[:-1]).max()  # no empty rows (SPD)
-    scale = row_sum * np.abs(sol).max(axis=0) + np.abs(rhs).max(axis=0)
-    backward = float((np.abs(resid).max(axis=0) / np.where(scale > 0, scale, 1.0)).max())
+    sol, backward = factor.solve(rhs)
     x_g, x_p = sol[:, :3], sol[:, 3]
     k_sec = ops["K_gg"][j] - k_ug.T @ x_g
     k_sec = 0.5 * (k_sec + k_sec.T)
@@ -381,11 +312,11 @@ def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
     return k_sec, out, backward
 
 
-def _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts, seconds):
-    from softcath.analytic import gains
+def _result(
+    d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts, seconds, formula_k
+):
     from softcath.fem.section_model.api import SectionResult
 
-    formula_k, _ = gains(d, "cap")
     ea = float(k_sec[0, 0])
     ybar = float(ops["ybar"][j])
     return SectionResult(
@@ -423,6 +354,8 @@ def _result(d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segm
 
 def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts) -> None:
     """Assemble a chunk of designs sharing a template at once and solve each; results in place."""
+    from softcath.analytic import design_inputs_many, gains_arrays
+
     t0 = time.perf_counter()
     kernel = _kernel(members[0][5])
     labels = kernel.labels
@@ -432,6 +365,7 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
     lam = np.stack([np.array([m[2][k].lam for k in keys])[table] for m in members])
     ez = np.stack([np.array([m[2][k].axial_modulus for k in keys])[table] for m in members])
     ops = kernel.assemble(kernel.geometry([m[4] for m in members]), D, lam, ez)
+    formula_k, _ = gains_arrays(design_inputs_many([m[1] for m in members]), "cap")
     share = (_tick("assembly", t0) - t0) / len(members)
     for j, (i, d, laws, extra, mesh, _) in enumerate(members):
         t1 = time.perf_counter()
@@ -451,6 +385,7 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
                 segments,
                 opts,
                 share + mesh.seconds + time.perf_counter() - t1,
+                float(formula_k[j]),
             )
             results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
         except Exception as exc:

@@ -110,18 +110,18 @@ def propagate(
 
 def _paper(table, values, load, gain, elong, errors) -> None:
     """The formula over the whole sample at once: one dict of input arrays."""
-    from softcath.analytic import design_inputs, gains_arrays
+    from softcath.analytic import design_inputs_many, gains_arrays
 
-    rows, idx = [], []
+    designs, idx = [], []
     for i, (d, _options, err) in enumerate(_variants(table, values)):
         if d is None:
             errors.append(err)
         else:
-            rows.append(design_inputs(d))
+            designs.append(d)
             idx.append(i)
-    if not rows:
+    if not designs:
         return
-    inputs = {k: np.array([r[k] for r in rows], dtype=float) for k in rows[0]}
+    inputs = design_inputs_many(designs)
     k, e = gains_arrays(inputs, load)
     gain[idx], elong[idx] = k, e
 

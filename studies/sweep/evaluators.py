@@ -83,8 +83,7 @@ def _analytic(
     from softcath import analytic
     from softcath.analytic.section import section_arrays
 
-    inputs = [analytic.design_inputs(d) for d in designs]
-    inp = {k: np.array([x[k] for x in inputs], dtype=float)[:, None] for k in inputs[0]}
+    inp = {k: v[:, None] for k, v in analytic.design_inputs_many(designs).items()}
     s = section_arrays(inp)
     # Axial strain of the composite beam, ε + κ (y − ȳ), at the tube's top and bottom fibres:
     # the largest silicone strain of the Euler–Bernoulli section.
