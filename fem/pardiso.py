@@ -52,9 +52,12 @@ def load_mkl():
 
 def available() -> bool:
     """True when MKL PARDISO can be loaded (pypardiso installed with its MKL)."""
-    try:
-        import pypardiso  # noqa: F401
+    import importlib.util
 
+    # find_spec, not import: importing pypardiso builds a solver that searches the file system
+    if importlib.util.find_spec("pypardiso") is None:
+        return False
+    try:
         load_mkl()
     except (ImportError, OSError, AttributeError):
         return False

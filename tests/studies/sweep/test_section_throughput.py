@@ -22,6 +22,7 @@ pressures_MPa = [0.0, 0.5, 1.0]
 loads = ["cap", "lumen"]
 evaluators = ["analytic", "section"]
 seed = 3
+chunk_size = 20
 [sample]
 n = {n}
 [parameters]
