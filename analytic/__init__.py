@@ -8,7 +8,15 @@
 
 from __future__ import annotations
 
-from softcath.analytic.beam import LOADS, BeamResponse, gains, gains_arrays, response, response_arrays
+from softcath.analytic.beam import (
+    LOADS,
+    BeamResponse,
+    gains,
+    gains_arrays,
+    response,
+    response_arrays,
+    response_from_gains,
+)
 from softcath.analytic.inverse import pressure_for_bend_angle, pressure_for_tip
 from softcath.analytic.pose import pose_matrix, tip_pose
 from softcath.analytic.section import (
@@ -33,6 +41,7 @@ __all__ = [
     "pressure_for_tip",
     "response",
     "response_arrays",
+    "response_from_gains",
     "section_arrays",
     "tip_pose",
 ]

@@ -33,7 +33,15 @@ from softcath.design import TipDesign
 from softcath.design.errors import DesignError
 from softcath.design.load_cases import LOADS
 
-__all__ = ["LOADS", "BeamResponse", "gains", "gains_arrays", "response", "response_arrays"]
+__all__ = [
+    "LOADS",
+    "BeamResponse",
+    "gains",
+    "gains_arrays",
+    "response",
+    "response_arrays",
+    "response_from_gains",
+]
 
 MAX_PRESSURE_MPA = 1e6  # far beyond any hydraulic catheter; keeps products of design numbers finite
 
@@ -88,8 +96,7 @@ class BeamResponse:
     tip_y: np.ndarray
 
 
-def response_arrays(inp: dict, pressure, load: str = "cap") -> BeamResponse:
-    """Vectorised response: design inputs and pressures broadcast together."""
+def _checked_pressure(pressure) -> np.ndarray:
     p = np.asarray(pressure, dtype=float)
     if not np.all(np.isfinite(p)):
         raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
@@ -97,12 +104,34 @@ def response_arrays(inp: dict, pressure, load: str = "cap") -> BeamResponse:
         raise DesignError(
             "pressure", float(np.max(np.abs(p))), f"magnitude must be <= {MAX_PRESSURE_MPA:g} MPa"
         )
+    return p
+
+
+def response_from_gains(curvature_gain, elongation_gain, length, pressure) -> BeamResponse:
+    """The response of a beam linear in pressure, from its gains (any model's), all broadcast together.
+
+    Parameters
+    ----------
+    curvature_gain, elongation_gain
+        κ/p [1/(mm MPa)] and ε/p [1/MPa].
+    length
+        Unloaded bending length L₀ [mm].
+    pressure
+        p [MPa].
+    """
+    p = _checked_pressure(pressure)
+    kappa = np.asarray(curvature_gain, float) * p
+    eps = np.asarray(elongation_gain, float) * p
+    arc = np.asarray(length, float) * (1 + eps)
+    tip_x, tip_y, theta = tip_pose(kappa, arc)
+    return BeamResponse(p * np.ones_like(kappa), kappa, eps, arc, theta, tip_x, tip_y)
+
+
+def response_arrays(inp: dict, pressure, load: str = "cap") -> BeamResponse:
+    """Vectorised response: design inputs and pressures broadcast together."""
+    _checked_pressure(pressure)
     k_gain, e_gain = gains_arrays(inp, load)
-    kappa = k_gain * p
-    eps = e_gain * p
-    length = np.asarray(inp["length"], float) * (1 + eps)
-    tip_x, tip_y, theta = tip_pose(kappa, length)
-    return BeamResponse(p * np.ones_like(kappa), kappa, eps, length, theta, tip_x, tip_y)
+    return response_from_gains(k_gain, e_gain, inp["length"], pressure)
 
 
 def response(design: TipDesign, pressure, load: str = "cap") -> BeamResponse:

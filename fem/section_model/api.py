@@ -95,17 +95,10 @@ class SectionResult:
 
     def response(self, pressure, load: str = "lumen"):
         """Curvature, elongation and tip pose (eq. 9) at ``pressure`` [MPa]: an ``analytic.BeamResponse``."""
-        from softcath.analytic import BeamResponse
-        from softcath.analytic.pose import tip_pose
+        from softcath.analytic import response_from_gains
 
         k, e = self.gains(load)
-        p = np.asarray(pressure, dtype=float)
-        if not np.all(np.isfinite(p)):
-            raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
-        kappa, eps = k * p, e * p
-        length = self.length_mm * (1 + eps)
-        tip_x, tip_y, theta = tip_pose(kappa, length)
-        return BeamResponse(p, kappa, eps, length, theta, tip_x, tip_y)
+        return response_from_gains(k, e, self.length_mm, pressure)
 
     def to_json(self) -> dict:
         """Plain-JSON summary (``section.json`` keys; no fields)."""

@@ -21,7 +21,6 @@ __all__ = [
     "SECTION_OPTIONS",
     "section_blocks_many",
     "section_columns",
-    "section_columns_many",
 ]
 
 log = logging.getLogger(__name__)
@@ -77,23 +76,6 @@ def section_columns(
     return out
 
 
-def section_columns_many(
-    designs: list, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
-) -> list:
-    """:func:`section_columns` of many designs: per design its columns or the exception it raised.
-
-    With the template mesher (the default) the designs go through the batched section
-    models (``softcath.fem.section_model.batch``: one kernel per template, factorisations
-    reused), whose answers are the section model's on the same meshes; with
-    ``mesher = "gmsh"`` each design is solved alone.
-    """
-    cols, errors = section_blocks_many(designs, pressures, loads, options)
-    return [
-        errors[j] if j in errors else {ld: {k: v[j] for k, v in block.items()} for ld, block in cols.items()}
-        for j in range(len(designs))
-    ]
-
-
 def section_blocks_many(
     designs: list, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
 ) -> tuple[dict, dict[int, Exception]]:
@@ -106,7 +88,10 @@ def section_blocks_many(
     errors
         ``{design index: the exception it raised}``, in design order.
 
-    See :func:`section_columns_many` (its values, per design).
+    With the template mesher (the default) the designs go through the batched section
+    models (``softcath.fem.section_model.batch``: one kernel per template, factorisations
+    reused), whose answers are the section model's on the same meshes; with
+    ``mesher = "gmsh"`` each design is solved alone by :func:`section_columns`.
     """
     opts = {k: v for k, v in (options or {}).items() if v is not None}
     cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}
@@ -136,19 +121,15 @@ def section_blocks_many(
 
 
 def _response_blocks(items: list, pressures: np.ndarray, loads: tuple[str, ...]) -> dict:
-    """``SectionResult.response`` and the strain range of batched section models, over all designs at once.
+    """:func:`section_columns`' columns of batched section models, over all designs at once.
 
-    The same elementwise operations as :meth:`SectionResult.response` (gains times pressure,
-    eq. 9 pose of the stretched arc), on (designs, pressures) arrays: ~25 designs a task would
-    otherwise make 2 x 25 response objects of 3 values each.
+    One :func:`~softcath.analytic.response_from_gains` on (designs, pressures) arrays, the
+    computation of :meth:`SectionResult.response`: ~250 designs a task would otherwise make
+    2 x 250 response objects of 3 values each.
     """
-    from softcath.analytic.pose import tip_pose
-    from softcath.design.errors import DesignError
+    from softcath.analytic import response_from_gains
 
-    p = np.asarray(pressures, dtype=float)
-    if not np.all(np.isfinite(p)):
-        raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
-    p = p[None, :]
+    p = np.asarray(pressures, dtype=float)[None, :]
     results = [it.result for it in items]
     length0 = np.array([[r.length_mm] for r in results], dtype=float)
     seconds = np.array([[r.seconds] for r in results], dtype=float)
@@ -156,17 +137,16 @@ def _response_blocks(items: list, pressures: np.ndarray, loads: tuple[str, ...])
     for ld in loads:
         gains = np.array([r.gains(ld) for r in results], dtype=float).reshape(-1, 2)
         low, high = np.array([it.strain_range[ld] for it in items], dtype=float).reshape(-1, 2).T
-        kappa, eps = gains[:, :1] * p, gains[:, 1:] * p
-        tip_x, tip_y, theta = tip_pose(kappa, length0 * (1 + eps))
-        ratio = np.array([[r.fem_formula_ratio[ld]] for r in results], dtype=float)
+        r = response_from_gains(gains[:, :1], gains[:, 1:], length0, p)
+        ratio = np.array([[r_.fem_formula_ratio[ld]] for r_ in results], dtype=float)
         out[ld] = {
-            "curvature_section_per_mm": kappa,
-            "elongation_section": eps,
-            "bend_angle_section_rad": theta,
-            "tip_x_section_mm": tip_x,
-            "tip_y_section_mm": tip_y,
+            "curvature_section_per_mm": r.curvature,
+            "elongation_section": r.elongation,
+            "bend_angle_section_rad": r.bend_angle,
+            "tip_x_section_mm": r.tip_x,
+            "tip_y_section_mm": r.tip_y,
             "max_strain_section": np.where(p >= 0, p * high[:, None], p * low[:, None]),
-            "section_formula_ratio": np.broadcast_to(ratio, kappa.shape),
-            "section_seconds": np.broadcast_to(seconds, kappa.shape),
+            "section_formula_ratio": np.broadcast_to(ratio, r.curvature.shape),
+            "section_seconds": np.broadcast_to(seconds, r.curvature.shape),
         }
     return out
