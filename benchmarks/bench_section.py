@@ -94,9 +94,10 @@ def split(n: int) -> float:
     """In-process time split of the sweep path over ``n`` designs (templates made first); seconds per
     design."""
     from softcath.fem.section_model.batch import TIMERS, section_models
+    from softcath.studies.sweep.spec import SECTION_CHUNK
 
     designs = _variants(n, seed=8)
-    chunks = [designs[i : i + 25] for i in range(0, n, 25)]  # the sweep's task size
+    chunks = [designs[i : i + SECTION_CHUNK] for i in range(0, n, SECTION_CHUNK)]  # the sweep's tasks
     for c in chunks:
         section_models(c)
     TIMERS.clear()
@@ -106,7 +107,8 @@ def split(n: int) -> float:
     per, cpu = (time.perf_counter() - t) / n, (time.process_time() - c0) / n
     parts = "  ".join(f"{k} {v / n * 1e3:.2f}" for k, v in TIMERS.items())
     print(
-        f"time split of the sweep path, {n} designs in tasks of 25, in-process, templates made [{_load()}]: "
+        f"time split of the sweep path, {n} designs in tasks of {SECTION_CHUNK}, in-process, "
+        f"templates made [{_load()}]: "
         f"{per * 1e3:.1f} ms/design wall, {cpu * 1e3:.1f} ms CPU = {parts} (ms, stage wall clocks)"
     )
     return cpu
