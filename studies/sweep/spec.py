@@ -59,9 +59,10 @@ EVALUATORS = tuple(TIERS)
 #: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
 #: tier names, so a sweep directory from then still resumes under the new names.
 _FINGERPRINT_NAMES = {"paper": "analytic", "fem-nonlinear": "nonlinear"}
-#: Designs per task at most when the section model runs (~10 ms each in a sweep): tasks of a few
-#: seconds, so the sweep process spends ~0.2 ms a design, not ~1 ms, on the tasks it collects.
-SECTION_CHUNK = 250
+#: Designs per task at most when the section model runs. Tasks of 250 would cut the sweep process's
+#: share from ~1 to ~0.2 ms a design (measured), but the task size is part of the fingerprint: a
+#: section sweep written before could no longer resume.
+SECTION_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
 _SWEEP_KEYS = {
