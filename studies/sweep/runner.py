@@ -237,6 +237,7 @@ def run_sweep(
     """
     _check_options(workers, dask_local, scheduler)
     t0 = time.perf_counter()
+    spec = _with_recorded_task_size(spec, out_dir)
     variants = expand(spec)
     tasks = build_tasks(spec, variants)
     store = _prepared_store(spec, out_dir, variants, tasks)
@@ -278,6 +279,27 @@ def run_sweep(
     )
     log.info("sweep %s: %s", spec.name, summary)
     return summary
+
+
+def _with_recorded_task_size(spec: SweepSpec, out_dir: str | Path) -> SweepSpec:
+    """``spec`` with the task size ``out_dir``'s sweep was run with, when that is all that differs.
+
+    The task size is part of the fingerprint (a task's file holds its designs), so a sweep
+    written with another default task size resumes with the tasks it has.
+    """
+    import dataclasses
+
+    recorded = SweepStore(out_dir).recorded_spec()
+    if recorded is None or recorded.get("fingerprint") == spec.fingerprint():
+        return spec
+    size = recorded.get("chunk_size")
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        return spec
+    resumed = dataclasses.replace(spec, chunk_size=size)
+    if resumed.effective_chunk_size != size or resumed.fingerprint() != recorded["fingerprint"]:
+        return spec  # another sweep: prepare() refuses the folder
+    log.info("%s: resuming with the sweep's recorded tasks of %d designs", out_dir, size)
+    return resumed
 
 
 def _prepared_store(

@@ -59,10 +59,15 @@ EVALUATORS = tuple(TIERS)
 #: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
 #: tier names, so a sweep directory from then still resumes under the new names.
 _FINGERPRINT_NAMES = {"paper": "analytic", "fem-nonlinear": "nonlinear"}
-#: Designs per task at most when the section model runs. Tasks of 250 would cut the sweep process's
-#: share from ~1 to ~0.2 ms a design (measured), but the task size is part of the fingerprint: a
-#: section sweep written before could no longer resume.
-SECTION_CHUNK = 25
+#: Designs per task at most when the section model runs (~13 ms a design: a few seconds a task).
+#: Larger tasks share template kernels between more designs and cut the sweep process's share
+#: (measured: ~1 ms a design with tasks of 25, ~0.2 with 250). A sweep written with other tasks
+#: resumes with its recorded task size (:func:`softcath.studies.sweep.run_sweep`).
+SECTION_CHUNK = 500
+#: Tasks a section sweep is cut into at least, so every worker stays busy to the end; tasks are
+#: not cut below :data:`SECTION_MIN_CHUNK` designs for it.
+SECTION_TASKS = 16
+SECTION_MIN_CHUNK = 25
 #: Designs per task at most with the finite-strain section model (~1 s a design and load).
 SECTION_NONLINEAR_CHUNK = 8
 _SWEEP_KEYS = {
@@ -197,14 +202,24 @@ class SweepSpec:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     @property
+    def n_designs(self) -> int:
+        """Designs of the sweep: the factorial grid times the Latin-hypercube sample (if any)."""
+        n = math.prod(len(p.values) for p in self.parameters if p.kind != "lhs")
+        return n * self.n_samples if any(p.kind == "lhs" for p in self.parameters) else n
+
+    @property
     def effective_chunk_size(self) -> int:
-        """Designs per task: one when FEM runs (each FEM design is saved as it completes), at most
-        :data:`SECTION_CHUNK` when the section model runs."""
+        """Designs per task: one when FEM runs (each FEM design is saved as it completes); with the
+        section model at most :data:`SECTION_CHUNK`, and few enough for :data:`SECTION_TASKS` tasks
+        (but not below :data:`SECTION_MIN_CHUNK`)."""
         if self.uses_fem:
             return 1
         if "section-nonlinear" in self.evaluators:
             return min(self.chunk_size, SECTION_NONLINEAR_CHUNK)
-        return min(self.chunk_size, SECTION_CHUNK) if self.uses_section else self.chunk_size
+        if not self.uses_section:
+            return self.chunk_size
+        balanced = max(SECTION_MIN_CHUNK, -(-self.n_designs // SECTION_TASKS))
+        return min(self.chunk_size, SECTION_CHUNK, balanced)
 
     def to_json(self) -> dict:
         return {

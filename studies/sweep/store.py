@@ -32,6 +32,16 @@ class SweepStore:
         self.root = Path(out_dir)
         self.tasks_dir = self.root / "tasks"
 
+    def recorded_spec(self) -> dict | None:
+        """The spec a prepared directory was run with (its ``sweep.json``), or None."""
+        path = self.root / "sweep.json"
+        try:
+            old = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, json.JSONDecodeError, UnicodeDecodeError):
+            return None  # absent, or unreadable: prepare() reports it
+        spec = old.get("spec") if isinstance(old, dict) else None
+        return spec if isinstance(spec, dict) else None
+
     def prepare(self, manifest: dict, designs_frame) -> None:
         """Create the directory, or check that it holds the same sweep (same fingerprint)."""
         self.root.mkdir(parents=True, exist_ok=True)

@@ -11,7 +11,7 @@ from softcath.design.errors import DesignError
 from softcath.studies.report import design_of
 from softcath.studies.sweep import load_spec, run_sweep
 from softcath.studies.sweep.results import model_columns, read_results
-from softcath.studies.sweep.spec import SECTION_CHUNK, parse_spec
+from softcath.studies.sweep.spec import SECTION_MIN_CHUNK, parse_spec
 
 SPEC = """
 [sweep]
@@ -118,11 +118,30 @@ chunk_size = 500
     )
 
 
+@pytest.mark.parametrize(
+    ("n", "chunk_size", "expected"),
+    [(200, 500, 25), (300, 500, 38), (2000, 500, 250), (10**5, 500, 500), (10**5, 80, 80)],
+)
+def test_section_tasks_keep_every_worker_busy_and_share_templates(n, chunk_size, expected):
+    import tomllib
+
+    spec = parse_spec(
+        tomllib.loads(
+            f'[sweep]\nbase = "paper"\npressures_MPa = [1.0]\nevaluators = ["paper", "section"]\n'
+            f"chunk_size = {chunk_size}\n[sample]\nn = {n}\n"
+            '[parameters]\n"tube.h" = { lhs = [-0.02, 0.02] }\n'
+            '"tip.bending_length" = { values = [4.0, 5.0] }\n'
+        )
+    )
+    assert spec.n_designs == 2 * n
+    assert spec.effective_chunk_size == expected  # 2n designs: 16 tasks at least, 25 to 500 designs each
+
+
 def test_spec_section_options_and_chunks():
     spec = parse_spec(_spec('[sweep.section]\nmesh_size = 0.08\ncoil_bending = "wahl"'))
     assert spec.evaluators == ("paper", "section")
     assert spec.section_options == {"mesh_size": 0.08, "coil_bending": "wahl"}
-    assert spec.effective_chunk_size == SECTION_CHUNK
+    assert spec.n_designs == 1 and spec.effective_chunk_size == SECTION_MIN_CHUNK
     assert parse_spec(_spec("")).fingerprint() != spec.fingerprint()
     plain = parse_spec(_spec("", '["paper"]'))
     assert plain.effective_chunk_size == 500 and "section" not in plain.evaluators

@@ -108,6 +108,29 @@ def test_other_sweep_in_same_directory_is_refused(small_spec, spec_writer, tmp_p
         run_sweep(load_spec(other), tmp_path / "out", workers=1, progress=False)
 
 
+def test_a_sweep_written_with_other_tasks_resumes_with_its_recorded_task_size(small_spec, tmp_path, caplog):
+    import dataclasses
+    import logging
+
+    spec = load_spec(small_spec)  # 12 designs in tasks of 5
+    first = run_sweep(spec, tmp_path / "out", workers=1, progress=False)
+    store = SweepStore(tmp_path / "out")
+    store.task_path(2).unlink()
+    bigger = dataclasses.replace(spec, chunk_size=500)  # as if the default task size had grown
+    assert bigger.fingerprint() != spec.fingerprint()
+    with caplog.at_level(logging.INFO, logger="softcath.studies.sweep.runner"):
+        again = run_sweep(bigger, tmp_path / "out", workers=1, progress=False)
+    assert "resuming with the sweep's recorded tasks of 5 designs" in caplog.text
+    counts = (again.n_tasks, again.skipped_tasks, again.evaluated_tasks, again.evaluated_designs)
+    assert counts == (3, 2, 1, 2)
+    pd.testing.assert_frame_equal(
+        _values(pd.read_parquet(first.results_parquet)), _values(pd.read_parquet(again.results_parquet))
+    )
+    other_seed = dataclasses.replace(bigger, seed=spec.seed + 1)  # another sweep: still refused
+    with pytest.raises(DataError, match="holds a different sweep"):
+        run_sweep(other_seed, tmp_path / "out", workers=1, progress=False)
+
+
 def test_cli_sweep_and_bad_options(small_spec, tmp_path, capsys):
     assert (
         main(["sweep", str(small_spec), "--out", str(tmp_path / "o"), "--workers", "1", "--no-progress"]) == 0
