@@ -284,7 +284,14 @@ def element_blocks(x6, D, lam, *, dphi, W, Ng, dNg, slot_rr, slot_rg, nnz, n_ug)
     """
     M, ns, nq = x6.shape[0], dphi.shape[0], W.size
     nr = 2 * ns - 2
-    m = M // slot_rr.shape[0]
+    nel = slot_rr.shape[0]
+    # the compiled scatter trusts these shapes: a mismatch would write out of bounds
+    if M == 0 or M % nel or slot_rg.shape[0] != nel:
+        raise ValueError(f"x6: {M} triangles, must be a positive multiple of the mesh's {nel} (slot_rr)")
+    for name, arr, shape in (("D", D, (M, 4, 4)), ("lam", lam, (M,))):
+        if arr.shape != shape:
+            raise ValueError(f"{name}: shape {arr.shape}, must be {shape}")
+    m = M // nel
     out = {
         "data": np.zeros((m, nnz)),
         "K_ug": np.zeros((m, n_ug)),

@@ -95,3 +95,18 @@ def test_designs_of_one_template_are_assembled_together():
     assert _rel(two["data"][1], 2 * one["data"][0]) < 1e-12
     assert _rel(two["K_gg"][1], 2 * one["K_gg"][0]) < 1e-12
     assert _rel(two["xr"][1], one["xr"][0]) < 1e-10
+
+
+def test_triangles_that_do_not_fit_the_mesh_are_refused():
+    from softcath.fem.section_model.element_kernel import element_blocks
+
+    kernel, mesh, _, D, lam, _ = _setup(DESIGNS[0])
+    x6 = kernel.geometry([mesh])[0]
+    sizes = {"dphi": kernel.dphi, "W": kernel.W, "Ng": kernel.Ng, "dNg": kernel.dNg, "nnz": kernel.nnz}
+    scatters = {"slot_rr": kernel.slot_rr, "slot_rg": kernel.slot_rg, "n_ug": 3 * kernel.n}
+    nel = kernel.nel
+    bad = rf"x6: {nel - 1} triangles, must be a positive multiple of the mesh's {nel}"
+    with pytest.raises(ValueError, match=bad):
+        element_blocks(x6[:-1], D[0, :-1], lam[0, :-1], **sizes, **scatters)
+    with pytest.raises(ValueError, match=rf"lam: shape \({nel - 1},\), must be \({nel},\)"):
+        element_blocks(x6, D[0], lam[0, :-1], **sizes, **scatters)
