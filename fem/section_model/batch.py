@@ -276,40 +276,67 @@ def _kernel(template) -> _Kernel:
     return _KERNELS[key]
 
 
-def _solve_one(kernel: _Kernel, ops: dict, j: int, loads, extra: float):
-    """Condensation, loads and silicone strains of design ``j`` of an assembled group."""
+def _solve_all(kernel: _Kernel, ops: dict) -> tuple[list, np.ndarray]:
+    """Factorise and solve every design of an assembled chunk, one after the other.
+
+    Returns per design its solutions (n_free, 4) of the four right-hand sides (three unit
+    global strains' loads, the unit lumen pressure) or the exception it raised, and the
+    right-hand sides (m, n_free, 4).
+    """
+    t0 = time.perf_counter()
+    free = kernel.free
+    rhs = np.concatenate([ops["K_ug"][:, free], ops["f"][:, free, None]], axis=2)
+    factor = kernel.spd_factor()
+    solved: list = []
+    for j in range(rhs.shape[0]):  # back to back: the factor's memory stays warm
+        try:
+            factor.factorise(ops["data"][j])
+            t0 = _tick("factorisation", t0)
+            solved.append(factor.solve(rhs[j]))
+        except Exception as exc:
+            raise_pending_stop()
+            solved.append(exc)
+        t0 = _tick("solve", t0)
+    return solved, rhs
+
+
+def _condense(kernel: _Kernel, ops: dict, ok: np.ndarray, sol: np.ndarray, rhs: np.ndarray, loads, extra):
+    """Section stiffnesses, global strains, lumen area changes and silicone strains of designs ``ok``.
+
+    ``sol`` and ``rhs`` (len(ok), n_free, 4); ``extra`` the coils' bending stiffness added
+    to the two bending terms, per design.
+    """
     from softcath.fem.section_model.element_kernel import strain_extremes
 
     t0 = time.perf_counter()
-    factor = kernel.spd_factor()
-    factor.factorise(ops["data"][j])
-    t0 = _tick("factorisation", t0)
-    free, n = kernel.free, kernel.n
-    k_ug = ops["K_ug"][j][free]
-    rhs = np.column_stack([k_ug, ops["f"][j][free]])
-    sol, backward = factor.solve(rhs)
-    x_g, x_p = sol[:, :3], sol[:, 3]
-    k_sec = ops["K_gg"][j] - k_ug.T @ x_g
-    k_sec = 0.5 * (k_sec + k_sec.T)
-    k_sec[1, 1] += extra
-    k_sec[2, 2] += extra
-    xl, yl = ops["centroid"][j]
-    cap = ops["area"][j] * np.array([1.0, xl, yl])
-    t0 = _tick("solve", t0)
-    blocks = {key: ops[key][j] for key in ("xr", "xg", "inv", "xq")}
-    out = {}
+    k_ug = rhs[:, :, :3]
+    x_g, x_p = sol[:, :, :3], sol[:, :, 3]
+    coupled = np.einsum("mfi,mfj->mij", k_ug, sol)  # K_ugᵀ [x_g x_p]
+    k_sec = ops["K_gg"][ok] - coupled[:, :, :3]
+    k_sec = 0.5 * (k_sec + k_sec.transpose(0, 2, 1))
+    k_sec[:, 1, 1] += extra
+    k_sec[:, 2, 2] += extra
+    area, centroid = ops["area"][ok], ops["centroid"][ok]
+    cap = area[:, None] * np.column_stack([np.ones_like(area), centroid])
+    f = ops["f"][ok]
+    per_load = {}
     for ld in loads:
-        f_g = cap.copy()
-        u = np.zeros(n)
-        if ld == "lumen":
-            f_g -= k_ug.T @ x_p
-            u[free] = x_p
-        g = np.linalg.solve(k_sec, f_g)
-        u[free] -= x_g @ g
-        strains = strain_extremes(u, kernel.dofs, kernel.silicone_elements, blocks, g, kernel.dphi)
-        out[ld] = (g, float(ops["f"][j] @ u), strains)
+        lumen = ld == "lumen"
+        f_g = cap - coupled[:, :, 3] if lumen else cap
+        g = np.linalg.solve(k_sec, f_g[:, :, None])[:, :, 0]
+        u = np.zeros((len(ok), kernel.n))
+        u[:, kernel.free] = (x_p if lumen else 0.0) - np.einsum("mfi,mi->mf", x_g, g)
+        per_load[ld] = (g, np.einsum("mn,mn->m", f, u), u)
+    out = []
+    for c, j in enumerate(ok):
+        blocks = {key: ops[key][j] for key in ("xr", "xg", "inv", "xq")}
+        strains = {
+            ld: strain_extremes(u[c], kernel.dofs, kernel.silicone_elements, blocks, g[c], kernel.dphi)
+            for ld, (g, _, u) in per_load.items()
+        }
+        out.append((k_sec[c], {ld: (g[c], float(da[c]), strains[ld]) for ld, (g, da, _) in per_load.items()}))
     _tick("post", t0)
-    return k_sec, out, backward
+    return out
 
 
 def _result(
@@ -367,30 +394,44 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
     ops = kernel.assemble(kernel.geometry([m[4] for m in members]), D, lam, ez)
     formula_k, _ = gains_arrays(design_inputs_many([m[1] for m in members]), "cap")
     share = (_tick("assembly", t0) - t0) / len(members)
-    for j, (i, d, laws, extra, mesh, _) in enumerate(members):
-        t1 = time.perf_counter()
+    t1 = time.perf_counter()
+    solved, rhs = _solve_all(kernel, ops)
+    ok = np.array([j for j, v in enumerate(solved) if not isinstance(v, Exception)], dtype=int)
+    for j, v in enumerate(solved):
+        if isinstance(v, Exception):
+            results[members[j][0]] = v
+    if ok.size:
+        extra = np.array([members[j][3] for j in ok])
+        sol = np.stack([solved[j][0] for j in ok])
         try:
-            k_sec, out, backward = _solve_one(kernel, ops, j, loads, extra)
-            r = _result(
-                d,
-                laws,
-                mesh,
-                ops,
-                j,
-                k_sec,
-                out,
-                backward,
-                kernel,
-                mesh_size,
-                segments,
-                opts,
-                share + mesh.seconds + time.perf_counter() - t1,
-                float(formula_k[j]),
-            )
-            results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
-        except Exception as exc:
+            condensed = _condense(kernel, ops, ok, sol, rhs[ok], loads, extra)
+        except Exception:  # one design's failure (a singular section stiffness) is its own
             raise_pending_stop()
-            results[i] = exc
+            condensed = []
+            for c, j in enumerate(ok):
+                try:
+                    condensed += _condense(
+                        kernel, ops, ok[c : c + 1], sol[c : c + 1], rhs[j : j + 1], loads, extra[c : c + 1]
+                    )
+                except Exception as exc:
+                    raise_pending_stop()
+                    condensed.append(exc)
+        share += (time.perf_counter() - t1) / len(members)
+        for done, j in zip(condensed, ok, strict=True):
+            i, d, laws, _, mesh, _ = members[j]
+            if isinstance(done, Exception):
+                results[i] = done
+                continue
+            k_sec, out = done
+            try:
+                r = _result(
+                    d, laws, mesh, ops, j, k_sec, out, solved[j][1], kernel, mesh_size, segments, opts,
+                    share + mesh.seconds, float(formula_k[j]),
+                )  # fmt: skip
+                results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
+            except Exception as exc:
+                raise_pending_stop()
+                results[i] = exc
 
 
 def _solve_alone(d, mesher: str, loads, mesh_size, segments, opts):

@@ -95,3 +95,57 @@ def test_chunked_assembly_gives_the_same_answers(monkeypatch):
             a.result.curvature_per_mm_per_MPa, rel=1e-12
         )
         assert b.strain_range["lumen"] == pytest.approx(a.strain_range["lumen"], rel=1e-12)
+
+
+def test_a_design_that_fails_in_a_shared_chunk_fails_alone(monkeypatch):
+    """Designs of one template are factorised one after the other and condensed together; a
+    failure in either step is that design's error, and its chunk-mates get their answers alone."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from softcath.fem.section_model import batch
+
+    paper = design.resolve("paper")
+    silicone = paper.tube.material
+    designs = [  # one section geometry, so one template and one chunk
+        replace(
+            paper, name=f"paper {k}", tube=replace(paper.tube, material=replace(silicone, youngs_modulus=k))
+        )
+        for k in (1.0, 2.0, 3.0, 4.0)
+    ]
+    alone = [section_models([d])[0] for d in designs]
+    spd_factor, condense = batch._Kernel.spd_factor, batch._condense
+
+    class SecondFails:  # the chunk's second factorisation fails
+        def __init__(self, factor):
+            self.factor, self.calls = factor, 0
+
+        def factorise(self, data):
+            self.calls += 1
+            if self.calls == 2:
+                raise RuntimeError("injected factorisation failure")
+            self.factor.factorise(data)
+
+        def solve(self, rhs):
+            return self.factor.solve(rhs)
+
+    def fourth_singular(kernel, ops, ok, *args):
+        if 3 in ok:
+            raise np.linalg.LinAlgError("injected singular section stiffness")
+        return condense(kernel, ops, ok, *args)
+
+    failing = {}
+    monkeypatch.setattr(
+        batch._Kernel, "spd_factor", lambda self: failing.setdefault(id(self), SecondFails(spd_factor(self)))
+    )
+    monkeypatch.setattr(batch, "_condense", fourth_singular)
+    items = section_models(designs)
+    assert isinstance(items[1], RuntimeError) and isinstance(items[3], np.linalg.LinAlgError)
+    for k in (0, 2):
+        got, ref = items[k], alone[k]
+        assert got.result.curvature_per_mm_per_MPa == pytest.approx(
+            ref.result.curvature_per_mm_per_MPa, rel=1e-12
+        )
+        for load, extremes in ref.strain_range.items():
+            assert got.strain_range[load] == pytest.approx(extremes, rel=1e-12)
