@@ -7,7 +7,7 @@ Layout::
     base = "paper"                 # a preset name or a design TOML path (relative to the spec)
     pressures_MPa = [0.0, 0.5, 1.0]
     loads = ["cap", "lumen"]
-    evaluators = ["paper"]         # and/or "section" (2-D section model, ~0.2 s/design),
+    evaluators = ["paper"]         # and/or "section" (2-D section model, ~13 ms/design),
                                    # "section-nonlinear" (finite-strain section model, ~1 s/design
                                    # and load: large bends), "fem", "fem-nonlinear" (finite-strain
                                    # FEM, slow); the names of softcath.studies.tiers ("analytic" and
