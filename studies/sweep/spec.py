@@ -204,8 +204,7 @@ class SweepSpec:
     @property
     def n_designs(self) -> int:
         """Designs of the sweep: the factorial grid times the Latin-hypercube sample (if any)."""
-        n = math.prod(len(p.values) for p in self.parameters if p.kind != "lhs")
-        return n * self.n_samples if any(p.kind == "lhs" for p in self.parameters) else n
+        return _design_count(self.parameters, self.n_samples)
 
     @property
     def effective_chunk_size(self) -> int:
@@ -435,6 +434,11 @@ def _parameters(data: dict, base_table: dict) -> tuple[Parameter, ...]:
     return params
 
 
+def _design_count(params: tuple[Parameter, ...], n_samples: int) -> int:
+    """Designs of a sweep: the factorial grid times the Latin-hypercube sample (0 samples: none)."""
+    return max(n_samples, 1) * math.prod(len(p.values) for p in params if p.kind != "lhs")
+
+
 def _n_samples(data: dict, params: tuple[Parameter, ...]) -> int:
     """``sample.n`` (required with an lhs parameter, else 0), after checking the sweep's size."""
     n_samples = 0
@@ -445,7 +449,7 @@ def _n_samples(data: dict, params: tuple[Parameter, ...]) -> int:
         n_samples = sample["n"]
         if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
             raise DesignError("sample.n", n_samples, "must be an integer >= 1")
-    n_designs = max(n_samples, 1) * math.prod(len(p.values) for p in params if p.kind != "lhs")
+    n_designs = _design_count(params, n_samples)
     if n_designs > MAX_DESIGNS:
         raise DesignError(
             "parameters", f"{n_designs:.3g} designs", f"must give at most {MAX_DESIGNS:.0e} designs"
