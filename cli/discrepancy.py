@@ -35,7 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=("measured", "fem", "prototype"),
         default="measured",
         help="what the model is compared with (default: measured); prototype: which model ingredients "
-        "(as-built options, nu, coil law, vision bias) explain a measured curve of a built design",
+        "(tube modulus, filler, nu, coil initial tension, pressure offset, rest curvature, vision bias) "
+        "explain a measured curve of a built design, on the finite-strain section model",
     )
     parser.add_argument(
         "--tip-factor",
@@ -169,7 +170,13 @@ def _run_prototype(args: argparse.Namespace, out: Path) -> int:
         o.json("discrepancy.json", record)
     for line in hypotheses_table(record):
         print(line)
-    print(f"named: {' + '.join(record['named']) if record['named'] else 'nothing'}")
+    base, best = record["nrmse_before"], record["best_nrmse"]
+    if record["explained"]:
+        print(f"named: {' + '.join(record['named']) if record['named'] else 'nothing'}")
+        print(f"NRMSE {base:.3f} (baseline) -> {record['nrmse_after']:.3f} ({record['tier']})")
+    else:
+        print("named: nothing: no hypothesis inside the sourced ranges follows the curve")
+        print(f"NRMSE {base:.3f} (baseline); best {best:.3f} with {' + '.join(record['best']) or 'baseline'}")
     if len(record["equally_good"]) > 1:
         print(f"equally good: {record['equally_good']}; to separate them: {record['separating_measurement']}")
     for note in record["notes"]:

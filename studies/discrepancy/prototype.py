@@ -1,95 +1,42 @@
-r"""Which model ingredients explain a measured prototype: hypotheses scored by their bands.
+r"""Which physical ingredients explain a measured prototype curve, point by point.
 
-A measured curvature-vs-pressure curve of a built design is compared with the
-model's *tip-level* curvature (the prototype's circle fit spans the visible
-tip, end zones included: the section model's uniform curvature times the
-3-D FEM's ratio of end-face rotation to mid-span curvature, ``tip_factor``).
-Each ingredient is a switch of the model:
+A measured curvature-vs-pressure curve of a built design (``pressure_MPa,
+curvature_per_mm[, elongation]``) is compared, at every measured pressure,
+with the predictions of physical hypotheses on the finite-strain section
+model, the tier valid past 5 deg (:mod:`.physical`; ingredients and their
+sourced ranges in :mod:`.ingredients`). The measured curvature is the
+prototype's circle fit over the visible tip, so the model's mid-span
+curvature is multiplied by the tip-level factor (end zones included).
 
-``nu_0.4999``
-    Silicone Poisson ratio 0.4999 (real rubber) instead of the design's.
-``coil_resolved``
-    The coils' EA and open-coil EI of the resolved wire instead of the annulus.
-the as-built switches
-    ``tube_coil_sliding``, ``tube_channel_sliding``, ``channel_coil_sliding``,
-    ``filler_coil_sliding``, ``filler_coat``, ``filler_none``, ``tube_free``: the as-built
-    options (:class:`softcath.design.assembly.Assembly`; ``tube_free``: the tube tied to the
-    coil at the tip only, free at the base).
-``vision_bias``
-    The paper's edge pipeline reads curvature 18-40 % low: the band is
-    multiplied by [0.60, 0.82].
-``finite_strain``
-    The finite-strain section model. The hypotheses here are not scored
-    with it, so it is always skipped and the reason recorded.
-
-A *hypothesis* is a set of ingredients (at most one per family: Poisson, coil
-law, assembly, vision). Its band at pressure p is
-:math:`p\,[g_\min, g_\max]` where g runs over the traced material ranges
-(tube and filler moduli at their range ends, as ``softcath predict`` ranges
-them). Scoring: the profile log-likelihood of the measured points under the
-best gain inside the band with Gaussian noise :math:`\sigma` (the scatter of
-the points about their own best line through the origin; a measured elongation
-column adds its own term alike, against the elongation band),
-
-.. math::
-
-    \ell = -\tfrac12 \sum_i (\kappa_i - g^* p_i)^2/\sigma^2 - n \ln(\sigma\sqrt{2\pi}),
-
-and a hypothesis *fits* when :math:`\ell_\text{best} - \ell \le 2` (the 95 %
-likelihood-ratio bound for one parameter, 1.92, rounded). Ingredients are named
-only when needed: the baseline (no ingredient) first; then every single
-ingredient; then pairs. The smallest size at which anything fits decides; if
-several hypotheses of that size fit they are reported as equally good and only
-the ingredients common to all are named.
+The noise of a point comes from the data themselves (:mod:`.noise`), never
+from a model's misfit. A hypothesis fits when its chi-square is within the
+95 % quantile; the fewest ingredients that fit decide; when several fit at
+that size they are reported as equally good with the bench measurement that
+would separate them. When nothing fits, the record says so with the best
+hypothesis, its residual and what the model would need.
 """
 
 from __future__ import annotations
 
 import csv
-import itertools
 import logging
-import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.design.errors import DataError, DesignError
+from softcath.studies.discrepancy.ingredients import INGREDIENTS
+from softcath.studies.discrepancy.model_bank import ModelBank
+from softcath.studies.discrepancy.physical import FIT_QUANTILE, Measured, decide, score_hypotheses
 
-__all__ = ["INGREDIENTS", "FAMILIES", "hypothesis_gains", "load_prototype_csv", "explain_prototype"]
+__all__ = ["INGREDIENTS", "load_prototype_csv", "explain_prototype", "tip_level_factor", "hypotheses_table"]
 
 log = logging.getLogger(__name__)
 
-FAMILIES = {
-    "poisson": ("nu_0.4999",),
-    "coil": ("coil_resolved",),
-    "assembly": (
-        "tube_coil_sliding",
-        "tube_channel_sliding",
-        "channel_coil_sliding",
-        "filler_coil_sliding",
-        "filler_coat",
-        "filler_none",
-        "tube_free",
-    ),
-    "vision": ("vision_bias",),
-    "strain": ("finite_strain",),
-}
-INGREDIENTS = tuple(i for fam in FAMILIES.values() for i in fam)
-_ASSEMBLY = {
-    "tube_coil_sliding": {"tube_coil": "sliding"},
-    "tube_channel_sliding": {"tube_channel": "sliding"},
-    "channel_coil_sliding": {"channel_coil": "sliding"},
-    "filler_coil_sliding": {"filler_coil": "sliding"},
-    "filler_coat": {"filler": "coat"},
-    "filler_none": {"filler": "none"},
-    "tube_free": {"tube_coil": "tied-at-tip", "proximal": "tube-free"},
-}
-VISION = (0.60, 0.82)  # measured / true for an 18-40 % under-read
-FIT_DELTA = 2.0
-#: Material range ends traced (the ``softcath predict`` paper ranges of the moduli).
-MODULUS_RANGES = {"tube": (1.648, 4.43), "filler": (0.069, 0.118)}
+#: Default candidates: every ingredient.
+DEFAULT_MAX_SIZE = 3
+TIER = "finite-strain section"
 
 
 def load_prototype_csv(path: str | Path) -> dict[str, np.ndarray]:
@@ -97,75 +44,61 @@ def load_prototype_csv(path: str | Path) -> dict[str, np.ndarray]:
     path = Path(path)
     try:
         with path.open(newline="", encoding="utf-8") as fh:
-            rows = list(csv.DictReader(fh))
+            reader = csv.DictReader(fh)
+            rows = list(reader)
+            header = reader.fieldnames or []
     except FileNotFoundError:
         raise DataError(f"{path}: does not exist") from None
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    except csv.Error as exc:
+        raise DataError(f"{path}: not a CSV file ({exc})") from None
     for col in ("pressure_MPa", "curvature_per_mm"):
-        if not rows or col not in rows[0]:
+        if col not in header:
             raise DataError(
                 f"{path}: column {col} is required (pressure_MPa, curvature_per_mm[, elongation])"
             )
     out = {}
     for col in ("pressure_MPa", "curvature_per_mm", "elongation"):
-        if col not in rows[0]:
+        if col not in header:
             continue
-        try:
-            out[col] = np.array([float(r[col]) for r in rows])
-        except ValueError as exc:
-            raise DataError(f"{path}: column {col}: {exc}") from None
+        values = []
+        for line, r in enumerate(rows, start=2):
+            cell = r.get(col)
+            if cell is None or cell == "":
+                raise DataError(f"{path}: line {line}: column {col} is empty (every row needs every column)")
+            try:
+                values.append(float(cell))
+            except ValueError:
+                raise DataError(f"{path}: line {line}: column {col} = {cell!r}: not a number") from None
+        out[col] = np.array(values)
         if not np.all(np.isfinite(out[col])):
             raise DataError(f"{path}: column {col}: must be finite")
-    if out["pressure_MPa"].size < 2:
-        raise DataError(f"{path}: needs at least 2 measured points")
+    if out["pressure_MPa"].size < 4:
+        raise DataError(f"{path}: needs at least 4 measured points, has {out['pressure_MPa'].size}")
+    p = out["pressure_MPa"]
+    if np.any(p < 0):
+        raise DataError(f"{path}: column pressure_MPa: must be >= 0 MPa (a gauge pressure)")
+    if p.max() > 2.0:
+        raise DataError(
+            f"{path}: column pressure_MPa reaches {p.max():g}: past 2 MPa, far beyond a silicone tube's "
+            "burst; is the log in bar (1 bar = 0.1 MPa)?"
+        )
+    if not np.ptp(p) > 0:
+        raise DataError(f"{path}: column pressure_MPa is constant: there is no curve to explain")
     return out
 
 
-#: Why the ``finite_strain`` ingredient is skipped: the hypotheses' bands come from the linear
-#: section model only.
-_FINITE_STRAIN_SKIP = "the hypotheses' bands come from the linear section model only"
-
-
-def _variant(design, ingredients: Sequence[str], e_tube: float, e_fill: float):
-    a = design.assembly
-    for ing in ingredients:
-        if ing in _ASSEMBLY:
-            a = replace(a, **_ASSEMBLY[ing])
-    tube = replace(design.tube, material=replace(design.tube.material, youngs_modulus=e_tube))
-    filler = design.filler
-    if filler is not None:
-        filler = replace(filler, youngs_modulus=e_fill)
-    return replace(design, tube=tube, filler=filler, assembly=a)
-
-
-def hypothesis_gains(design, ingredients: Sequence[str], *, load: str = "lumen", cache=None):
-    """(curvature gains, elongation gains) of ``ingredients`` over the traced material corners."""
-    from softcath.fem.section_model import section_model
-    from softcath.fem.section_model.coil_models import model_options
-
-    model = tuple(sorted(i for i in ingredients if i not in ("vision_bias",)))
-    cache = {} if cache is None else cache
-    if model in cache:
-        return cache[model]
-    opts = model_options("resolved") if "coil_resolved" in model else {}
-    if "nu_0.4999" in model:
-        opts["silicone_poisson"] = 0.4999
-    gains, elong = [], []
-    for e_t, e_f in itertools.product(MODULUS_RANGES["tube"], MODULUS_RANGES["filler"]):
-        r = section_model(_variant(design, model, e_t, e_f), loads=(load,), **opts)
-        gains.append(r.curvature_per_mm_per_MPa[load])
-        elong.append(r.elongation_per_MPa[load])
-    cache[model] = (np.array(gains), np.array(elong))
-    return cache[model]
-
-
-def _hypotheses(max_size: int, candidates: Sequence[str]):
-    fam_of = {i: f for f, ings in FAMILIES.items() for i in ings}
-    out = [()]
-    for size in range(1, max_size + 1):
-        for combo in itertools.combinations(candidates, size):
-            if len({fam_of[i] for i in combo}) == size:
-                out.append(combo)
-    return out
+def check_candidates(candidates: Sequence[str] | None) -> list[str]:
+    """The candidate ingredients, each known (a bad name is refused, naming the known ones)."""
+    if candidates is None:
+        return list(INGREDIENTS)
+    unknown = [c for c in candidates if c not in INGREDIENTS]
+    if unknown:
+        raise DesignError("--candidates", ",".join(unknown), f"must be among {', '.join(INGREDIENTS)}")
+    if len(set(candidates)) != len(candidates):
+        raise DesignError("--candidates", ",".join(candidates), "names an ingredient twice")
+    return list(candidates)
 
 
 def explain_prototype(
@@ -175,9 +108,9 @@ def explain_prototype(
     load: str = "lumen",
     tip_factor: float = 1.0,
     candidates: Sequence[str] | None = None,
-    max_size: int = 2,
+    max_size: int = DEFAULT_MAX_SIZE,
 ) -> dict:
-    """Score every hypothesis against the measured points; the ``discrepancy.json`` record.
+    """Fit every hypothesis to the measured points; the ``discrepancy.json`` record.
 
     Parameters
     ----------
@@ -188,169 +121,91 @@ def explain_prototype(
     load
         Model load (``"lumen"``: the real one).
     tip_factor
-        Tip-level over mid-span curvature of the baseline (1: mid-span).
+        Tip-level over mid-span curvature (1: mid-span).
     candidates
-        Ingredients to try (default all available).
+        Ingredients to try (default: all of :data:`INGREDIENTS`).
     max_size
         Largest number of ingredients in one hypothesis.
     """
-    pts = _points(measured)
-    p, k, g_free, sigma = pts.p, pts.k, pts.g_free, pts.sigma
-    cands, notes = _candidates(candidates)
-    hyps = _score_hypotheses(design, cands, pts, load=load, tip_factor=tip_factor, max_size=max_size)
-    named, equally_good = _decide(hyps, max_size, notes)
-    separate = _separating_measurement([h for h in hyps if h["ingredients"] in equally_good])
+    cands = check_candidates(candidates)
+    if not (isinstance(max_size, int) and 0 <= max_size <= len(INGREDIENTS)):
+        raise DesignError("max_size", max_size, f"must be an integer in [0, {len(INGREDIENTS)}]")
+    m = Measured.from_columns(measured)
+    bank = ModelBank(design, p_max=float(m.pressure.max()), load=load)
+    hyps = score_hypotheses(bank, m, cands, max_size=max_size, tip_factor=tip_factor)
+    choice = decide(hyps)
     base = hyps[0]
+    best = min(hyps, key=lambda h: h["chi_square"])
+    notes = list(bank.notes)
+    chosen = next(
+        (h for h in hyps if choice["equally_good"] and h["ingredients"] == choice["equally_good"][0]), None
+    )
+    if chosen is None:
+        notes.append(_unexplained(m, best, max_size))
+    elif choice["also_fit"] or len(choice["equally_good"]) > 1:
+        notes.append(_ambiguity(choice))
+    p = m.pressure
     return {
         "reference": "prototype",
-        "named": named,
+        "tier": TIER,
+        "named": choice["named"],
         "steps": [],
-        "nrmse_before": _nrmse(k, p, base["gain_band_per_mm_MPa"], g_free),
-        "nrmse_after": _nrmse(k, p, _band_of(hyps, equally_good), g_free),
-        "ambiguous_with": equally_good if len(equally_good) > 1 else [],
-        "noise_floor_nrmse": float(sigma / (np.ptp(k) or 1.0)),
+        "nrmse_before": base["nrmse"],
+        "nrmse_after": chosen["nrmse"] if chosen else base["nrmse"],
+        "best_nrmse": best["nrmse"],
+        "best": best["ingredients"],
+        "explained": chosen is not None,
+        "ambiguous_with": choice["equally_good"] if len(choice["equally_good"]) > 1 else [],
+        "noise_floor_nrmse": float(m.noise.sigma / (np.ptp(m.curvature) or 1.0)),
+        "noise": m.noise.to_json(),
         "notes": notes,
         "decision_rule": {
-            "fit_delta_log_likelihood": FIT_DELTA,
-            "text": "a hypothesis fits when its best gain inside the traced band is within "
-            f"{FIT_DELTA:g} log-likelihood of the unconstrained best line; the fewest ingredients "
-            "that fit decide; ingredients are named only if every equally good hypothesis has them",
+            "fit_quantile": FIT_QUANTILE,
+            "text": "a hypothesis fits when the chi-square of its best prediction inside the sourced "
+            f"ranges, per degree of freedom, is below the {FIT_QUANTILE:.0%} quantile of the F "
+            "distribution (the noise is estimated from the data, with its own degrees of freedom); "
+            "the fewest ingredients that fit decide; "
+            "ingredients are named only if every equally good hypothesis has them",
         },
-        "measured_gain_per_mm_MPa": g_free,
-        "noise_sigma_per_mm": sigma,
+        "measured_gain_per_mm_MPa": float(p @ m.curvature / (p @ p)),
+        "noise_sigma_per_mm": m.noise.sigma,
         "load": load,
         "tip_factor": tip_factor,
-        "equally_good": equally_good,
-        "separating_measurement": separate,
+        "equally_good": choice["equally_good"],
+        "also_fit": choice["also_fit"],
+        "separating_measurement": choice["separating_measurement"],
         "hypotheses": hyps,
     }
 
 
-def _loglik(y: np.ndarray, p: np.ndarray, g: float, sigma: float) -> float:
-    """Gaussian log-likelihood of the points ``y`` about the line ``g p``."""
-    r = y - g * p
-    return float(-0.5 * (r @ r) / sigma**2 - p.size * math.log(sigma * math.sqrt(2 * math.pi)))
+def _unexplained(m: Measured, best: dict, max_size: int) -> str:
+    """Why nothing fits: the best hypothesis, its residual and where the model falls short."""
+    k = np.asarray([np.nan if v is None else v for v in best["predicted"]["curvature_per_mm"]])
+    r = m.curvature - k
+    worst = int(np.nanargmax(np.abs(r)))
+    name = " + ".join(best["ingredients"]) or "the baseline"
+    slope_meas = float(np.max(np.gradient(m.curvature, m.pressure)))
+    slope_model = float(np.nanmax(np.gradient(k, m.pressure)))
+    ends = [n for n, v in best["parameters"].items() if v["at_range_end"]]
+    return (
+        f"no hypothesis of up to {max_size} ingredients inside the sourced ranges fits the measurement: "
+        f"the best, {name}, leaves NRMSE {best['nrmse']:.3f} against a noise floor of "
+        f"{m.noise.sigma / (np.ptp(m.curvature) or 1.0):.3f}; its largest miss is "
+        f"{r[worst]:+.3g} 1/mm at {m.pressure[worst]:.3g} MPa; the measured curve rises at up to "
+        f"{slope_meas:.3g} 1/(mm MPa), the best model at {slope_model:.3g}"
+        + (f"; {', '.join(ends)} sit at the end of their ranges (the data ask for more)" if ends else "")
+    )
 
 
-@dataclass(frozen=True)
-class _Points:
-    """The measured points, their unconstrained best lines, scatter and best log-likelihood."""
-
-    p: np.ndarray
-    k: np.ndarray
-    g_free: float
-    sigma: float
-    best: float
-    e: np.ndarray | None = None
-    ge_free: float = math.nan
-    sigma_e: float = math.nan
-
-
-def _points(measured: dict[str, np.ndarray]) -> _Points:
-    """Best lines through the origin and scatter of the curvature (and elongation, if measured)."""
-    p = np.asarray(measured["pressure_MPa"], float)
-    k = np.asarray(measured["curvature_per_mm"], float)
-    g_free = float(p @ k / (p @ p))
-    resid = k - g_free * p
-    sigma = max(float(np.sqrt(resid @ resid / max(p.size - 1, 1))), 1e-3 * float(np.abs(k).max()))
-    n = p.size
-    best = _loglik(k, p, g_free, sigma)
-    e = measured.get("elongation")
-    if e is None:
-        return _Points(p=p, k=k, g_free=g_free, sigma=sigma, best=best)
-    # the elongation scored alike (its own line and scatter), added to the log-likelihood
-    e = np.asarray(e, float)
-    ge_free = float(p @ e / (p @ p))
-    re = e - ge_free * p
-    sigma_e = max(float(np.sqrt(re @ re / max(n - 1, 1))), 1e-3 * float(np.abs(e).max() or 1.0))
-    best += _loglik(e, p, ge_free, sigma_e)
-    return _Points(p=p, k=k, g_free=g_free, sigma=sigma, best=best, e=e, ge_free=ge_free, sigma_e=sigma_e)
-
-
-def _candidates(candidates: Sequence[str] | None) -> tuple[list[str], list[str]]:
-    """The ingredients to try, and the notes on those skipped."""
-    notes = []
-    cands = [c for c in (candidates or INGREDIENTS) if c in INGREDIENTS]
-    if "finite_strain" in cands:
-        cands.remove("finite_strain")
-        notes.append(f"finite_strain skipped: {_FINITE_STRAIN_SKIP}")
-    return cands, notes
-
-
-def _score_hypotheses(design, cands, pts: _Points, *, load, tip_factor, max_size) -> list[dict]:
-    """Band, best log-likelihood and fit of every hypothesis."""
-    p, k, sigma = pts.p, pts.k, pts.sigma
-    cache: dict = {}
-    hyps = []
-    for combo in _hypotheses(max_size, cands):
-        gains, elong = hypothesis_gains(design, combo, load=load, cache=cache)
-        lo, hi = float(gains.min()) * tip_factor, float(gains.max()) * tip_factor
-        if "vision_bias" in combo:
-            lo, hi = lo * VISION[0], hi * VISION[1]
-        g_star = min(max(pts.g_free, lo), hi)
-        ll = _loglik(k, p, g_star, sigma)
-        if pts.e is not None:
-            ll += _loglik(
-                pts.e, p, min(max(pts.ge_free, float(elong.min())), float(elong.max())), pts.sigma_e
-            )
-        band = [[float(lo * pi), float(hi * pi)] for pi in p]
-        covers = bool(np.all((k >= p * lo - 2 * sigma) & (k <= p * hi + 2 * sigma)))
-        hyps.append(
-            {
-                "ingredients": list(combo),
-                "gain_band_per_mm_MPa": [lo, hi],
-                "elongation_band_per_MPa": [float(elong.min()), float(elong.max())],
-                "band": band,
-                "covers_measurement": covers,
-                "log_likelihood": ll,
-                "fits": bool(pts.best - ll <= FIT_DELTA),
-            }
-        )
-    return hyps
-
-
-def _decide(hyps: list[dict], max_size: int, notes: list[str]) -> tuple[list[str], list[list[str]]]:
-    """The fewest ingredients that fit: (named ingredients, equally good hypotheses); notes a miss."""
-    named: list[str] = []
-    equally_good: list[list[str]] = []
-    for size in range(0, max_size + 1):
-        fit = [h for h in hyps if len(h["ingredients"]) == size and h["fits"]]
-        if fit:
-            equally_good = [h["ingredients"] for h in fit]
-            common = set(fit[0]["ingredients"]).intersection(*[set(h["ingredients"]) for h in fit[1:]])
-            named = sorted(common)
-            break
-    else:
-        notes.append(f"no hypothesis of up to {max_size} ingredients fits the measurement")
-    return named, equally_good
-
-
-def _band_of(hyps, equally_good):
-    if not equally_good:
-        return hyps[0]["gain_band_per_mm_MPa"]
-    h = next(h for h in hyps if h["ingredients"] == equally_good[0])
-    return h["gain_band_per_mm_MPa"]
-
-
-def _nrmse(k, p, band, g_free) -> float:
-    g = min(max(g_free, band[0]), band[1])
-    r = k - g * p
-    return float(np.sqrt(np.mean(r**2)) / (np.ptp(k) or 1.0))
-
-
-def _separating_measurement(fit: list[dict]) -> str | None:
-    """What would tell equally good hypotheses apart (None when one or none fits)."""
-    if len(fit) < 2:
-        return None
-    for a, b in itertools.combinations(fit, 2):
-        ea, eb = a["elongation_band_per_MPa"], b["elongation_band_per_MPa"]
-        if ea[1] < eb[0] or eb[1] < ea[0]:
-            return "elongation (their elongation bands do not overlap)"
-    if any("vision_bias" in h["ingredients"] for h in fit):
-        return (
-            "an independent curvature reading (a calibrated arc or a second camera) to settle the vision bias"
-        )
-    return "a blocked-tip force or a second design (their curvature and elongation bands overlap)"
+def _ambiguity(choice: dict) -> str:
+    good = [" + ".join(h) or "baseline" for h in choice["equally_good"]]
+    text = f"equally good: {'; '.join(good)}"
+    if choice["also_fit"]:
+        more = [" + ".join(h) for h in choice["also_fit"]]
+        text += f"; these fit as well but add ingredients the data do not need: {'; '.join(more)}"
+    if choice["separating_measurement"]:
+        text += f"; to separate them: {choice['separating_measurement']}"
+    return text
 
 
 def tip_level_factor(design, *, load: str = "lumen") -> float:
@@ -370,13 +225,14 @@ def tip_level_factor(design, *, load: str = "lumen") -> float:
 
 
 def hypotheses_table(record: dict) -> list[str]:
-    """Plain-text lines: each hypothesis's band against the measured gain."""
-    lines = [f"measured gain {record['measured_gain_per_mm_MPa']:.4g} 1/(mm MPa) (line through the origin)"]
-    for h in sorted(record["hypotheses"], key=lambda h: -h["log_likelihood"]):
-        lo, hi = h["gain_band_per_mm_MPa"]
-        name = " + ".join(h["ingredients"]) or "baseline (bonded, nominal ranges)"
+    """Plain-text lines: each hypothesis's fit, best first."""
+    lines = [
+        f"tier: {record.get('tier', TIER)}, {record['load']} load; tip factor {record['tip_factor']:.3g}; "
+        f"noise {record['noise_sigma_per_mm']:.3g} 1/mm ({record['noise']['method']})"
+    ]
+    for h in sorted(record["hypotheses"], key=lambda h: h["chi_square"])[:12]:
+        name = " + ".join(h["ingredients"]) or "baseline (nominal design)"
         verdict = "fits" if h["fits"] else "cannot"
-        lines.append(
-            f"  {name}: band {lo:.3g}-{hi:.3g} -> {verdict} (log-likelihood {h['log_likelihood']:.1f})"
-        )
+        pars = ", ".join(f"{n} {v['value']:.3g} {v['unit']}".rstrip() for n, v in h["parameters"].items())
+        lines.append(f"  {name}: NRMSE {h['nrmse']:.3f} -> {verdict}" + (f" ({pars})" if pars else ""))
     return lines

@@ -7,25 +7,39 @@ import json
 import numpy as np
 
 from softcath.cli.main import main
+from softcath.fem.section_model.finite_strain import section_curve
 
 
 def test_prototype_reference_writes_hypotheses(tmp_path, capsys):
-    p = np.linspace(0.1, 0.6, 6)
+    p = np.linspace(0.2, 0.5, 8)
+    k = section_curve("paper", p, linear_gain=False).curvature_per_mm  # the baseline's own curve
+    k = k * (1 + 0.01 * np.random.default_rng(0).standard_normal(p.size))
     csv = tmp_path / "m.csv"
-    csv.write_text("pressure_MPa,curvature_per_mm\n" + "".join(f"{a:g},{0.2 * a:.5f}\n" for a in p))
+    csv.write_text(
+        "pressure_MPa,curvature_per_mm\n" + "".join(f"{a:g},{b:.6f}\n" for a, b in zip(p, k, strict=True))
+    )
     argv = ["discrepancy", "paper", str(csv), "--reference", "prototype", "--tip-factor", "1"]
-    assert main([*argv, "--candidates", "filler_none", "--out", str(tmp_path / "d")]) == 0
+    assert main([*argv, "--candidates", "pressure_offset", "--out", str(tmp_path / "d")]) == 0
     doc = json.loads((tmp_path / "d" / "discrepancy.json").read_text())
-    assert doc["reference"] == "prototype" and doc["named"] == []  # 0.2 lies in the baseline band
-    assert [h["ingredients"] for h in doc["hypotheses"]] == [[], ["filler_none"]]
-    assert len(doc["hypotheses"][0]["band"]) == p.size
+    assert doc["reference"] == "prototype" and doc["named"] == [] and doc["explained"]
+    assert [h["ingredients"] for h in doc["hypotheses"]] == [[], ["pressure_offset"]]
+    assert len(doc["hypotheses"][0]["predicted"]["curvature_per_mm"]) == p.size
     out = capsys.readouterr().out
-    assert "named: nothing" in out and "baseline (bonded, nominal ranges)" in out
+    assert "named: nothing" in out and "baseline (nominal design)" in out and "finite-strain section" in out
 
 
 def test_prototype_reference_refuses_a_bad_tip_factor(tmp_path, capsys):
     csv = tmp_path / "m.csv"
-    csv.write_text("pressure_MPa,curvature_per_mm\n0.1,0.02\n0.2,0.04\n")
+    csv.write_text("pressure_MPa,curvature_per_mm\n0.1,0.02\n0.2,0.04\n0.3,0.07\n0.4,0.1\n")
     argv = ["discrepancy", "paper", str(csv), "--reference", "prototype", "--tip-factor", "9"]
     assert main([*argv, "--out", str(tmp_path / "d")]) != 0
     assert "--tip-factor = 9: must be in [0.2, 5]" in capsys.readouterr().err
+
+
+def test_prototype_reference_refuses_an_unknown_ingredient(tmp_path, capsys):
+    csv = tmp_path / "m.csv"
+    csv.write_text("pressure_MPa,curvature_per_mm\n0.1,0.02\n0.2,0.04\n0.3,0.07\n0.4,0.1\n")
+    argv = ["discrepancy", "paper", str(csv), "--reference", "prototype", "--tip-factor", "1"]
+    assert main([*argv, "--candidates", "bogus", "--out", str(tmp_path / "d")]) == 2
+    assert "--candidates = 'bogus': must be among tube_modulus" in capsys.readouterr().err
+    assert not (tmp_path / "d" / "discrepancy.json").exists()

@@ -1,0 +1,143 @@
+"""The physical ingredients a built tip can have, each with its sourced range.
+
+An ingredient either changes the finite-strain section model that is solved
+(``kind = "model"``: a material, the filler) or acts on its curve in a way
+that is exact by construction (``kind = "curve"``: the coils' initial tension
+through the coil-bound section's transfer, a pressure offset, a rest
+curvature, the vision's under-read). A hypothesis may give an ingredient's
+parameter only values inside its range; the record says which it chose.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Ingredient", "INGREDIENTS", "SEPARATING"]
+
+
+@dataclass(frozen=True)
+class Ingredient:
+    """One candidate cause of a measured curve.
+
+    Attributes
+    ----------
+    name
+        Its name in hypotheses and on the command line.
+    kind
+        ``"model"`` (a different finite-strain solve) or ``"curve"`` (applied to the solved curve).
+    parameter, unit
+        The parameter a hypothesis chooses (None for a switch) and its unit.
+    low, high
+        The sourced range of the parameter.
+    source
+        Where the range comes from.
+    effect
+        What it does to the curvature-pressure curve, in words.
+    """
+
+    name: str
+    kind: str
+    parameter: str | None
+    unit: str
+    low: float
+    high: float
+    source: str
+    effect: str
+
+
+INGREDIENTS: dict[str, Ingredient] = {
+    i.name: i
+    for i in (
+        Ingredient(
+            name="tube_modulus",
+            kind="model",
+            parameter="tube_youngs_modulus",
+            unit="MPa",
+            low=1.648,
+            high=4.43,
+            source="1.648 MPa: the tube modulus of the authors' sister-prototype scripts; 4.43 MPa: "
+            "Shore 65A (the top of medical silicone tubing's 50-65A) via Gent's relation",
+            effect="scales the silicone's share of the bending stiffness: a softer tube bends more",
+        ),
+        Ingredient(
+            name="filler_none",
+            kind="model",
+            parameter=None,
+            unit="",
+            low=0.0,
+            high=0.0,
+            source="the dip coat may not fill the coil (the seed's fabrication paragraph gives no "
+            "filling check); a switch, no parameter",
+            effect="the tube balloons into the empty coil: the lumen grows with pressure and so does "
+            "the cap force, a gain that rises with pressure",
+        ),
+        Ingredient(
+            name="nu_0.4999",
+            kind="model",
+            parameter=None,
+            unit="",
+            low=0.0,
+            high=0.0,
+            source="silicone rubber's Poisson ratio 0.4995-0.4999 (bulk modulus ~1 GPa against a "
+            "shear modulus of ~1 MPa); a switch, no parameter",
+            effect="near-incompressible silicone transfers more of the wall pressure into bending",
+        ),
+        Ingredient(
+            name="coil_initial_tension",
+            kind="curve",
+            parameter="initial_tension",
+            unit="N",
+            low=0.0,
+            high=0.075,
+            source="extension-spring initial-tension stress for the outer coil's index C = D/d = 7: "
+            "87-134 MPa (Shigley, tau_i = 33500/exp(0.105 C) +- 1000 (4 - (C - 3)/6.5) psi), "
+            "F0 = tau_i pi d^3 / (8 D) <= 0.075 N; 0 for a coil wound without it",
+            effect="close-wound turns are coil-bound in compression and stay closed until the load "
+            "takes F0 off them: a threshold pressure, then the pivoting section's gain",
+        ),
+        Ingredient(
+            name="pressure_offset",
+            kind="curve",
+            parameter="pressure_offset",
+            unit="MPa",
+            low=0.0,
+            high=0.21,
+            source="the logged pressure at rest, tip at its rest shape: 2.08-2.10 bar; an absolute "
+            "gauge read as gauge pressure would add 0.101 MPa; 0 for a gauge zeroed at atmosphere",
+            effect="the logged pressure exceeds the lumen's by p0: the curve shifts right (a threshold)",
+        ),
+        Ingredient(
+            name="rest_curvature",
+            kind="curve",
+            parameter="rest_curvature",
+            unit="1/mm",
+            low=0.0,
+            high=0.03,
+            source="the lowest-pressure frames of a recording (kappa ~ 0.024 1/mm, R ~ 40 mm, which "
+            "may be the rest shape or the circle fit's floor), with margin",
+            effect="a curvature at zero pressure added to the whole curve",
+        ),
+        Ingredient(
+            name="vision_bias",
+            kind="curve",
+            parameter="vision_factor",
+            unit="",
+            low=0.60,
+            high=0.82,
+            source="the paper's edge-based pipeline reads curvature 18-40 % low on rendered frames "
+            "up to 120 deg (measured / true = 0.60-0.82)",
+            effect="the measured curvature is the true one times the factor",
+        ),
+    )
+}
+
+#: The bench measurement that settles each ingredient directly.
+SEPARATING: dict[str, str] = {
+    "tube_modulus": "a tensile test of the tube itself (its modulus)",
+    "filler_none": "a cut section of the tip (is the coil filled?) or the lumen volume against pressure",
+    "nu_0.4999": "the tip's elongation against pressure",
+    "coil_initial_tension": "the coil's own force-extension curve (the force at which its turns separate)",
+    "pressure_offset": "a run from 0 MPa with the gauge zeroed at atmosphere",
+    "rest_curvature": "a photograph of the tip at rest with the line open to atmosphere",
+    "vision_bias": "an independent curvature reading (a calibrated arc or a second camera)",
+}

@@ -1,0 +1,166 @@
+r"""The finite-strain curves a prototype's hypotheses are built from, each solved once.
+
+A hypothesis's prediction at the measured pressures is made of
+
+- a **finite-strain section curve** (the tier valid past 5 deg) of one model
+  variant of the design — tube modulus, filler or none, silicone Poisson ratio —
+  solved on one pressure grid from 0 to the largest measured pressure and
+  interpolated (linearly; the grid's 24 steps put the interpolation error
+  below 1e-4 of the curve's span on the paper design). A tube modulus between
+  the grid's three moduli interpolates the curvature linearly in log E;
+- the **coil-bound transfer** of the coils' initial tension F0: the linear
+  section model with bilinear coils (coil-bound in compression, closed up to
+  F0 in tension; ``softcath.fem.section_model.bilinear``) gives
+  :math:`\varphi(p/F_0) = \kappa_\text{bilinear}(p; F_0) / (g_\text{linear}\,p)`,
+  the share of the homogenised response the closed coil lets through. That law
+  is positively homogeneous in (p, F0) jointly, so one table per variant
+  serves every F0; the finite-strain curve is multiplied by it (exact in the
+  small-strain limit).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from softcath.fem.section_model.bilinear import bend_curve
+from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve
+from softcath.studies.discrepancy.ingredients import INGREDIENTS
+
+__all__ = ["Variant", "ModelBank", "TRANSFER_FORCE"]
+
+log = logging.getLogger(__name__)
+
+#: Initial tension [N] of the transfer table (any F0 follows by homogeneity).
+TRANSFER_FORCE = 0.05
+_GRID_STEPS = 24
+#: Points of the transfer table (log-spaced, 4.6 % apart: the opening's kink is resolved to ~1 %).
+_TRANSFER_POINTS = 241
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One finite-strain model of the design: tube modulus [MPa], filler removed, silicone nu."""
+
+    tube_modulus: float
+    filler_none: bool = False
+    silicone_poisson: float | None = None
+
+
+@dataclass(frozen=True)
+class _Curve:
+    pressure: np.ndarray
+    curvature: np.ndarray
+    elongation: np.ndarray
+    reached: float  # the highest pressure solved (the curve stops there if Newton failed)
+
+
+class ModelBank:
+    """Finite-strain curves and coil-bound transfers of one design's variants, solved on demand.
+
+    Parameters
+    ----------
+    design
+        The built design.
+    p_max
+        Largest pressure a prediction needs [MPa].
+    load
+        The model load (``"lumen"``: the real one).
+    """
+
+    def __init__(self, design, *, p_max: float, load: str = "lumen") -> None:
+        self.design = design
+        self.load = load
+        self.grid = np.linspace(0.0, float(p_max), _GRID_STEPS + 1)
+        self._curves: dict[Variant, _Curve] = {}
+        self._transfers: dict[Variant, tuple[np.ndarray, np.ndarray, float]] = {}
+        self.notes: list[str] = []
+
+    @property
+    def nominal_modulus(self) -> float:
+        return float(self.design.tube.material.youngs_modulus)
+
+    def variant_design(self, v: Variant):
+        """The design of variant ``v``."""
+        d = self.design
+        mat = replace(d.tube.material, youngs_modulus=v.tube_modulus)
+        d = replace(d, tube=replace(d.tube, material=mat))
+        return replace(d, filler=None) if v.filler_none else d
+
+    def curve(self, v: Variant) -> _Curve:
+        """The finite-strain curve of ``v`` on the grid (solved once)."""
+        if v not in self._curves:
+            try:
+                c = section_curve(
+                    self.variant_design(v),
+                    self.grid,
+                    load=self.load,
+                    silicone_poisson=v.silicone_poisson,
+                    linear_gain=False,
+                )
+            except SectionConvergenceError as exc:
+                c = exc.curve
+                self.notes.append(f"{v}: the finite-strain model stops at {c.pressure[-1]:.3g} MPa ({exc})")
+            self._curves[v] = _Curve(
+                pressure=np.asarray(c.pressure),
+                curvature=np.asarray(c.curvature_per_mm),
+                elongation=np.asarray(c.elongation),
+                reached=float(c.pressure[-1]) if c.pressure.size else 0.0,
+            )
+        return self._curves[v]
+
+    def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(curvature, elongation) of ``v`` at ``pressure`` (0 below 0, NaN past the solved curve)."""
+        c = self.curve(v)
+        q = np.clip(pressure, 0.0, None)
+        k = np.interp(q, c.pressure, c.curvature)
+        e = np.interp(q, c.pressure, c.elongation)
+        beyond = q > c.reached + 1e-12
+        k[beyond] = np.nan
+        e[beyond] = np.nan
+        return k, e
+
+    def moduli(self) -> tuple[float, float, float]:
+        """The tube moduli of the grid a ``tube_modulus`` hypothesis interpolates between."""
+        ing = INGREDIENTS["tube_modulus"]
+        return (ing.low, float(np.sqrt(ing.low * ing.high)), ing.high)
+
+    def at_modulus(self, e_tube: float, filler_none: bool, nu, pressure) -> tuple[np.ndarray, np.ndarray]:
+        """(curvature, elongation) at tube modulus ``e_tube``: linear in log E between grid moduli."""
+        grid = self.moduli()
+        x = float(np.clip(np.log(e_tube), np.log(grid[0]), np.log(grid[-1])))
+        i = min(int(np.searchsorted(np.log(grid), x, side="right")) - 1, len(grid) - 2)
+        w = (x - np.log(grid[i])) / (np.log(grid[i + 1]) - np.log(grid[i]))
+        a = self.at(Variant(grid[i], filler_none, nu), pressure)
+        b = self.at(Variant(grid[i + 1], filler_none, nu), pressure)
+        return (1 - w) * a[0] + w * b[0], (1 - w) * a[1] + w * b[1]
+
+    def transfer(self, v: Variant) -> tuple[np.ndarray, np.ndarray, float]:
+        """(pressures at F0 = :data:`TRANSFER_FORCE`, phi there, phi's large-pressure limit) of ``v``."""
+        if v not in self._transfers:
+            p = np.geomspace(1e-3, 50.0, _TRANSFER_POINTS)
+            b = bend_curve(
+                self.variant_design(v),
+                p,
+                load=self.load,
+                coil_model="annulus",
+                initial_tension=(TRANSFER_FORCE, 0.0),
+                silicone_poisson=v.silicone_poisson,
+            )
+            phi = np.asarray(b.curvature) / (b.gain_linear * p)
+            self._transfers[v] = (p, phi, float(b.gain_pivoting / b.gain_linear))
+        return self._transfers[v]
+
+    def coil_bound_share(self, v: Variant, pressure: np.ndarray, initial_tension: float) -> np.ndarray:
+        """phi: the share of the homogenised curvature a coil with ``initial_tension`` lets through."""
+        p_tab, phi, limit = self.transfer(v)
+        q = np.clip(np.asarray(pressure, float), 0.0, None)
+        if initial_tension <= 0:
+            return np.full(q.shape, limit)
+        s = q * TRANSFER_FORCE / initial_tension  # the same state at the table's F0
+        # interpolate the curvature (phi s: zero, then nearly linear), not the ratio, across the kink
+        ks = np.interp(s, p_tab, phi * p_tab, right=np.nan)
+        out = np.where(s > p_tab[-1], limit, ks / np.clip(s, p_tab[0], None))
+        return np.where(s < p_tab[0], 0.0, out)
