@@ -62,6 +62,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(time_s a step index 0, 1, 2, ...) from sine and step-and-hold time series",
     )
     parser.add_argument(
+        "--physical",
+        action="store_true",
+        help="on a measured time series, go on from the named terms to the physical ingredients "
+        "(the finite-strain section model fitted to the delay-corrected curve's first half, scored "
+        "on its second; tens of seconds to minutes)",
+    )
+    parser.add_argument(
         "--candidates",
         help="comma-separated candidate effects to try (default: all that the data can judge)",
     )
@@ -111,6 +118,17 @@ def run(args: argparse.Namespace) -> int:
         progress=True,
         excitation=args.excitation,
     )
+    if (
+        args.reference == "measured"
+        and args.physical
+        and "quasi-static" not in {r["kind"] for r in result.runs}
+    ):
+        import dataclasses
+
+        from softcath import design
+        from softcath.studies.discrepancy.to_physics import physical_step
+
+        result = dataclasses.replace(result, physical=physical_step(result, design.resolve(args.design)))
     with staged_dir(out) as stage:  # the record and its page replace earlier ones only together
         html = unstage(write_report(result, stage), stage, out)
     named = " + ".join(result.named) if result.named else "nothing"
@@ -136,8 +154,22 @@ def run(args: argparse.Namespace) -> int:
         print(f"  {step['effect']}: {est}")
     for note in result.notes:
         print(f"note: {note}")
+    if result.physical is not None:
+        _print_physical(result.physical)
     print(f"wrote {out / 'discrepancy.json'} and {html}")
     return 0
+
+
+def _print_physical(phys: dict) -> None:
+    """The physical step's summary: what produces the terms, and the held-out gap."""
+    chosen = " + ".join(phys["chosen"]) or "nothing"
+    verdict = "fits" if phys["explained"] else "best, does not fit"
+    print(f"physical (finite-strain section, lumen load): {chosen} ({verdict})")
+    for term, causes in phys["terms_produced_by"].items():
+        print(f"  {term}: {' + '.join(causes) if causes else 'no physical ingredient among those chosen'}")
+    print(
+        f"  held-out NRMSE (second half of each run) {phys['nrmse_before']:.4g} -> {phys['nrmse_after']:.4g}"
+    )
 
 
 def _run_prototype(args: argparse.Namespace, out: Path) -> int:

@@ -109,6 +109,7 @@ def explain_prototype(
     tip_factor: float = 1.0,
     candidates: Sequence[str] | None = None,
     max_size: int = DEFAULT_MAX_SIZE,
+    bank: ModelBank | None = None,
 ) -> dict:
     """Fit every hypothesis to the measured points; the ``discrepancy.json`` record.
 
@@ -126,12 +127,15 @@ def explain_prototype(
         Ingredients to try (default: all of :data:`INGREDIENTS`).
     max_size
         Largest number of ingredients in one hypothesis.
+    bank
+        The design's solved curves to reuse (default: a new one up to the largest measured pressure).
     """
     cands = check_candidates(candidates)
     if not (isinstance(max_size, int) and 0 <= max_size <= len(INGREDIENTS)):
         raise DesignError("max_size", max_size, f"must be an integer in [0, {len(INGREDIENTS)}]")
     m = Measured.from_columns(measured)
-    bank = ModelBank(design, p_max=float(m.pressure.max()), load=load)
+    if bank is None:
+        bank = ModelBank(design, p_max=float(m.pressure.max()), load=load)
     hyps = score_hypotheses(bank, m, cands, max_size=max_size, tip_factor=tip_factor)
     choice = decide(hyps)
     base = hyps[0]

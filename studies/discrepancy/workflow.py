@@ -74,6 +74,8 @@ class DiscrepancyResult:
     prepared: Prepared = field(repr=False)
     baseline_fit: ChainFit = field(repr=False)
     final_fit: ChainFit = field(repr=False)
+    #: From the named terms to physical ingredients (:mod:`.to_physics`), when it was run.
+    physical: dict | None = None
 
     @property
     def ambiguous_with(self) -> list[list[str]]:
@@ -107,6 +109,7 @@ class DiscrepancyResult:
                 "final_model": self.final_fit.as_dict(),
                 "notes": list(self.notes),
             }
+            | ({"physical": self.physical} if self.physical is not None else {})
         )
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from softcath.cli.main import main
 from softcath.fem.section_model.finite_strain import section_curve
@@ -43,3 +44,24 @@ def test_prototype_reference_refuses_an_unknown_ingredient(tmp_path, capsys):
     assert main([*argv, "--candidates", "bogus", "--out", str(tmp_path / "d")]) == 2
     assert "--candidates = 'bogus': must be among tube_modulus" in capsys.readouterr().err
     assert not (tmp_path / "d" / "discrepancy.json").exists()
+
+
+@pytest.mark.slow
+def test_physical_step_on_a_time_series_writes_its_record(tmp_path, capsys):
+    t = np.arange(0, 30, 0.05)
+    p = 0.35 - 0.15 * np.cos(2 * np.pi * 0.2 * t)
+    k = section_curve("paper", np.linspace(0, 0.5, 11), linear_gain=False)
+    kappa = np.interp(p, np.linspace(0, 0.5, 11), k.curvature_per_mm)
+    kappa = kappa + 0.0005 * np.random.default_rng(2).standard_normal(t.size)
+    csv = tmp_path / "sine.csv"
+    csv.write_text(
+        "time_s,pressure_MPa,curvature_per_mm\n"
+        + "".join(f"{a:.3f},{b:.6f},{c:.6f}\n" for a, b, c in zip(t, p, kappa, strict=True))
+    )
+    argv = ["discrepancy", "paper", str(csv), "--physical", "--candidates", "offset,delay"]
+    assert main([*argv, "--out", str(tmp_path / "d")]) == 0
+    doc = json.loads((tmp_path / "d" / "discrepancy.json").read_text())
+    phys = doc["physical"]
+    # the recording is the baseline's own curve: the physical step needs nothing
+    assert phys["chosen"] == [] and phys["explained"] and phys["nrmse_before"] < 0.1
+    assert "held-out NRMSE (second half of each run)" in capsys.readouterr().out
