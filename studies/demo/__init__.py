@@ -29,6 +29,7 @@ from softcath.studies.demo.context import DEMO_MAX_STRAIN, DEMO_PRESSURES_MPA, D
 from softcath.studies.demo.effects import section_effects
 from softcath.studies.demo.large_bends import DEMO_LARGE_BEND_PRESSURES_MPA, section_large_bends
 from softcath.studies.demo.model import section_model
+from softcath.studies.demo.prototype import section_prototype
 from softcath.studies.demo.runner import DemoResult, default_data, run_sections
 from softcath.studies.demo.sweep import DEMO_SELECT_PRESSURE_MPA, demo_sweep_spec, section_sweep
 from softcath.studies.demo.tiers import section_tiers
@@ -51,6 +52,7 @@ __all__ = [
     "section_large_bends",
     "section_calibration",
     "section_effects",
+    "section_prototype",
     "section_sweep",
     "section_verdict",
 ]
@@ -61,8 +63,9 @@ SECTIONS: list[tuple[str, str, Callable[[DemoContext], SectionOutput]]] = [
     ("large_bends", "3. Large bends: finite-strain FEM", section_large_bends),
     ("calibration", "4. What the measured data add: calibration (eq. 8)", section_calibration),
     ("effects", "5. The missing effect", section_effects),
-    ("sweep", "6. A small sweep", section_sweep),
-    ("verdict", "7. Which design to build", section_verdict),
+    ("prototype", "6. A built prototype, point by point", section_prototype),
+    ("sweep", "7. A small sweep", section_sweep),
+    ("verdict", "8. Which design to build", section_verdict),
 ]
 
 

@@ -60,6 +60,18 @@ INGREDIENTS: dict[str, Ingredient] = {
             effect="scales the silicone's share of the bending stiffness: a softer tube bends more",
         ),
         Ingredient(
+            name="coil_spring_rate",
+            kind="model",
+            parameter="coil_spring_rate",
+            unit="N/m",
+            low=35.0,
+            high=56.0,
+            source="35 N/m: the spring constant of the authors' sister-prototype scripts; 56 N/m: "
+            "k = G d^4 / (8 D^3 n) of the outer coil (G 77 GPa for 304 stainless, d = 0.1 mm, "
+            "D = 0.7 mm, 50 turns over 5 mm); the homogenised annulus has 54.5 N/m",
+            effect="the open coil's axial spring: a softer coil lets the tube's pressure bend the tip more",
+        ),
+        Ingredient(
             name="filler_none",
             kind="model",
             parameter=None,
@@ -134,6 +146,7 @@ INGREDIENTS: dict[str, Ingredient] = {
 #: The bench measurement that settles each ingredient directly.
 SEPARATING: dict[str, str] = {
     "tube_modulus": "a tensile test of the tube itself (its modulus)",
+    "coil_spring_rate": "the coil's own force-extension curve (its spring rate once the turns are open)",
     "filler_none": "a cut section of the tip (is the coil filled?) or the lumen volume against pressure",
     "nu_0.4999": "the tip's elongation against pressure",
     "coil_initial_tension": "the coil's own force-extension curve (the force at which its turns separate)",

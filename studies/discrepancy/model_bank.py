@@ -6,8 +6,10 @@ A hypothesis's prediction at the measured pressures is made of
   variant of the design — tube modulus, filler or none, silicone Poisson ratio —
   solved on one pressure grid from 0 to the largest measured pressure and
   interpolated (linearly; the grid's 24 steps put the interpolation error
-  below 1e-4 of the curve's span on the paper design). A tube modulus between
-  the grid's three moduli interpolates the curvature linearly in log E;
+  below 1e-4 of the curve's span on the paper design). A tube modulus or an
+  outer-coil spring rate between the three grid values of its range (the ends
+  and their geometric mean) interpolates the curvature linearly in its log
+  (multilinearly when both are free);
 - the **coil-bound transfer** of the coils' initial tension F0: the linear
   section model with bilinear coils (coil-bound in compression, closed up to
   F0 in tension; ``softcath.fem.section_model.bilinear``) gives
@@ -25,11 +27,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from softcath.design import coil_stiffness
+from softcath.fem.adapter import coil_law
+from softcath.fem.geometry import COIL
+from softcath.fem.nonlinear.laws import AnisotropicSVK
 from softcath.fem.section_model.bilinear import bend_curve
-from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve
+from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve, section_laws
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 
-__all__ = ["Variant", "ModelBank", "TRANSFER_FORCE"]
+__all__ = ["Variant", "ModelBank", "TRANSFER_FORCE", "MODEL_PARAMETERS"]
+
+#: The continuous parameters that change the finite-strain solve (interpolated on a grid).
+MODEL_PARAMETERS = ("tube_modulus", "coil_spring_rate")
 
 log = logging.getLogger(__name__)
 
@@ -42,11 +51,13 @@ _TRANSFER_POINTS = 241
 
 @dataclass(frozen=True)
 class Variant:
-    """One finite-strain model of the design: tube modulus [MPa], filler removed, silicone nu."""
+    """One finite-strain model of the design: tube modulus [MPa], filler removed, silicone nu,
+    and the outer coil's axial spring rate [N/m] (None: the design's own)."""
 
     tube_modulus: float
     filler_none: bool = False
     silicone_poisson: float | None = None
+    coil_spring_rate: float | None = None
 
 
 @dataclass(frozen=True)
@@ -92,12 +103,15 @@ class ModelBank:
     def curve(self, v: Variant) -> _Curve:
         """The finite-strain curve of ``v`` on the grid (solved once)."""
         if v not in self._curves:
+            d = self.variant_design(v)
+            laws = None if v.coil_spring_rate is None else self._laws_with_rate(d, v)
             try:
                 c = section_curve(
-                    self.variant_design(v),
+                    d,
                     self.grid,
                     load=self.load,
                     silicone_poisson=v.silicone_poisson,
+                    laws=laws,
                     linear_gain=False,
                 )
             except SectionConvergenceError as exc:
@@ -111,6 +125,23 @@ class ModelBank:
             )
         return self._curves[v]
 
+    @property
+    def nominal_spring_rate(self) -> float:
+        """The outer coil's axial spring rate in the homogenised model [N/m]: E_t A / L."""
+        k = coil_stiffness(self.design.coil)
+        return float(k.axial_modulus_tension * k.area / self.design.tip.bending_length * 1e3)
+
+    def _laws_with_rate(self, d, v: Variant) -> dict:
+        """The finite-strain laws of ``d`` with the outer coil's axial modulus set to ``v``'s rate."""
+        laws = section_laws(d, silicone_poisson=v.silicone_poisson)
+        law = coil_law(d.coil, "tension")
+        scale = float(v.coil_spring_rate) / self.nominal_spring_rate
+        law = replace(
+            law, axial_modulus=law.axial_modulus * scale, axial_shear_modulus=law.axial_shear_modulus * scale
+        )
+        laws[COIL] = AnisotropicSVK(law.tensor())
+        return laws
+
     def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(curvature, elongation) of ``v`` at ``pressure`` (0 below 0, NaN past the solved curve)."""
         c = self.curve(v)
@@ -122,20 +153,42 @@ class ModelBank:
         e[beyond] = np.nan
         return k, e
 
-    def moduli(self) -> tuple[float, float, float]:
-        """The tube moduli of the grid a ``tube_modulus`` hypothesis interpolates between."""
-        ing = INGREDIENTS["tube_modulus"]
+    def grid_of(self, parameter: str) -> tuple[float, float, float]:
+        """The three values of a continuous model parameter a hypothesis interpolates between:
+        its range ends and their geometric mean."""
+        ing = INGREDIENTS[parameter]
         return (ing.low, float(np.sqrt(ing.low * ing.high)), ing.high)
 
-    def at_modulus(self, e_tube: float, filler_none: bool, nu, pressure) -> tuple[np.ndarray, np.ndarray]:
-        """(curvature, elongation) at tube modulus ``e_tube``: linear in log E between grid moduli."""
-        grid = self.moduli()
-        x = float(np.clip(np.log(e_tube), np.log(grid[0]), np.log(grid[-1])))
-        i = min(int(np.searchsorted(np.log(grid), x, side="right")) - 1, len(grid) - 2)
-        w = (x - np.log(grid[i])) / (np.log(grid[i + 1]) - np.log(grid[i]))
-        a = self.at(Variant(grid[i], filler_none, nu), pressure)
-        b = self.at(Variant(grid[i + 1], filler_none, nu), pressure)
-        return (1 - w) * a[0] + w * b[0], (1 - w) * a[1] + w * b[1]
+    def at_values(self, values: dict[str, float], filler_none: bool, nu, pressure):
+        """(curvature, elongation) with continuous model parameters ``values`` (``tube_modulus``,
+        ``coil_spring_rate``; absent ones at the design's own), multilinear in their logs."""
+        names = [n for n in MODEL_PARAMETERS if n in values]
+        corners: list[tuple[float, dict[str, float]]] = [(1.0, {})]
+        for n in names:
+            grid = self.grid_of(n)
+            x = float(np.clip(np.log(values[n]), np.log(grid[0]), np.log(grid[-1])))
+            i = min(int(np.searchsorted(np.log(grid), x, side="right")) - 1, len(grid) - 2)
+            w = (x - np.log(grid[i])) / (np.log(grid[i + 1]) - np.log(grid[i]))
+            corners = [
+                (cw * ww, {**cv, n: g})
+                for cw, cv in corners
+                for ww, g in ((1 - w, grid[i]), (w, grid[i + 1]))
+            ]
+        k = np.zeros(np.shape(pressure))
+        e = np.zeros(np.shape(pressure))
+        for weight, corner in corners:
+            if weight == 0.0:
+                continue
+            v = Variant(
+                tube_modulus=corner.get("tube_modulus", self.nominal_modulus),
+                filler_none=filler_none,
+                silicone_poisson=nu,
+                coil_spring_rate=corner.get("coil_spring_rate"),
+            )
+            kc, ec = self.at(v, pressure)
+            k = k + weight * kc
+            e = e + weight * ec
+        return k, e
 
     def transfer(self, v: Variant) -> tuple[np.ndarray, np.ndarray, float]:
         """(pressures at F0 = :data:`TRANSFER_FORCE`, phi there, phi's large-pressure limit) of ``v``."""

@@ -42,7 +42,7 @@ from scipy.optimize import least_squares
 from scipy.stats import binom, chi2, f, t
 
 from softcath.studies.discrepancy.ingredients import INGREDIENTS, SEPARATING
-from softcath.studies.discrepancy.model_bank import ModelBank, Variant
+from softcath.studies.discrepancy.model_bank import MODEL_PARAMETERS, ModelBank, Variant
 from softcath.studies.discrepancy.noise import NoiseEstimate, data_noise
 
 __all__ = ["Measured", "score_hypotheses", "decide", "FIT_QUANTILE"]
@@ -92,10 +92,8 @@ def predict(bank: ModelBank, ingredients: Sequence[str], values: dict[str, float
     q = np.asarray(pressure, float) - values.get("pressure_offset", 0.0)
     filler_none = "filler_none" in ingredients
     nu = 0.4999 if "nu_0.4999" in ingredients else None
-    if "tube_modulus" in ingredients:
-        k, e = bank.at_modulus(values["tube_modulus"], filler_none, nu, q)
-    else:
-        k, e = bank.at(Variant(bank.nominal_modulus, filler_none, nu), q)
+    continuous = {n: values[n] for n in MODEL_PARAMETERS if n in ingredients}
+    k, e = bank.at_values(continuous, filler_none, nu, q)
     if "coil_initial_tension" in ingredients:
         v = Variant(bank.nominal_modulus, filler_none, nu)
         k = k * bank.coil_bound_share(v, q, values["coil_initial_tension"])

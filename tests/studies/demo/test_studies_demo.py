@@ -135,3 +135,12 @@ def test_full_demo_subprocess(tmp_path):
         out / "index.html"
     ).read_text()
     assert (out / "index.html").is_file() and "demo:" in proc.stdout
+
+
+def test_demo_prototype_section_finds_the_hidden_offset(tmp_path):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--only", "prototype", "--workers", "1", "--no-fem"]) == 0
+    html = (out / "index.html").read_text()
+    assert "6. A built prototype, point by point" in html and (out / "prototype_curve.png").is_file()
+    # the hidden pressure offset is in every equally good hypothesis, so it is named
+    assert "Named: <b>pressure_offset" in html

@@ -32,7 +32,7 @@ def test_transfer_at_any_initial_tension_equals_a_direct_bilinear_solve(bank):
 
 def test_tube_modulus_between_grid_moduli_is_within_2_percent_of_a_direct_solve(bank):
     p = np.array([0.2, 0.35, 0.5])
-    k, _ = bank.at_modulus(2.0, False, None, p)
+    k, _ = bank.at_values({"tube_modulus": 2.0}, False, None, p)
     d = bank.variant_design(Variant(2.0))
     direct = section_curve(d, p, linear_gain=False).curvature_per_mm
     # linear in log E between 1.648 and 2.70 MPa: the curvature is close to E^-1, so the
@@ -48,3 +48,18 @@ def test_grid_interpolation_in_pressure_matches_a_direct_solve(bank):
     np.testing.assert_allclose(k, c.curvature_per_mm, rtol=2e-3, atol=1e-5)
     np.testing.assert_allclose(e, c.elongation, rtol=2e-3, atol=1e-6)
     assert np.isnan(bank.at(v, np.array([0.6]))[0][0])  # past the solved curve: no number
+
+
+def test_the_designs_own_spring_rate_reproduces_its_curve(bank):
+    # the laws rebuilt with the homogenised annulus's own rate (E_t A / L) are the design's laws
+    p = np.array([0.2, 0.5])
+    own = Variant(bank.nominal_modulus, coil_spring_rate=bank.nominal_spring_rate)
+    np.testing.assert_allclose(bank.at(own, p)[0], bank.at(Variant(bank.nominal_modulus), p)[0], rtol=1e-10)
+    assert bank.nominal_spring_rate == pytest.approx(54.5, abs=0.1)  # N/m, the ingredient's source
+
+
+def test_a_softer_coil_spring_bends_the_tip_more(bank):
+    p = np.array([0.3, 0.5])
+    soft = bank.at_values({"coil_spring_rate": 35.0}, False, None, p)[0]
+    stiff = bank.at_values({"coil_spring_rate": 56.0}, False, None, p)[0]
+    assert np.all(soft > 1.1 * stiff)
