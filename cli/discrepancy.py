@@ -62,6 +62,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "(time_s a step index 0, 1, 2, ...) from sine and step-and-hold time series",
     )
     parser.add_argument(
+        "--workers",
+        type=int,
+        default=2,
+        help="with --reference prototype: processes for the finite-strain solves (default 2)",
+    )
+    parser.add_argument(
         "--physical",
         action="store_true",
         help="on a measured time series, go on from the named terms to the physical ingredients "
@@ -197,7 +203,7 @@ def _run_prototype(args: argparse.Namespace, out: Path) -> int:
     cands = None
     if args.candidates:
         cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
-    record = explain_prototype(d, measured, tip_factor=factor, candidates=cands)
+    record = explain_prototype(d, measured, tip_factor=factor, candidates=cands, workers=args.workers)
     with Outputs(out) as o:
         o.json("discrepancy.json", record)
     for line in hypotheses_table(record):

@@ -23,6 +23,8 @@ A hypothesis's prediction at the measured pressures is made of
 from __future__ import annotations
 
 import logging
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -95,52 +97,54 @@ class ModelBank:
 
     def variant_design(self, v: Variant):
         """The design of variant ``v``."""
-        d = self.design
-        mat = replace(d.tube.material, youngs_modulus=v.tube_modulus)
-        d = replace(d, tube=replace(d.tube, material=mat))
-        return replace(d, filler=None) if v.filler_none else d
-
-    def curve(self, v: Variant) -> _Curve:
-        """The finite-strain curve of ``v`` on the grid (solved once)."""
-        if v not in self._curves:
-            d = self.variant_design(v)
-            laws = None if v.coil_spring_rate is None else self._laws_with_rate(d, v)
-            try:
-                c = section_curve(
-                    d,
-                    self.grid,
-                    load=self.load,
-                    silicone_poisson=v.silicone_poisson,
-                    laws=laws,
-                    linear_gain=False,
-                )
-            except SectionConvergenceError as exc:
-                c = exc.curve
-                self.notes.append(f"{v}: the finite-strain model stops at {c.pressure[-1]:.3g} MPa ({exc})")
-            self._curves[v] = _Curve(
-                pressure=np.asarray(c.pressure),
-                curvature=np.asarray(c.curvature_per_mm),
-                elongation=np.asarray(c.elongation),
-                reached=float(c.pressure[-1]) if c.pressure.size else 0.0,
-            )
-        return self._curves[v]
+        return variant_design(self.design, v)
 
     @property
     def nominal_spring_rate(self) -> float:
         """The outer coil's axial spring rate in the homogenised model [N/m]: E_t A / L."""
-        k = coil_stiffness(self.design.coil)
-        return float(k.axial_modulus_tension * k.area / self.design.tip.bending_length * 1e3)
+        return nominal_spring_rate(self.design)
 
-    def _laws_with_rate(self, d, v: Variant) -> dict:
-        """The finite-strain laws of ``d`` with the outer coil's axial modulus set to ``v``'s rate."""
-        laws = section_laws(d, silicone_poisson=v.silicone_poisson)
-        law = coil_law(d.coil, "tension")
-        scale = float(v.coil_spring_rate) / self.nominal_spring_rate
-        law = replace(
-            law, axial_modulus=law.axial_modulus * scale, axial_shear_modulus=law.axial_shear_modulus * scale
-        )
-        laws[COIL] = AnisotropicSVK(law.tensor())
-        return laws
+    def curve(self, v: Variant) -> _Curve:
+        """The finite-strain curve of ``v`` on the grid (solved once)."""
+        if v not in self._curves:
+            self._store(v, *solve_variant(self.design, self.grid, self.load, v))
+        return self._curves[v]
+
+    def _store(self, v: Variant, curve: _Curve, note: str | None) -> None:
+        self._curves[v] = curve
+        if note:
+            self.notes.append(note)
+
+    def solve(self, variants, *, workers: int = 1) -> None:
+        """Solve the curves of ``variants`` not solved yet, in ``workers`` processes."""
+        todo = [v for v in dict.fromkeys(variants) if v not in self._curves]
+        if workers <= 1 or len(todo) < 2:
+            for v in todo:
+                self.curve(v)
+            return
+        ctx = multiprocessing.get_context("spawn")  # a fresh interpreter: no inherited BLAS threads
+        with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=ctx) as pool:
+            futures = [pool.submit(solve_variant, self.design, self.grid, self.load, v) for v in todo]
+            for v, fut in zip(todo, futures, strict=True):
+                self._store(v, *fut.result())
+
+    def variants_for(self, ingredients) -> list[Variant]:
+        """The grid variants a hypothesis with ``ingredients`` interpolates between."""
+        filler_none = "filler_none" in ingredients
+        nu = 0.4999 if "nu_0.4999" in ingredients else None
+        corners: list[dict[str, float]] = [{}]
+        for n in MODEL_PARAMETERS:
+            if n in ingredients:
+                corners = [{**c, n: g} for c in corners for g in self.grid_of(n)]
+        return [
+            Variant(
+                tube_modulus=c.get("tube_modulus", self.nominal_modulus),
+                filler_none=filler_none,
+                silicone_poisson=nu,
+                coil_spring_rate=c.get("coil_spring_rate"),
+            )
+            for c in corners
+        ]
 
     def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(curvature, elongation) of ``v`` at ``pressure`` (0 below 0, NaN past the solved curve)."""
@@ -217,3 +221,49 @@ class ModelBank:
         ks = np.interp(s, p_tab, phi * p_tab, right=np.nan)
         out = np.where(s > p_tab[-1], limit, ks / np.clip(s, p_tab[0], None))
         return np.where(s < p_tab[0], 0.0, out)
+
+
+def variant_design(design, v: Variant):
+    """The design of variant ``v`` of ``design`` (its tube modulus, without filler if asked)."""
+    mat = replace(design.tube.material, youngs_modulus=v.tube_modulus)
+    d = replace(design, tube=replace(design.tube, material=mat))
+    return replace(d, filler=None) if v.filler_none else d
+
+
+def nominal_spring_rate(design) -> float:
+    """The outer coil's axial spring rate in the homogenised model [N/m]: E_t A / L."""
+    k = coil_stiffness(design.coil)
+    return float(k.axial_modulus_tension * k.area / design.tip.bending_length * 1e3)
+
+
+def _laws_with_rate(design, d, v: Variant) -> dict:
+    """The finite-strain laws of ``d`` with the outer coil's axial modulus set to ``v``'s rate."""
+    laws = section_laws(d, silicone_poisson=v.silicone_poisson)
+    law = coil_law(d.coil, "tension")
+    scale = float(v.coil_spring_rate) / nominal_spring_rate(design)
+    law = replace(
+        law, axial_modulus=law.axial_modulus * scale, axial_shear_modulus=law.axial_shear_modulus * scale
+    )
+    laws[COIL] = AnisotropicSVK(law.tensor())
+    return laws
+
+
+def solve_variant(design, grid: np.ndarray, load: str, v: Variant) -> tuple[_Curve, str | None]:
+    """The finite-strain curve of variant ``v`` on ``grid`` and a note if Newton stopped short."""
+    d = variant_design(design, v)
+    laws = None if v.coil_spring_rate is None else _laws_with_rate(design, d, v)
+    note = None
+    try:
+        c = section_curve(
+            d, grid, load=load, silicone_poisson=v.silicone_poisson, laws=laws, linear_gain=False
+        )
+    except SectionConvergenceError as exc:
+        c = exc.curve
+        note = f"{v}: the finite-strain model stops at {c.pressure[-1]:.3g} MPa ({exc})"
+    curve = _Curve(
+        pressure=np.asarray(c.pressure),
+        curvature=np.asarray(c.curvature_per_mm),
+        elongation=np.asarray(c.elongation),
+        reached=float(c.pressure[-1]) if c.pressure.size else 0.0,
+    )
+    return curve, note

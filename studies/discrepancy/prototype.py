@@ -28,7 +28,7 @@ import numpy as np
 from softcath.design.errors import DataError, DesignError
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 from softcath.studies.discrepancy.model_bank import ModelBank
-from softcath.studies.discrepancy.physical import FIT_QUANTILE, Measured, decide, score_hypotheses
+from softcath.studies.discrepancy.physical import FIT_QUANTILE, Measured, decide, hypotheses, score_hypotheses
 
 __all__ = ["INGREDIENTS", "load_prototype_csv", "explain_prototype", "tip_level_factor", "hypotheses_table"]
 
@@ -110,6 +110,7 @@ def explain_prototype(
     candidates: Sequence[str] | None = None,
     max_size: int = DEFAULT_MAX_SIZE,
     bank: ModelBank | None = None,
+    workers: int = 1,
 ) -> dict:
     """Fit every hypothesis to the measured points; the ``discrepancy.json`` record.
 
@@ -129,13 +130,18 @@ def explain_prototype(
         Largest number of ingredients in one hypothesis.
     bank
         The design's solved curves to reuse (default: a new one up to the largest measured pressure).
+    workers
+        Processes for the finite-strain solves (each model variant is solved once).
     """
     cands = check_candidates(candidates)
     if not (isinstance(max_size, int) and 0 <= max_size <= len(INGREDIENTS)):
         raise DesignError("max_size", max_size, f"must be an integer in [0, {len(INGREDIENTS)}]")
     m = Measured.from_columns(measured)
+    if not (isinstance(workers, int) and 1 <= workers <= 256):
+        raise DesignError("--workers", workers, "must be an integer in [1, 256]")
     if bank is None:
         bank = ModelBank(design, p_max=float(m.pressure.max()), load=load)
+    bank.solve([v for h in hypotheses(cands, max_size) for v in bank.variants_for(h)], workers=workers)
     hyps = score_hypotheses(bank, m, cands, max_size=max_size, tip_factor=tip_factor)
     choice = decide(hyps)
     base = hyps[0]

@@ -63,3 +63,14 @@ def test_a_softer_coil_spring_bends_the_tip_more(bank):
     soft = bank.at_values({"coil_spring_rate": 35.0}, False, None, p)[0]
     stiff = bank.at_values({"coil_spring_rate": 56.0}, False, None, p)[0]
     assert np.all(soft > 1.1 * stiff)
+
+
+def test_variants_solved_in_worker_processes_equal_those_solved_here():
+    d = design.preset("paper")
+    serial, parallel = ModelBank(d, p_max=0.3), ModelBank(d, p_max=0.3)
+    variants = serial.variants_for(("coil_spring_rate", "filler_none"))
+    assert len(variants) == 3 and all(v.filler_none for v in variants)
+    serial.solve(variants[:2])
+    parallel.solve(variants[:2], workers=2)
+    for v in variants[:2]:
+        np.testing.assert_array_equal(serial.curve(v).curvature, parallel.curve(v).curvature)
