@@ -203,7 +203,9 @@ def _run_prototype(args: argparse.Namespace, out: Path) -> int:
     cands = None
     if args.candidates:
         cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
-    record = explain_prototype(d, measured, tip_factor=factor, candidates=cands, workers=args.workers)
+    record = explain_prototype(
+        d, measured, tip_factor=factor, candidates=cands, workers=args.workers, progress=True
+    )
     with Outputs(out) as o:
         o.json("discrepancy.json", record)
     for line in hypotheses_table(record):

@@ -73,8 +73,8 @@ def section_prototype(ctx: DemoContext) -> SectionOutput:
         "<p>On the real tip's curve (reduced from the paper's raw recordings; docs/prototype.md) no "
         "ingredient inside its range follows the threshold and steep rise: the best reaches NRMSE 0.107 "
         "against 0.181 for the nominal finite-strain model and 0.062 for a free straight line, with the tube "
-        "modulus and the coil's spring rate at the soft ends of their ranges; the workflow says so and "
-        "names what to measure next.</p>"
+        "modulus and the coil's spring rate at the soft ends of their ranges (halving those ends gives "
+        "0.043); the workflow says so and names what to measure next.</p>"
     )
     return SectionOutput(html, (figure,))
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import logging
 import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -81,10 +81,20 @@ class ModelBank:
         Largest pressure a prediction needs [MPa].
     load
         The model load (``"lumen"``: the real one).
+    ranges
+        Parameter ranges other than the ingredients' sourced ones (to ask what the data would need).
     """
 
-    def __init__(self, design, *, p_max: float, load: str = "lumen") -> None:
+    def __init__(
+        self,
+        design,
+        *,
+        p_max: float,
+        load: str = "lumen",
+        ranges: dict[str, tuple[float, float]] | None = None,
+    ) -> None:
         self.design = design
+        self.ranges = dict(ranges or {})
         self.load = load
         self.grid = np.linspace(0.0, float(p_max), _GRID_STEPS + 1)
         self._curves: dict[Variant, _Curve] = {}
@@ -115,18 +125,24 @@ class ModelBank:
         if note:
             self.notes.append(note)
 
-    def solve(self, variants, *, workers: int = 1) -> None:
+    def solve(self, variants, *, workers: int = 1, progress: bool = False) -> None:
         """Solve the curves of ``variants`` not solved yet, in ``workers`` processes."""
+        from tqdm import tqdm
+
         todo = [v for v in dict.fromkeys(variants) if v not in self._curves]
-        if workers <= 1 or len(todo) < 2:
-            for v in todo:
-                self.curve(v)
-            return
-        ctx = multiprocessing.get_context("spawn")  # a fresh interpreter: no inherited BLAS threads
-        with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=ctx) as pool:
-            futures = [pool.submit(solve_variant, self.design, self.grid, self.load, v) for v in todo]
-            for v, fut in zip(todo, futures, strict=True):
-                self._store(v, *fut.result())
+        bar = tqdm(total=len(todo), desc="finite-strain variants", unit="curve", disable=not progress)
+        with bar:
+            if workers <= 1 or len(todo) < 2:
+                for v in todo:
+                    self.curve(v)
+                    bar.update(1)
+                return
+            ctx = multiprocessing.get_context("spawn")  # a fresh interpreter: no inherited BLAS threads
+            with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=ctx) as pool:
+                futures = {pool.submit(solve_variant, self.design, self.grid, self.load, v): v for v in todo}
+                for fut in as_completed(futures):
+                    self._store(futures[fut], *fut.result())
+                    bar.update(1)
 
     def variants_for(self, ingredients) -> list[Variant]:
         """The grid variants a hypothesis with ``ingredients`` interpolates between."""
@@ -157,11 +173,16 @@ class ModelBank:
         e[beyond] = np.nan
         return k, e
 
+    def range_of(self, parameter: str) -> tuple[float, float]:
+        """The range a hypothesis may choose ``parameter`` in (the sourced one unless overridden)."""
+        ing = INGREDIENTS[parameter]
+        return self.ranges.get(parameter, (ing.low, ing.high))
+
     def grid_of(self, parameter: str) -> tuple[float, float, float]:
         """The three values of a continuous model parameter a hypothesis interpolates between:
         its range ends and their geometric mean."""
-        ing = INGREDIENTS[parameter]
-        return (ing.low, float(np.sqrt(ing.low * ing.high)), ing.high)
+        lo, hi = self.range_of(parameter)
+        return (lo, float(np.sqrt(lo * hi)), hi)
 
     def at_values(self, values: dict[str, float], filler_none: bool, nu, pressure):
         """(curvature, elongation) with continuous model parameters ``values`` (``tube_modulus``,

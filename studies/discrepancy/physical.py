@@ -108,10 +108,10 @@ def _residuals(m: Measured, k: np.ndarray, e: np.ndarray) -> np.ndarray:
     return np.nan_to_num(r, nan=_MISS)
 
 
-def _starts(names: list[str]) -> list[np.ndarray]:
-    """A few starting points inside the ranges: the centre, and each parameter at its quartiles."""
-    lo = np.array([INGREDIENTS[n].low for n in names])
-    hi = np.array([INGREDIENTS[n].high for n in names])
+def _starts(bank: ModelBank, names: list[str]) -> list[np.ndarray]:
+    """A few starting points inside the ranges: the centre, and each parameter near either end."""
+    lo = np.array([bank.range_of(n)[0] for n in names])
+    hi = np.array([bank.range_of(n)[1] for n in names])
     out = [lo + 0.5 * (hi - lo)]
     for j in range(len(names)):
         for share in (0.1, 0.9):
@@ -131,9 +131,12 @@ def fit_hypothesis(bank: ModelBank, m: Measured, ingredients: Sequence[str], tip
         return _residuals(m, k, e)
 
     if names:
-        lo = [INGREDIENTS[n].low for n in names]
-        hi = [INGREDIENTS[n].high for n in names]
-        fits = [least_squares(res, x0, bounds=(lo, hi), method="trf", x_scale="jac") for x0 in _starts(names)]
+        lo = [bank.range_of(n)[0] for n in names]
+        hi = [bank.range_of(n)[1] for n in names]
+        fits = [
+            least_squares(res, x0, bounds=(lo, hi), method="trf", x_scale="jac")
+            for x0 in _starts(bank, names)
+        ]
         x = min(fits, key=lambda f: f.cost).x
     else:
         x = np.zeros(0)
@@ -153,10 +156,8 @@ def fit_hypothesis(bank: ModelBank, m: Measured, ingredients: Sequence[str], tip
             n: {
                 "value": values[n],
                 "unit": INGREDIENTS[n].unit,
-                "range": [INGREDIENTS[n].low, INGREDIENTS[n].high],
-                "at_range_end": bool(
-                    np.isclose(values[n], INGREDIENTS[n].low) or np.isclose(values[n], INGREDIENTS[n].high)
-                ),
+                "range": list(bank.range_of(n)),
+                "at_range_end": bool(any(np.isclose(values[n], e) for e in bank.range_of(n))),
                 "source": INGREDIENTS[n].source,
             }
             for n in names

@@ -28,7 +28,14 @@ import numpy as np
 from softcath.design.errors import DataError, DesignError
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 from softcath.studies.discrepancy.model_bank import ModelBank
-from softcath.studies.discrepancy.physical import FIT_QUANTILE, Measured, decide, hypotheses, score_hypotheses
+from softcath.studies.discrepancy.physical import (
+    FIT_QUANTILE,
+    Measured,
+    decide,
+    fit_hypothesis,
+    hypotheses,
+    score_hypotheses,
+)
 
 __all__ = ["INGREDIENTS", "load_prototype_csv", "explain_prototype", "tip_level_factor", "hypotheses_table"]
 
@@ -111,6 +118,7 @@ def explain_prototype(
     max_size: int = DEFAULT_MAX_SIZE,
     bank: ModelBank | None = None,
     workers: int = 1,
+    progress: bool = False,
 ) -> dict:
     """Fit every hypothesis to the measured points; the ``discrepancy.json`` record.
 
@@ -132,6 +140,8 @@ def explain_prototype(
         The design's solved curves to reuse (default: a new one up to the largest measured pressure).
     workers
         Processes for the finite-strain solves (each model variant is solved once).
+    progress
+        Show a progress bar over the finite-strain solves.
     """
     cands = check_candidates(candidates)
     if not (isinstance(max_size, int) and 0 <= max_size <= len(INGREDIENTS)):
@@ -141,7 +151,8 @@ def explain_prototype(
         raise DesignError("--workers", workers, "must be an integer in [1, 256]")
     if bank is None:
         bank = ModelBank(design, p_max=float(m.pressure.max()), load=load)
-    bank.solve([v for h in hypotheses(cands, max_size) for v in bank.variants_for(h)], workers=workers)
+    needed = [v for h in hypotheses(cands, max_size) for v in bank.variants_for(h)]
+    bank.solve(needed, workers=workers, progress=progress)
     hyps = score_hypotheses(bank, m, cands, max_size=max_size, tip_factor=tip_factor)
     choice = decide(hyps)
     base = hyps[0]
@@ -150,8 +161,14 @@ def explain_prototype(
     chosen = next(
         (h for h in hyps if choice["equally_good"] and h["ingredients"] == choice["equally_good"][0]), None
     )
+    outside = None
     if chosen is None:
         notes.append(_unexplained(m, best, max_size))
+        outside = beyond_ranges(
+            design, m, best, load=load, tip_factor=tip_factor, workers=workers, progress=progress
+        )
+        if outside is not None:
+            notes.append(outside["text"])
     elif choice["also_fit"] or len(choice["equally_good"]) > 1:
         notes.append(_ambiguity(choice))
     p = m.pressure
@@ -183,6 +200,7 @@ def explain_prototype(
         "tip_factor": tip_factor,
         "equally_good": choice["equally_good"],
         "also_fit": choice["also_fit"],
+        "beyond_ranges": outside,
         "separating_measurement": choice["separating_measurement"],
         "hypotheses": hyps,
     }
@@ -205,6 +223,45 @@ def _unexplained(m: Measured, best: dict, max_size: int) -> str:
         f"{slope_meas:.3g} 1/(mm MPa), the best model at {slope_model:.3g}"
         + (f"; {', '.join(ends)} sit at the end of their ranges (the data ask for more)" if ends else "")
     )
+
+
+#: How far past a sourced range end the data may take a parameter when nothing fits inside.
+_BEYOND = {"low": 0.5, "high": 2.0}
+_HARD_LIMITS = {"vision_bias": (0.0, 1.0), "pressure_offset": (0.0, 2.0), "rest_curvature": (0.0, 1.0)}
+
+
+def beyond_ranges(
+    design, m: Measured, best: dict, *, load: str, tip_factor: float, workers: int, progress: bool = False
+) -> dict | None:
+    """What the data would need: the best hypothesis refitted with the range ends it sits at moved
+    out (halved or doubled; a vision factor at most 1), or None if none sits at an end."""
+    ranges: dict[str, tuple[float, float]] = {}
+    for n, v in best["parameters"].items():
+        lo, hi = v["range"]
+        if not v["at_range_end"]:
+            continue
+        cap_lo, cap_hi = _HARD_LIMITS.get(n, (0.0, np.inf))
+        if np.isclose(v["value"], lo):
+            lo = max(lo * _BEYOND["low"] if lo > 0 else lo, cap_lo)
+        else:
+            hi = min(hi * _BEYOND["high"], cap_hi)
+        ranges[n] = (lo, hi)
+    if not ranges:
+        return None
+    ingredients = tuple(best["ingredients"])
+    bank = ModelBank(design, p_max=float(m.pressure.max()), load=load, ranges=ranges)
+    bank.solve(bank.variants_for(ingredients), workers=workers, progress=progress)
+    h = fit_hypothesis(bank, m, ingredients, tip_factor)
+    chosen = ", ".join(
+        f"{n} = {v['value']:.3g} {v['unit']}".rstrip()
+        + f" (sourced {INGREDIENTS[n].low:g}-{INGREDIENTS[n].high:g})"
+        for n, v in h["parameters"].items()
+        if n in ranges
+    )
+    verdict = "would fit" if h["fits"] else "still would not fit"
+    name = " + ".join(ingredients)
+    h["text"] = f"beyond the sourced ranges, {name} {verdict}: NRMSE {h['nrmse']:.3f} with {chosen}"
+    return h
 
 
 def _ambiguity(choice: dict) -> str:

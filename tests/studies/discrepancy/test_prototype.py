@@ -65,6 +65,16 @@ def test_a_curve_outside_every_range_is_reported_unexplained(paper):
     assert not r["explained"] and r["named"] == [] and r["equally_good"] == []
     assert any("no hypothesis of up to 2 ingredients" in n for n in r["notes"])
     assert not r["hypotheses"][0]["covers_measurement"]
+    # what the data would need: the best refitted with its pinned range ends moved out, never worse
+    beyond = r["beyond_ranges"]
+    if any(
+        v["at_range_end"]
+        for h in r["hypotheses"]
+        if h["ingredients"] == r["best"]
+        for v in h["parameters"].values()
+    ):
+        assert beyond is not None and beyond["nrmse"] <= r["best_nrmse"] + 1e-3
+        assert beyond["text"] in r["notes"]
 
 
 def test_record_is_strict_json_with_predictions_at_each_pressure(paper):
