@@ -72,9 +72,9 @@ class Inputs:
     def _widget(pn, f: Field, value: Any):
         css = [css_class(f.path)]
         if f.is_choice:
-            return pn.widgets.Select(name=f.label, options=list(f.choices), value=value, css_classes=css)
+            return pn.widgets.Select(label=f.label, options=list(f.choices), value=value, css_classes=css)
         return pn.widgets.FloatInput(
-            name=f"{f.label} [{f.unit}]", value=_shown(value), css_classes=css, width=230
+            label=f"{f.label} [{f.unit}]", value=_shown(value), css_classes=css, width=230
         )
 
     def _edited(self, path: str, value: Any) -> None:

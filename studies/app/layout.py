@@ -95,10 +95,13 @@ def build(session: Session):
     figs = Figures()
     inputs = Inputs(session.state, session.edit)
     p_max = pn.widgets.FloatInput(
-        name="largest pressure of the curves [MPa]", value=session.p_max, width=230, css_classes=["app-p-max"]
+        label="largest pressure of the curves [MPa]",
+        value=session.p_max,
+        width=230,
+        css_classes=["app-p-max"],
     )
     pressure = pn.widgets.FloatInput(
-        name="chosen pressure: tip view and numbers [MPa]",
+        label="chosen pressure: tip view and numbers [MPa]",
         value=session.pressure,
         width=230,
         css_classes=["app-pressure"],
@@ -115,13 +118,11 @@ def build(session: Session):
     )
     pin_text = pn.pane.HTML("", css_classes=["app-pinned"], styles={"font-size": "12px"})
     upload = pn.widgets.FileInput(accept=".csv", css_classes=["app-upload"])
-    upload_clear = pn.widgets.Button(name="Remove the measurement", css_classes=["app-upload-clear"])
-    pin = pn.widgets.Button(name="Pin this design as A", button_type="primary", css_classes=["app-pin"])
-    unpin = pn.widgets.Button(name="Unpin A", css_classes=["app-unpin"])
-    fem_run = pn.widgets.Button(
-        name="Run the 3-D FEM check", button_type="warning", css_classes=["app-fem-run"]
-    )
-    fem_cancel = pn.widgets.Button(name="Cancel the 3-D check", css_classes=["app-fem-cancel"])
+    upload_clear = pn.widgets.Button(label="Remove the measurement", css_classes=["app-upload-clear"])
+    pin = pn.widgets.Button(label="Pin this design as A", color="primary", css_classes=["app-pin"])
+    unpin = pn.widgets.Button(label="Unpin A", css_classes=["app-unpin"])
+    fem_run = pn.widgets.Button(label="Run the 3-D FEM check", color="warning", css_classes=["app-fem-run"])
+    fem_cancel = pn.widgets.Button(label="Cancel the 3-D check", css_classes=["app-fem-cancel"])
     fem_text = pn.pane.HTML("", css_classes=["app-fem"], styles={"font-size": "12px"})
     fem_busy = pn.indicators.Progress(value=None, active=False, width=200, visible=False)
 

@@ -1,5 +1,8 @@
 """The app's live figures (Bokeh): the section, κ and θ against pressure, the bent tip.
 
+The curves' data sources are named (``curve-<tier>``, ``pinned-<tier>``, ``measured``,
+``section-parts``), so the page's script (and a browser test) can read what is drawn.
+
 Each figure keeps its data sources; an update replaces a source's data, which
 Panel sends to the browser as one small patch (no figure is rebuilt). Lines:
 one colour per tier, solid for the current design, dashed for the pinned one;
@@ -46,7 +49,9 @@ class Figures:
         from bokeh.models import ColumnDataSource
         from bokeh.plotting import figure
 
-        self.section_src = ColumnDataSource({"xs": [], "ys": [], "color": [], "label": []})
+        self.section_src = ColumnDataSource(
+            {"xs": [], "ys": [], "color": [], "label": []}, name="section-parts"
+        )
         self.axis_src = ColumnDataSource({"x": [], "y": []})
         self.centre_src = ColumnDataSource({"x": [], "y": []})
         s = figure(
@@ -90,12 +95,13 @@ class Figures:
                 style = {"color": TIER_COLORS[tier], "line_width": 2 if not pinned else 1.5}
                 if pinned:
                     style["line_dash"] = "dashed"
-                src = self.curve_src[(tier, pinned)] = ColumnDataSource(dict(_EMPTY_CURVE))
+                src = ColumnDataSource(dict(_EMPTY_CURVE), name=f"{'pinned' if pinned else 'curve'}-{tier}")
+                self.curve_src[(tier, pinned)] = src
                 self.kappa.line("p", "kappa", source=src, legend_label=_legend(tier, pinned), **style)
                 self.theta.line("p", "theta_deg", source=src, legend_label=_legend(tier, pinned), **style)
                 tsrc = self.tip_src[(tier, pinned)] = ColumnDataSource(dict(_EMPTY_XY))
                 self.tip.line("x", "y", source=tsrc, legend_label=_legend(tier, pinned), **style)
-        self.measured_src = ColumnDataSource({"p": [], "kappa": [], "theta_deg": []})
+        self.measured_src = ColumnDataSource({"p": [], "kappa": [], "theta_deg": []}, name="measured")
         for fig, col in ((self.kappa, "kappa"), (self.theta, "theta_deg")):
             fig.scatter(
                 "p",
