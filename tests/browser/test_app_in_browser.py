@@ -119,6 +119,11 @@ def test_changing_an_input_updates_the_curve(page):
     before = page.source("curve-section", "kappa")
     page.type_into("tube.h", "0.02")
     page.wait_version(1)
+    page.page.wait_for_function(  # the marker and the data are separate messages: wait for the data
+        f"args => {{ const k = ({_SOURCE})(args); return k && k[k.length - 1] !== {before[-1]!r}; }}",
+        arg=["curve-section", "kappa"],
+        timeout=10000,
+    )
     after = page.source("curve-section", "kappa")
     assert len(after) == len(before) and after[-1] != pytest.approx(before[-1], rel=1e-3)
     # the finite-strain curve follows in the background
