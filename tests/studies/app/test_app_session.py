@@ -173,3 +173,26 @@ def test_exports_round_trip(tmp_path, cli):
         assert png.startswith(b"\x89PNG")
     finally:
         session.close()
+
+
+@pytest.mark.slow
+def test_the_3d_check_runs_in_a_child_process_and_a_cancel_ends_it():
+    """The real 3-D FEM (~10 s on the paper design): its curvature within 2 % of the linear section
+    model's; a second run cancelled mid-way ends its process at once."""
+    session = Session("paper", p_max=0.5, pressure=0.1)
+    try:
+        session.recompute()
+        session.start_fem()
+        end = time.monotonic() + 300
+        while session.fem.poll().state == "running" and time.monotonic() < end:
+            time.sleep(0.2)
+        view = session.fem.poll()
+        assert view.state == "done", view
+        assert view.numbers["curvature_per_mm"] == pytest.approx(session.linear_at(0.1), rel=0.02)
+        session.start_fem()
+        proc = session.fem._proc
+        time.sleep(1.0)
+        session.cancel_fem()
+        assert session.fem.poll().state == "cancelled" and not proc.is_alive()
+    finally:
+        session.close()
