@@ -90,6 +90,11 @@ class Ticket:
         self.done, self.total = int(done), int(total)
         self.check()
 
+    def sleep(self, seconds: float) -> None:
+        """Wait ``seconds`` unless cancelled first (then raise :class:`Superseded` at once)."""
+        if self._cancel.wait(seconds):
+            raise Superseded(f"request {self.number} superseded")
+
     def wait(self, timeout: float | None = None) -> bool:
         """Block until the work ended (done, failed or cancelled); False on timeout."""
         return self._finished.wait(timeout)

@@ -34,6 +34,10 @@ log = logging.getLogger(__name__)
 POLL_MS = 150
 #: Pressure points of the linear curves and of the finite-strain curve.
 LINEAR_POINTS, FINITE_POINTS = 61, 13
+#: The finite-strain curve starts this long [s] after the change that asked for it: the fast curves
+#: reach the page first (the worker thread shares the interpreter with the server), and a quick
+#: run of edits starts one computation, not one per keystroke.
+FINITE_DELAY_S = 0.3
 
 
 def guarded(what: str):
@@ -157,8 +161,12 @@ class Session:
         version, d = self.state.version, self.state.design
 
         def work(ticket):
+            from threadpoolctl import threadpool_limits
+
             ticket.progress(0, FINITE_POINTS - 1)
-            return version, finite_strain_curve(d, p, on_pressure=ticket.progress)
+            ticket.sleep(FINITE_DELAY_S)
+            with threadpool_limits(limits=1):  # one core for the background; the other serves the page
+                return version, finite_strain_curve(d, p, on_pressure=ticket.progress)
 
         self.finite_job.submit(work)
         self._tell("finite-progress")

@@ -53,6 +53,20 @@ def test_a_newer_finite_strain_request_supersedes_the_running_one():
         job.close()
 
 
+def test_a_waiting_request_is_superseded_at_once():
+    """The finite-strain request's start delay ends as soon as a newer request arrives."""
+    job = LatestJob("test")
+    try:
+        waiting = job.submit(lambda ticket: ticket.sleep(30.0))
+        time.sleep(0.1)
+        t0 = time.monotonic()
+        newer = job.submit(lambda ticket: "newer")
+        _wait(newer, 5.0)
+        assert waiting.state == "cancelled" and time.monotonic() - t0 < 5.0
+    finally:
+        job.close()
+
+
 def test_a_crash_in_one_computation_leaves_the_job_working():
     job = LatestJob("test")
     try:
