@@ -35,8 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if not 0 <= args.port <= 65535:
         raise DesignError("--port", args.port, "must be in 0..65535 (0: a free port)")
+    import logging
+
     # The app's library imports Panel (Bokeh, Tornado) lazily: `softcath --help` stays fast.
     from softcath.studies.app import make_server
+
+    for noisy in ("panel", "tornado.access"):  # a line per poll and per request would drown --verbose
+        logging.getLogger(noisy).setLevel(logging.WARNING)
 
     server = make_server(args.design, port=args.port, address=args.address)
     server.start()

@@ -18,6 +18,7 @@ from softcath.studies.app.jobs import LatestJob
 from softcath.studies.app.measured import MAX_UPLOAD_BYTES, read_upload
 from softcath.studies.app.numbers import design_numbers
 from softcath.studies.app.page import Session
+from softcath.studies.app.server import view
 
 PAPER_SINE = Path(__file__).resolve().parents[3] / "studies" / "data" / "paper_sine.csv"
 
@@ -210,3 +211,16 @@ def test_the_3d_check_runs_in_a_child_process_and_a_cancel_ends_it():
         assert session.fem.poll().state == "cancelled" and not proc.is_alive()
     finally:
         session.close()
+
+
+def test_view_is_a_panel_object_for_a_notebook():
+    """``softcath.studies.app.view`` builds the same page without a server (what a notebook shows)."""
+    import panel as pn
+
+    page = view("paper", p_max=0.5)
+    try:
+        assert isinstance(page, pn.layout.Panel)
+        html = page.select(pn.pane.HTML)
+        assert any("softcath app: paper" in str(h.object) for h in html)
+    finally:
+        page._softcath_poll.stop()
