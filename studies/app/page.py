@@ -2,10 +2,10 @@
 
 An edit is applied to the state (:func:`~softcath.studies.app.state.apply_value`);
 when the design changed, the formula and the linear section model are solved
-at once (~20 ms) and drawn, and the finite-strain curve is submitted to the
-background (:class:`~softcath.studies.app.jobs.LatestJob`: a newer design
-supersedes it), its previous curve staying on screen until the new one
-arrives. A poll every :data:`POLL_MS` ms moves background results onto the
+at once (~20-40 ms) and drawn, and the finite-strain curve is submitted to
+the session's worker process (:class:`~softcath.studies.app.jobs.LatestJob`:
+a newer design supersedes it), its previous curve staying on screen until
+the new one arrives. A poll every :data:`POLL_MS` ms moves background results onto the
 page. Every callback is guarded: a failure becomes a message on the page and
 the session goes on.
 """
@@ -15,6 +15,7 @@ from __future__ import annotations
 import functools
 import logging
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -35,9 +36,21 @@ POLL_MS = 150
 #: Pressure points of the linear curves and of the finite-strain curve.
 LINEAR_POINTS, FINITE_POINTS = 61, 13
 #: The finite-strain curve starts this long [s] after the change that asked for it: the fast curves
-#: reach the page first (the worker thread shares the interpreter with the server), and a quick
-#: run of edits starts one computation, not one per keystroke.
+#: reach the page first (the worker shares the machine's cores with the server and the browser),
+#: and a quick run of edits starts one computation, not one per keystroke.
 FINITE_DELAY_S = 0.3
+
+
+def finite_strain_work(progress, design, pressures, version: int, delay: float):
+    """The background request (run in the worker process): after ``delay`` [s], the finite-strain
+    curve of ``design`` at ``pressures``; returns ``(version, curve)``. ``progress`` raises
+    :class:`~softcath.studies.app.jobs.Superseded` once a newer design was submitted."""
+    total = len(pressures) - 1
+    end = time.monotonic() + delay
+    while time.monotonic() < end:  # a quick run of edits starts one computation, not one per edit
+        progress(0, total)
+        time.sleep(0.05)
+    return version, finite_strain_curve(design, pressures, on_pressure=progress)
 
 
 def guarded(what: str):
@@ -85,7 +98,8 @@ class Session:
         self.pinned: list[TierCurve] = []
         self.pinned_label = ""
         self.measured: MeasuredCurve | None = None
-        self.finite_job = LatestJob("finite-strain")
+        self.finite_job = LatestJob(finite_strain_work)
+        self.finite_job.start()  # the worker imports the models while the page loads
         self.fem = FemCheck()
         self._shown_ticket = 0
         self.messages: list[str] = []
@@ -158,17 +172,7 @@ class Session:
     def submit_finite(self) -> None:
         """Submit the finite-strain curve of the current design (supersedes any earlier one)."""
         p = np.linspace(0.0, self.p_max, FINITE_POINTS)
-        version, d = self.state.version, self.state.design
-
-        def work(ticket):
-            from threadpoolctl import threadpool_limits
-
-            ticket.progress(0, FINITE_POINTS - 1)
-            ticket.sleep(FINITE_DELAY_S)
-            with threadpool_limits(limits=1):  # one core for the background; the other serves the page
-                return version, finite_strain_curve(d, p, on_pressure=ticket.progress)
-
-        self.finite_job.submit(work)
+        self.finite_job.submit(self.state.design, p, self.state.version, FINITE_DELAY_S)
         self._tell("finite-progress")
 
     def poll(self) -> None:
@@ -181,7 +185,7 @@ class Session:
             self.say(f"background result could not be shown: {type(exc).__name__}: {exc}")
 
     def _poll_finite(self) -> None:
-        ticket = self.finite_job.latest
+        ticket = self.finite_job.poll()
         if ticket is None:
             return
         if ticket.state in ("queued", "running"):

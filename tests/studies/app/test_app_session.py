@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import threading
 import time
 from pathlib import Path
 
@@ -12,71 +11,75 @@ import pytest
 
 from softcath import analytic, design
 from softcath.design.errors import DataError
-from softcath.studies.app.curves import finite_strain_curve, formula_curve, linear_section_curve
+from softcath.studies.app.curves import formula_curve, linear_section_curve
 from softcath.studies.app.export import CSV_COLUMNS, curves_csv, design_toml, view_png
 from softcath.studies.app.jobs import LatestJob
 from softcath.studies.app.measured import MAX_UPLOAD_BYTES, read_upload
 from softcath.studies.app.numbers import design_numbers
-from softcath.studies.app.page import Session
+from softcath.studies.app.page import Session, finite_strain_work
 from softcath.studies.app.server import view
+from tests.studies.app import _targets
 
 PAPER_SINE = Path(__file__).resolve().parents[3] / "studies" / "data" / "paper_sine.csv"
 
 
-def _wait(ticket, seconds: float = 60.0) -> None:
-    assert ticket.wait(seconds), f"ticket {ticket.number} still {ticket.state}"
-
-
 def test_a_newer_finite_strain_request_supersedes_the_running_one():
-    """Real finite-strain curves: the first is stopped at its next pressure, only the second finishes."""
-    job = LatestJob("test")
+    """Real finite-strain curves in the worker process: the first stops at its next pressure, the
+    second never starts, only the third finishes."""
+    job = LatestJob(finite_strain_work)
     p = np.linspace(0.0, 1.0, 9)
-    started = threading.Event()
-
-    def curve(ticket, d):
-        def progress(done, total):
-            started.set()
-            ticket.progress(done, total)
-
-        return finite_strain_curve(d, p, on_pressure=progress)
-
+    paper = design.preset("paper")
     try:
-        first = job.submit(curve, design.preset("paper"))
-        assert started.wait(60)
-        queued = job.submit(curve, design.preset("paper"))  # supersedes the first, then is superseded
-        last = job.submit(curve, design.preset("paper").with_tube_shape(a=0.2, a_int=0.1, b_int=0.07, h=0.0))
-        _wait(first), _wait(queued), _wait(last)
+        first = job.submit(paper, p, 0, 0.0)
+        end = time.monotonic() + 120
+        while first.done < 1 and time.monotonic() < end:  # running, one pressure done
+            job.poll()
+            time.sleep(0.01)
+        queued = job.submit(paper, p, 1, 0.0)
+        last = job.submit(paper.with_tube_shape(a=0.2, a_int=0.1, b_int=0.07, h=0.0), p, 2, 0.0)
+        assert job.wait(last, 120) and job.wait(first, 5) and job.wait(queued, 5)
         assert (first.state, queued.state, last.state) == ("cancelled", "cancelled", "done")
-        assert first.done < first.total  # stopped before its last pressure
+        assert 1 <= first.done < first.total  # stopped before its last pressure
         assert queued.done == 0  # never started
-        assert job.latest is last and last.result.pressure_MPa.size == p.size
+        version, curve = last.result
+        assert job.latest is last and version == 2 and curve.pressure_MPa.size == p.size
     finally:
         job.close()
 
 
-def test_a_waiting_request_is_superseded_at_once():
-    """The finite-strain request's start delay ends as soon as a newer request arrives."""
-    job = LatestJob("test")
+def test_a_waiting_request_is_superseded_and_failures_stay_in_their_ticket():
+    job = LatestJob(_targets.wait_for)
     try:
-        waiting = job.submit(lambda ticket: ticket.sleep(30.0))
-        time.sleep(0.1)
+        waiting = job.submit(30.0)
+        end = time.monotonic() + 60
+        while waiting.state != "running" and time.monotonic() < end:
+            job.poll()
+            time.sleep(0.02)
         t0 = time.monotonic()
-        newer = job.submit(lambda ticket: "newer")
-        _wait(newer, 5.0)
-        assert waiting.state == "cancelled" and time.monotonic() - t0 < 5.0
+        newer = job.submit(0.1)
+        assert job.wait(newer, 10) and job.wait(waiting, 1)
+        assert waiting.state == "cancelled" and newer.result == "waited" and time.monotonic() - t0 < 10
+    finally:
+        job.close()
+    job = LatestJob(_targets.divide)
+    try:
+        bad = job.submit(0.0)
+        assert job.wait(bad, 60) and bad.state == "failed"
+        assert bad.message.startswith("unexpected ZeroDivisionError")
+        good = job.submit(4.0)
+        assert job.wait(good, 10) and (good.state, good.result) == ("done", 0.25)
     finally:
         job.close()
 
 
-def test_a_crash_in_one_computation_leaves_the_job_working():
-    job = LatestJob("test")
+def test_a_worker_that_dies_fails_its_request_and_is_started_again():
+    job = LatestJob(_targets.die)
     try:
-        bad = job.submit(lambda ticket: 1 / 0)
-        _wait(bad)
-        assert bad.state == "failed" and bad.message.startswith("unexpected ZeroDivisionError")
-        good = job.submit(lambda ticket: "fine")
-        _wait(good)
-        assert (good.state, good.result) == ("done", "fine")
+        dead = job.submit(3)
+        assert job.wait(dead, 60)
+        assert dead.state == "failed" and "exit code 3" in dead.message
+        again = job.submit(4)  # a new worker: it dies too, and says so
+        assert job.wait(again, 60) and "exit code 4" in again.message
     finally:
         job.close()
 
@@ -86,10 +89,8 @@ def _settle(session: Session, seconds: float = 60.0) -> None:
     end = time.monotonic() + seconds
     while time.monotonic() < end:
         session.poll()
-        if session.finite_version == session.state.version and session.finite_job.latest.state not in (
-            "queued",
-            "running",
-        ):
+        latest = session.finite_job.latest
+        if session.finite_version == session.state.version and latest is not None and latest.ended:
             return
         time.sleep(0.05)
     raise AssertionError("the finite-strain curve never arrived")
