@@ -138,7 +138,7 @@ def _in_browser(values: list[float]) -> dict[str, list[float]]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--edits", type=int, default=10, help="input changes timed (default 10)")
     args = parser.parse_args()
     if not CHROMIUM.is_file():

@@ -10,10 +10,11 @@ and runs in the background (:mod:`softcath.studies.app.jobs`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from softcath import analytic
 from softcath.design.errors import DesignError
@@ -87,7 +88,9 @@ class TierCurve:
         return float(np.interp(pressure, p, values))
 
 
-def _linear(tier: str, load: str, gains: tuple[float, float], length: float, pressures, strain_gain=None):
+def _linear(
+    tier: str, load: str, gains: tuple[float, float], length: float, pressures: ArrayLike, strain_gain=None
+):
     r = analytic.response_from_gains(gains[0], gains[1], length, pressures)
     strain = None if strain_gain is None else np.abs(r.pressure) * strain_gain
     return TierCurve(
@@ -105,13 +108,13 @@ def _linear(tier: str, load: str, gains: tuple[float, float], length: float, pre
     )
 
 
-def formula_curve(design, pressures: Sequence[float]) -> TierCurve:
+def formula_curve(design, pressures: ArrayLike) -> TierCurve:
     """The paper's formula (eq. 7) under its cap load, at ``pressures`` [MPa]."""
     gains = analytic.gains(design, "cap")
     return _linear("paper", "cap", gains, design.tip.bending_length, pressures)
 
 
-def linear_section_curve(design, pressures: Sequence[float]) -> TierCurve:
+def linear_section_curve(design, pressures: ArrayLike) -> TierCurve:
     """The linear section model under the lumen load, with its largest silicone strain."""
     from softcath.fem.section_model import section_model
     from softcath.fem.section_model.strain import silicone_strain_range
@@ -122,7 +125,7 @@ def linear_section_curve(design, pressures: Sequence[float]) -> TierCurve:
 
 
 def finite_strain_curve(
-    design, pressures: Sequence[float], *, on_pressure: Callable[[int, int], None] | None = None
+    design, pressures: ArrayLike, *, on_pressure: Callable[[int, int], None] | None = None
 ) -> TierCurve:
     """The finite-strain section model under the lumen load (~1 s); a curve that stops short
     (Newton fails at some pressure) is returned as far as it got, with ``message`` saying so.
@@ -136,9 +139,11 @@ def finite_strain_curve(
     p = np.asarray(pressures, dtype=float)
     message = ""
     try:
-        c = section_curve(design, p, load="lumen", linear_gain=False, on_pressure=on_pressure)
+        c = section_curve(design, p.tolist(), load="lumen", linear_gain=False, on_pressure=on_pressure)
     except SectionConvergenceError as exc:
-        c = exc.curve  # type: ignore[attr-defined]
+        c = getattr(exc, "curve", None)  # the converged part
+        if c is None:
+            raise
         message = " ".join(str(exc).split())
     return TierCurve(
         tier="section-nonlinear",

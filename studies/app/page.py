@@ -195,8 +195,8 @@ class Session:
             return
         self._shown_ticket = ticket.number
         if ticket.state == "done":
-            self.finite_version, self.finite = ticket.result
-            self.finite_message = self.finite.message
+            version, curve = ticket.result
+            self.finite_version, self.finite, self.finite_message = version, curve, curve.message
         elif ticket.state == "failed":
             self.finite, self.finite_version = None, self.state.version
             self.finite_message = ticket.message

@@ -7,6 +7,7 @@ import tomllib
 import pytest
 
 from softcath import design
+from softcath.design import presets
 from softcath.design.errors import DesignError
 from softcath.studies.app import apply_value, design_fields, initial_state
 from softcath.studies.sweep.variants import build_variant, check_path
@@ -27,7 +28,7 @@ def test_changes_accumulate_and_follow_the_coil_rule():
     s = apply_value(s, "assembly.tube_coil", "sliding")
     assert s.version == 3
     assert s.design.coil.wire_diameter == pytest.approx(0.15)  # a single-layer coil: (OD - ID)/2
-    assert s.design.filler.youngs_modulus == 0.2
+    assert s.design.filler is not None and s.design.filler.youngs_modulus == 0.2
     assert s.design.assembly.tube_coil == "sliding"
 
 
@@ -37,7 +38,7 @@ def test_an_invalid_value_keeps_the_last_valid_design_and_says_why():
     assert bad.design == s.design and bad.version == s.version and bad.overrides == s.overrides
     msg = bad.errors["tube.catalogue_inner_diameter"]
     # the validator's own one-line message, as loading the same design file gives it
-    table = tomllib.loads(design.presets.text("paper"))
+    table = tomllib.loads(presets.text("paper"))
     table["tube"]["catalogue_inner_diameter"] = 0.7
     with pytest.raises(DesignError) as exc:
         design.from_dict(table)
