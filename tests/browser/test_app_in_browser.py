@@ -188,3 +188,30 @@ def test_exports_round_trip(page, tmp_path, cli):
     got.value.save_as(png)
     assert png.read_bytes().startswith(b"\x89PNG")
     page.assert_clean()
+
+
+def test_pin_overlays_and_the_3d_check_runs_and_cancels(page):
+    """Pin A, change the design: both curves drawn. Then the 3-D FEM check (~10 s on the paper design)
+    reports next to the linear section model, and a second run is cancelled."""
+    p = page.page
+    p.locator(".app-pin button").click()
+    page.wait_rows("pinned-section", "kappa", 61)
+    page.type_into("tube.h", "-0.02")
+    page.wait_version(1)
+    page.page.wait_for_function(
+        f"args => {{ const a = ({_SOURCE})(args[0]), b = ({_SOURCE})(args[1]);"
+        " return a && b && a[a.length - 1] !== b[b.length - 1]; }",
+        arg=[["curve-section", "kappa"], ["pinned-section", "kappa"]],
+        timeout=10000,
+    )
+    assert p.locator(".app-numbers th").get_by_text("pinned A").count() == 1
+    p.locator(".app-fem-run button").click()
+    p.locator(".app-fem").get_by_text(re.compile(r"3-D linear FEM, lumen load, at 0\.5 MPa: κ = ")).wait_for(
+        timeout=300000
+    )
+    assert "3-D / section = " in p.locator(".app-fem").get_by_text("3-D / section").text_content()
+    p.locator(".app-fem-run button").click()
+    p.locator(".app-fem").get_by_text("3-D linear FEM: running").wait_for(timeout=10000)
+    p.locator(".app-fem-cancel button").click()
+    p.locator(".app-fem").get_by_text("3-D linear FEM: cancelled").wait_for(timeout=10000)
+    page.assert_clean()

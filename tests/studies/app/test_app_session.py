@@ -225,3 +225,21 @@ def test_view_is_a_panel_object_for_a_notebook():
         assert any("softcath app: paper" in str(getattr(h, "object", "")) for h in html)
     finally:
         getattr(page, "_softcath_poll").stop()  # noqa: B009 - set by build(), unknown to the type
+
+
+def test_pressure_controls_redraw_or_say_why_not():
+    session = Session("paper", p_max=1.0, pressure=0.5)
+    seen: list[str] = []
+    session.listeners.append(seen.append)
+    try:
+        session.compute_fast()
+        session.set_pressures(pressure=0.2)
+        assert session.pressure == 0.2 and seen[-1] == "pressure"
+        session.set_pressures(p_max=0.0)
+        assert session.p_max == 1.0 and "largest pressure = 0: must be > 0 MPa" in session.messages[-1]
+        session.set_pressures(p_max=1e9)
+        assert session.p_max == 1.0 and "largest pressure" in session.messages[-1]
+        session.set_pressures(p_max=2.0)
+        assert session.fast[0].pressure_MPa[-1] == 2.0
+    finally:
+        session.close()
