@@ -87,7 +87,7 @@ def _free_port(address: str) -> int:
         return int(s.getsockname()[1])
 
 
-@dataclass
+@dataclass(frozen=True)
 class RunningApp:
     """A server running on its own thread (tests, benchmarks, notebooks): its ``url`` and :meth:`stop`."""
 
@@ -134,5 +134,7 @@ def start_in_thread(spec: Any = "paper", *, address: str = "127.0.0.1", **option
     ready.wait(60)
     if "error" in box:
         raise box["error"]
+    if "server" not in box:
+        raise RuntimeError("the app's server did not start within 60 s")
     server = box["server"]
     return RunningApp(f"http://{address}:{server.port}/", server, box["loop"], thread)
