@@ -220,11 +220,8 @@ class LatestJob:
             self._latest_number.value = -1
 
     def close(self) -> None:
-        """End the worker (the page was closed)."""
+        """End the worker now (the page was closed; it holds nothing worth waiting for)."""
         self.cancel()
-        if self._requests is not None and self._proc is not None and self._proc.is_alive():
-            self._requests.put(None)
-            self._proc.join(timeout=2)
         self._stop_worker()
 
     def _stop_worker(self) -> None:
