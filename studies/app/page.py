@@ -99,10 +99,14 @@ class Session:
         self.pinned_label = ""
         self.measured: MeasuredCurve | None = None
         self.finite_job = LatestJob(finite_strain_work)
-        self.finite_job.start()  # the worker imports the models while the page loads
+        self.messages: list[str] = []
+        try:
+            self.finite_job.start()  # the worker imports the models while the page loads
+        except Exception as exc:  # e.g. a script without a __main__ guard cannot spawn processes
+            log.exception("the background worker did not start")
+            self.messages.append(f"finite-strain section model unavailable: {type(exc).__name__}: {exc}")
         self.fem = FemCheck()
         self._shown_ticket = 0
-        self.messages: list[str] = []
         self.listeners: list[Any] = []  # the layout's redraw hooks: called with the name of what changed
 
     # --- messages and redraws --------------------------------------------------------------------
@@ -169,6 +173,7 @@ class Session:
             self.fast = curves  # the formula is shown even when the section model fails
             self._tell("fast")
 
+    @guarded("finite-strain section model")
     def submit_finite(self) -> None:
         """Submit the finite-strain curve of the current design (supersedes any earlier one)."""
         p = np.linspace(0.0, self.p_max, FINITE_POINTS)

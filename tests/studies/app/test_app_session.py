@@ -55,10 +55,9 @@ def test_a_waiting_request_is_superseded_and_failures_stay_in_their_ticket():
         while waiting.state != "running" and time.monotonic() < end:
             job.poll()
             time.sleep(0.02)
-        t0 = time.monotonic()
         newer = job.submit(0.1)
-        assert job.wait(newer, 10) and job.wait(waiting, 1)
-        assert waiting.state == "cancelled" and newer.result == "waited" and time.monotonic() - t0 < 10
+        assert job.wait(newer, 25) and job.wait(waiting, 1)  # well before the 30 s wait would end
+        assert waiting.state == "cancelled" and newer.result == "waited"
     finally:
         job.close()
     job = LatestJob(_targets.divide)
