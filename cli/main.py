@@ -47,6 +47,7 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("coil", "softcath.cli.coil"),
     ("predict", "softcath.cli.predict"),
     ("optimise", "softcath.cli.optimise"),
+    ("app", "softcath.cli.app"),
 )
 
 EXIT_ERROR = 2

@@ -20,42 +20,18 @@ import numpy as np
 import pytest
 
 from softcath.cli.main import main
+from tests.browser._chromium import CHROMIUM, SKIP_REASON
 
-CHROMIUM = Path("/usr/bin/chromium")
 ROOT = Path(__file__).resolve().parents[2]
-LAUNCH_ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    # WebGL without a GPU: SwiftShader (software), which headless Chromium refuses unless told
-    "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader",
-]
 
 # The viewer and the checks' own tests take a second or so each; a report page needs a run of softcath
 # first (3-15 s): those are marked slow.
 pytestmark = [
     pytest.mark.skipif(
         not CHROMIUM.is_file(),
-        reason="Chromium not installed: apt-get install chromium (CI's .ci/run does this)",
+        reason=SKIP_REASON,
     ),
 ]
-
-
-@pytest.fixture(scope="module")
-def browser():
-    sync_api = pytest.importorskip(
-        "playwright.sync_api", reason="playwright not installed: pip install -e .[dev]"
-    )
-    with sync_api.sync_playwright() as pw:
-        b = pw.chromium.launch(executable_path=str(CHROMIUM), args=LAUNCH_ARGS)
-        yield b
-        b.close()
 
 
 class Opened:

@@ -11,8 +11,9 @@ import pytest
 from softcath.cli.main import SUBCOMMANDS, build_parser, main
 from softcath.cli.options import design_or_data
 
-WRITES_NOTHING = {("design", "validate")}  # prints its verdict only
-DESIGN_OPTIONAL = {"bench", "calibrate", "discrepancy", "demo"}  # default: paper
+# design validate prints its verdict only; app serves pages (its exports are the browser's downloads)
+WRITES_NOTHING = {("design", "validate"), ("app", None)}
+DESIGN_OPTIONAL = {"bench", "calibrate", "discrepancy", "demo", "app"}  # default: paper
 NO_DESIGN = {"sweep", "report", "select", "measure", "record"}  # their subject is a spec, a sweep or a device
 
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -226,6 +226,7 @@ def section_curve(
     mesher: str = "template",
     linear_gain: bool = True,
     progress: bool = False,
+    on_pressure: Callable[[int, int], None] | None = None,
 ) -> SectionCurve:
     """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
 
@@ -251,6 +252,10 @@ def section_curve(
         ~8 % of a 7-pressure curve; sweeps and bands leave it out).
     progress
         Show a progress bar over the pressures.
+    on_pressure
+        Called as ``on_pressure(done, total)`` after each converged positive pressure
+        (a caller's progress display). An exception it raises stops the walk and
+        propagates: the way a caller cancels a curve it no longer needs.
 
     Raises
     ------
@@ -279,7 +284,7 @@ def section_curve(
         hoop_cap=hoop_cap,
         linear_gain=linear_gain,
     )
-    states, error = _walk(setup, progress)
+    states, error = _walk(setup, progress, on_pressure)
     curve = _curve(d, load, p, setup, states, hoop_cap, t0)
     log.info(
         "finite-strain section: %d pressures in %.3g s (%d DOFs)",
@@ -375,7 +380,7 @@ def _set_up(
     )
 
 
-def _walk(setup: _Setup, progress: bool):
+def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None] | None = None):
     """Newton walk through the positive pressures; returns (states, convergence error or None)."""
     from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, walk
 
@@ -386,12 +391,22 @@ def _walk(setup: _Setup, progress: bool):
         bar = tqdm(total=setup.positive.size, desc="finite-strain section", unit="pressure")
     states = []
     error = None
+    total = int(setup.positive.size)
+    done = [0]
+
+    def on_state(_state) -> None:
+        done[0] += 1
+        if bar is not None:
+            bar.update(1)
+        if on_pressure is not None:
+            on_pressure(done[0], total)
+
     try:
         states = walk(
             setup.problem,
             setup.loading,
             setup.positive / setup.p_top,
-            on_state=(lambda s: bar.update(1)) if bar else None,
+            on_state=on_state if (bar is not None or on_pressure is not None) else None,
         )
     except SectionConvergenceError as exc:
         error = exc

@@ -51,3 +51,20 @@ def test_the_linear_gain_is_optional_and_leaves_the_curve_alone():
     without = section_curve("paper", [0.3], linear_gain=False)
     assert without.linear_curvature_per_mm_per_MPa is None and with_gain.linear_curvature_per_mm_per_MPa > 0
     assert without.curvature_per_mm[0] == with_gain.curvature_per_mm[0]
+
+
+def test_on_pressure_reports_each_pressure_and_can_stop_the_walk():
+    """``on_pressure(done, total)`` follows the walk; an exception it raises stops it."""
+    seen: list[tuple[int, int]] = []
+    c = section_curve("paper", [0.0, 0.05, 0.1, 0.15], on_pressure=lambda i, n: seen.append((i, n)))
+    assert seen == [(1, 3), (2, 3), (3, 3)] and c.pressure.size == 4
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_one(i: int, n: int) -> None:
+        if i == 1:
+            raise Stop
+
+    with pytest.raises(Stop):
+        section_curve("paper", [0.05, 0.1, 0.15], on_pressure=stop_after_one)
