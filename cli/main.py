@@ -19,12 +19,14 @@ import argparse
 import importlib
 import logging
 import os
+import re
 import signal
 import sys
 import traceback
 import warnings
 
 from softcath import __version__
+from softcath.cli.options import in_command_terms, option_terms
 from softcath.design.errors import SoftcathError
 from softcath.interrupts import clear_stop, request_stop
 
@@ -85,11 +87,56 @@ class _GuardedStdout:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with the CLI's one-line refusal: ``softcath CMD: error: ...``, exit 2, no usage block."""
+    """argparse with the CLI's one-line refusal: ``softcath CMD: error: OPTION = VALUE: BOUND``, exit 2."""
 
     def error(self, message: str):  # type: ignore[override]
-        _say(f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)")
+        _say(f"{self.prog}: error: {parser_message(' '.join(message.split()))} (see {self.prog} --help)")
         raise SystemExit(EXIT_ERROR)
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        # A subcommand's parser reports its own leftovers, so the line names the command.
+        parsed, extra = super().parse_known_args(args, namespace)
+        if extra and self._subparsers is None:
+            self.error(_unrecognized(extra))
+        return parsed, extra
+
+
+def _unrecognized(extra: list[str]) -> str:
+    """argparse's message for arguments the command does not take, as ``OPTION = VALUE: bound``."""
+    first = extra[0]
+    if first.startswith("-") and len(first) > 1:
+        option, eq, value = first.partition("=")
+        if not eq and len(extra) > 1 and not extra[1].startswith("-"):
+            value = extra[1]
+        return f"{option} = {value!r}: not an option of this command"
+    return f"argument = {first!r}: not expected here (every positional is taken)"
+
+
+_ARGPARSE_FORMS = (
+    (re.compile(r"^argument (?P<opt>[^:]+): invalid (?P<type>\w+) value: (?P<val>.*)$"), "must be a {type}"),
+    (
+        re.compile(r"^argument (?P<opt>[^:]+): invalid choice: (?P<val>'.*?') \((?P<rest>.*)\)$"),
+        "invalid choice; {rest}",
+    ),
+    (re.compile(r"^argument (?P<opt>[^:]+): (?P<val>)expected one argument$"), "needs a value"),
+    (re.compile(r"^argument (?P<opt>[^:]+): (?P<val>)(?P<rest>.*)$"), "{rest}"),
+)
+
+
+def parser_message(message: str) -> str:
+    """argparse's refusal said as ``OPTION = VALUE: BOUND`` where it names one argument."""
+    if " = " in message.split(":", 1)[0]:
+        return message
+    if message.startswith("the following arguments are required: "):
+        names = message.split(": ", 1)[1]
+        return f"{names} = None: required"
+    for pattern, bound in _ARGPARSE_FORMS:
+        m = pattern.match(message)
+        if m:
+            opt = m.group("opt").split("/")[-1]
+            val = m.group("val") or "None"
+            return f"{opt} = {val}: {bound.format(**m.groupdict())}"
+    return message
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -115,7 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__)
         module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(_run=module.run, _terms=option_terms(p))
     return parser
 
 
@@ -155,19 +202,6 @@ def _on_sigterm(signum, frame) -> None:  # pragma: no cover - exercised by subpr
 def _on_sigint(signum, frame) -> None:  # pragma: no cover - exercised by subprocess tests
     request_stop(KeyboardInterrupt)
     raise KeyboardInterrupt()
-
-
-#: Library parameters every command takes from the same option (the library never names options).
-_OPTION_OF = {"out_dir": "--out"}
-
-
-def _in_command_terms(exc: SoftcathError) -> SoftcathError:
-    """``exc`` naming the command's option where the library named its own parameter."""
-    from softcath.design.errors import DesignError
-
-    if isinstance(exc, DesignError) and exc.parameter in _OPTION_OF:
-        return DesignError(_OPTION_OF[exc.parameter], exc.value, exc.bound)
-    return exc
 
 
 def _describe(exc: BaseException) -> str:
@@ -212,8 +246,11 @@ def main(argv: list[str] | None = None) -> int:
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
     _printable_streams()
     from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
+    from softcath.studies.output_ledger import forget_inputs, protect_inputs
 
     forget_created_dirs()
+    forget_inputs()
+    protect_inputs(_input_files(args))
     ok = False
     real_stdout, real_formatwarning = sys.stdout, warnings.formatwarning
     warnings.formatwarning = _one_line_warning
@@ -235,7 +272,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.debug:
             traceback.print_exc()
         if isinstance(exc, SoftcathError):
-            _say(f"softcath {name}: error: {' '.join(str(_in_command_terms(exc)).split())}")
+            said = in_command_terms(exc, getattr(args, "_terms", {}))
+            _say(f"softcath {name}: error: {' '.join(str(said).split())}")
         else:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR
@@ -245,12 +283,30 @@ def main(argv: list[str] | None = None) -> int:
             forget_created_dirs()
         else:
             remove_created_dirs()
+        forget_inputs()
         sys.stdout, warnings.formatwarning = real_stdout, real_formatwarning
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
         if old_int is not None:
             signal.signal(signal.SIGINT, old_int)
+
+
+#: Options that name what a command writes, not what it reads.
+_OUTPUT_OPTIONS = frozenset({"out", "step", "stl"})
+
+
+def _input_files(args: argparse.Namespace) -> list[tuple[str, object]]:
+    """``(option, path)`` of every argument that may name a file the command reads."""
+    terms = getattr(args, "_terms", {})
+    found = []
+    for dest, value in vars(args).items():
+        if dest.startswith("_") or dest in _OUTPUT_OPTIONS:
+            continue
+        for v in value if isinstance(value, list) else [value]:
+            if isinstance(v, str | os.PathLike) and str(v):
+                found.append((terms.get(dest, dest.upper()), v))
+    return found
 
 
 def _printable_streams() -> None:
