@@ -17,6 +17,7 @@ meshes (0.77 and 1.25 GB).
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 
@@ -32,7 +33,24 @@ __all__ = [
     "estimate_section_memory_bytes",
     "check_section_budget",
     "estimate_section_seconds",
+    "estimate_finite_strain_seconds",
+    "check_work_seconds",
+    "MAX_WORK_SECONDS",
+    "WARN_WORK_SECONDS",
+    "MAX_WORKERS",
+    "check_workers",
 ]
+
+log = logging.getLogger(__name__)
+
+#: Longest estimated work a command starts, s: two hours (``predict``, ``optimise``, ``select --robust``,
+#: ``section --nonlinear``): a run beyond is refused before any work with its estimate.
+MAX_WORK_SECONDS = 2 * 3600.0
+#: Estimated work above which a command says its estimate on stderr before it starts, s.
+WARN_WORK_SECONDS = 60.0
+#: One pressure of the finite-strain section walk per estimated (linear) section DOF, s: 64 ms a
+#: pressure for the paper section (2.8k estimated DOFs; 2-3 Newton iterations a pressure).
+_FINITE_STRAIN_SECONDS_PER_DOF = 2.3e-5
 
 #: Thinnest lumen semi-axis or wall the FEM geometry resolves, mm (its bonded-land gap).
 MIN_FEATURE_MM = 0.01
@@ -170,3 +188,74 @@ def check_section_budget(*, coil_outer_radius: float, mesh_size: float, param: s
             "use a coarser mesh",
         )
     return dofs
+
+
+def estimate_finite_strain_seconds(dofs: float, pressures: int) -> float:
+    """Estimated wall time of one finite-strain section curve through ``pressures`` pressures, s.
+
+    ``0.5 s + pressures x 23 us per estimated section DOF`` (:func:`estimate_section_dofs`):
+    3.8 s for 60 pressures of the paper section (measured 3.9 s).
+    """
+    return 0.5 + pressures * _FINITE_STRAIN_SECONDS_PER_DOF * dofs
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.3g} s"
+    if seconds < 2 * 3600:
+        return f"{seconds / 60:.3g} min"
+    return f"{seconds / 3600:.3g} h"
+
+
+def check_work_seconds(seconds: float, *, param: str, value: object, what: str, hint: str) -> float:
+    """Refuse work estimated above :data:`MAX_WORK_SECONDS`; warn with the estimate above a minute.
+
+    Parameters
+    ----------
+    seconds
+        The estimate.
+    param, value
+        The input that sized the work (named in the refusal).
+    what
+        What is estimated (e.g. ``"10^6 pressures of the finite-strain section model"``).
+    hint
+        How to make it smaller.
+
+    Raises
+    ------
+    DesignError
+        Naming ``param`` with the estimate and the limit.
+    """
+    if not seconds <= MAX_WORK_SECONDS:
+        raise DesignError(
+            param,
+            value,
+            f"{what} is estimated at {_duration(seconds)}, above the {_duration(MAX_WORK_SECONDS)} "
+            f"a command starts; {hint}",
+        )
+    if seconds > WARN_WORK_SECONDS:
+        log.warning("%s: estimated %s before it finishes", what, _duration(seconds))
+    return seconds
+
+
+#: Most local worker processes a command starts: each is a Python process with its own memory
+#: (~0.2 GB), and more processes than cores only queue.
+MAX_WORKERS = 256
+
+
+def check_workers(workers, *, param: str = "workers") -> None:
+    """Refuse a worker count that is not an integer in [1, :data:`MAX_WORKERS`] (None: the default).
+
+    Raises
+    ------
+    DesignError
+        Naming ``param``.
+    """
+    if workers is None:
+        return
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise DesignError(
+            param,
+            workers,
+            f"must be an integer in [1, {MAX_WORKERS}] (this machine has {os.cpu_count()} CPUs)",
+        )
