@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.predict import predict
     from softcath.studies.predict.workflow import check_predict_inputs
 
-    compare = tuple(model_name(t.strip()) for t in args.compare.split(",") if t.strip())
+    compare = _compare(args.compare)
     # Everything that can be checked is checked before the output folder or any run.
     pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
     measured = _nonlinear_inputs(args)
@@ -248,6 +248,20 @@ def _print_tiers(tiers, doc: dict) -> None:
             f"finite-strain FEM ({fs['load']} load, nominal design, p = {fs['pressures_MPa']} MPa): line-fit "
             f"kappa/p {fs['gain_line_fit']:.4g} 1/(mm MPa), intercept {fs['intercept_per_mm']:.3g} 1/mm"
         )
+
+
+def _compare(text: str) -> tuple[str, ...]:
+    """``--compare TIER,TIER``: each a tier this command runs (the same names as ``--model``)."""
+    from softcath.design.errors import DesignError
+
+    choices = ("paper", "section", "fem")
+    tiers = tuple(model_name(t.strip()) for t in text.split(",") if t.strip())
+    for t in tiers:
+        if t not in choices:
+            raise DesignError(
+                "--compare", text, f"{t!r} is not a tier of predict; give some of {', '.join(choices)}"
+            )
+    return tiers
 
 
 def _nonlinear_inputs(args: argparse.Namespace):

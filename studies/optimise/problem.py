@@ -25,7 +25,7 @@ from softcath.studies.selection.criteria import (
 )
 from softcath.studies.selection.expressions import SelectionError
 from softcath.studies.sweep.results import COLUMN_UNITS
-from softcath.studies.tiers import tier_name
+from softcath.studies.tiers import check_assembly, tier_name
 
 __all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
 
@@ -123,6 +123,20 @@ _LISTED = (
 )
 
 
+def _check_numeric(base_table: Mapping[str, Any], v: Variable) -> None:
+    """Refuse a variable whose field is not a number (a material name, a flag): LO:HI means nothing there."""
+    node: Any = base_table
+    for part in v.path.split("."):
+        node = node.get(part) if isinstance(node, Mapping) else None
+    if node is not None and (isinstance(node, bool) or not isinstance(node, (int, float))):
+        raise DesignError(
+            f"vary.{v.path}",
+            f"{v.low:g}:{v.high:g}",
+            f"{v.path} is {node!r}, not a number: only numeric fields vary between LO and HI "
+            "(compare materials with separate runs)",
+        )
+
+
 def _parsed(param: str, text: str, parse):
     """``parse(text)`` with a refusal said as ``param = text: why`` (the option names the expression)."""
     try:
@@ -170,6 +184,7 @@ def make_problem(
         )
     if load not in ("cap", "lumen"):
         raise DesignError("load", load, "must be cap or lumen")
+    check_assembly(model, base_table.get("assembly"))
     vs = tuple(v if isinstance(v, Variable) else parse_variable(v) for v in variables)
     if not vs:
         raise DesignError("variables", [], "give at least one design variable PATH=LO:HI")
@@ -182,6 +197,7 @@ def make_problem(
             check_path(base_table, v.path)
         except DesignError as exc:
             raise DesignError(f"vary.{v.path}", v.path, exc.bound) from None
+        _check_numeric(base_table, v)
     if not objectives:
         raise DesignError("objectives", [], "give at least one objective, e.g. 'maximise bend_angle_deg'")
     objs = tuple(_parsed("objectives", o, parse_objective) for o in objectives)
