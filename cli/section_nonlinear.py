@@ -39,14 +39,13 @@ def check_options(args: argparse.Namespace) -> None:
 
 def check_cost(d, n_pressures: int, args: argparse.Namespace) -> float:
     """Refuse a curve estimated beyond the work limit (warn above a minute); the estimate in s."""
-    from softcath.fem.limits import check_section_budget, check_work_seconds, estimate_finite_strain_seconds
+    from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
 
-    h = MESH_SIZE if args.mesh_size is None else args.mesh_size
-    check_size(h, SEGMENTS if args.segments is None else args.segments)  # the mesher's bounds first
-    dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=h, param="--mesh-size")
+    mesh_size = MESH_SIZE if args.mesh_size is None else args.mesh_size
+    check_size(mesh_size, SEGMENTS if args.segments is None else args.segments)  # named by the library
     return check_work_seconds(
-        estimate_finite_strain_seconds(dofs, n_pressures),
+        finite_strain_curve_seconds(d, n_pressures, mesh_size=args.mesh_size, param="--mesh-size"),
         param="--pressure",
         value=args.pressure,
         what=f"the finite-strain curve through {n_pressures} pressures",

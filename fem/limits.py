@@ -34,6 +34,7 @@ __all__ = [
     "check_section_budget",
     "estimate_section_seconds",
     "estimate_finite_strain_seconds",
+    "finite_strain_curve_seconds",
     "check_work_seconds",
     "MAX_WORK_SECONDS",
     "WARN_WORK_SECONDS",
@@ -49,8 +50,11 @@ MAX_WORK_SECONDS = 2 * 3600.0
 #: Estimated work above which a command says its estimate on stderr before it starts, s.
 WARN_WORK_SECONDS = 60.0
 #: One pressure of the finite-strain section walk per estimated (linear) section DOF, s: 64 ms a
-#: pressure for the paper section (2.8k estimated DOFs; 2-3 Newton iterations a pressure).
+#: pressure for the paper section (2.8k estimated DOFs) in a dense walk (2-3 Newton iterations).
 _FINITE_STRAIN_SECONDS_PER_DOF = 2.3e-5
+#: The extra cost of each of a walk's first ten pressures (large load steps take most Newton
+#: iterations): 1.1 s a curve through 3 pressures of the paper section, measured in ``predict``.
+_FINITE_STRAIN_FIRST_STEPS_PER_DOF = 9.0e-5
 
 #: Thinnest lumen semi-axis or wall the FEM geometry resolves, mm (its bonded-land gap).
 MIN_FEATURE_MM = 0.01
@@ -193,10 +197,31 @@ def check_section_budget(*, coil_outer_radius: float, mesh_size: float, param: s
 def estimate_finite_strain_seconds(dofs: float, pressures: int) -> float:
     """Estimated wall time of one finite-strain section curve through ``pressures`` pressures, s.
 
-    ``0.5 s + pressures x 23 us per estimated section DOF`` (:func:`estimate_section_dofs`):
-    3.8 s for 60 pressures of the paper section (measured 3.9 s).
+    ``0.5 s + DOFs x (23 us x pressures + 90 us x min(pressures, 10))`` with the estimated section
+    DOFs (:func:`estimate_section_dofs`): 1.4 s for 3 pressures of the paper section (measured
+    about 1.1 s), 6.9 s for 60 (measured 3.9 s): an upper estimate.
     """
-    return 0.5 + pressures * _FINITE_STRAIN_SECONDS_PER_DOF * dofs
+    n = int(pressures)
+    return 0.5 + dofs * (_FINITE_STRAIN_SECONDS_PER_DOF * n + _FINITE_STRAIN_FIRST_STEPS_PER_DOF * min(n, 10))
+
+
+def finite_strain_curve_seconds(design, pressures: int, *, mesh_size: float | None = None, param="mesh_size"):
+    """Estimated seconds of one finite-strain section curve of ``design`` (mesh size checked first).
+
+    Raises
+    ------
+    DesignError
+        Naming ``param``: a mesh size outside the mesher's range or a section too large to solve.
+    """
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
+
+    h = MESH_SIZE if mesh_size is None else mesh_size
+    try:
+        check_size(h, SEGMENTS)
+    except DesignError as exc:
+        raise DesignError(param, exc.value, exc.bound) from None
+    dofs = check_section_budget(coil_outer_radius=design.coil.outer_diameter / 2, mesh_size=h, param=param)
+    return estimate_finite_strain_seconds(dofs, pressures)
 
 
 def _duration(seconds: float) -> str:
