@@ -30,6 +30,8 @@ __all__ = [
     "self_contact_warning",
     "warn_self_contact",
     "check_measured_pressures",
+    "self_contact_reasons",
+    "fail_self_contact",
 ]
 
 log = logging.getLogger("softcath.validity")
@@ -96,6 +98,39 @@ def warn_self_contact(pressures, bend_angle_rad, *, model: str) -> bool:
     if msg:
         log.warning(msg)
     return msg is not None
+
+
+def self_contact_reasons(df, column: str = "bend_angle_deg") -> dict[int, str]:
+    """``{design_id: reason}`` of the designs in a results table whose bend passes a full turn.
+
+    The table's ``column`` (degrees) is the model's bend; a design past :data:`SELF_CONTACT_DEG`
+    at any of its pressures passes through itself there, which no model of softcath represents.
+    """
+    if column not in df.columns or df.empty:
+        return {}
+    theta = np.abs(df[column].to_numpy(float))
+    past = np.isfinite(theta) & (theta > SELF_CONTACT_DEG)
+    out: dict[int, str] = {}
+    for i in np.flatnonzero(past):
+        did = int(df["design_id"].iloc[i])
+        if did not in out:
+            out[did] = (
+                f"bend {theta[i]:.4g} deg at {float(df['pressure_MPa'].iloc[i]):g} MPa is past "
+                f"{SELF_CONTACT_DEG:g} deg: the tip passes through itself (self-contact is not modelled)"
+            )
+    return out
+
+
+def fail_self_contact(df, column: str = "bend_angle_deg"):
+    """``df`` with the designs of :func:`self_contact_reasons` marked failed, with their reason."""
+    reasons = self_contact_reasons(df, column)
+    if not reasons:
+        return df
+    df = df.copy()
+    hit = df["design_id"].isin(list(reasons)).to_numpy()
+    df.loc[hit, "status"] = "failed"
+    df.loc[hit, "reason"] = df.loc[hit, "design_id"].map(reasons)
+    return df
 
 
 def check_measured_pressures(measured_MPa, model_top_MPa: float, *, param: str, value: object) -> None:
