@@ -108,7 +108,8 @@ def _unrecognized(extra: list[str]) -> str:
         option, eq, value = first.partition("=")
         if not eq and len(extra) > 1 and not extra[1].startswith("-"):
             value = extra[1]
-        return f"{option} = {value!r}: not an option of this command"
+        shown = repr(value) if value else "None"
+        return f"{option} = {shown}: not an option of this command"
     return f"argument = {first!r}: not expected here (every positional is taken)"
 
 
@@ -208,6 +209,11 @@ def _describe(exc: BaseException) -> str:
     """One line for an exception that is not an input error."""
     if isinstance(exc, MemoryError):
         return "out of memory; use a coarser mesh / fewer designs (rerun with --debug for details)"
+    if type(exc).__name__ == "BrokenProcessPool":  # concurrent.futures: a worker was killed
+        return (
+            "a worker process died (killed, or out of memory); this run's outputs were not written: "
+            "rerun it (with fewer --workers if memory is short)"
+        )
     if isinstance(exc, OSError) and exc.strerror:
         where = f": {exc.filename}" if exc.filename else ""
         return f"{exc.strerror}{where}"

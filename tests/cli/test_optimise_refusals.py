@@ -151,3 +151,78 @@ def test_the_input_design_inside_out_is_refused_before_any_work(cli, tmp_path):
     line = cli(*argv, "--objective", "maximise bend_angle_deg", "--budget", "10", "--out", out).error_line()
     assert "--out = " in line and "holds the input" in line and "(DESIGN)" in line
     assert design.read_bytes() == before
+
+
+def _descendants(pid: int) -> list[tuple[int, int]]:
+    """``(pid, depth)`` of every live descendant of ``pid`` (from /proc), children first."""
+    import os
+
+    parents = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat", encoding="ascii") as fh:
+                    parents[int(entry)] = int(fh.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+    out, todo = [], [(pid, 0)]
+    while todo:
+        p, depth = todo.pop()
+        kids = [(c, depth + 1) for c, pp in parents.items() if pp == p]
+        out.extend(kids)
+        todo.extend(kids)
+    return out
+
+
+def test_a_killed_worker_fails_the_run_in_one_line_and_keeps_the_earlier_outputs(cli, tmp_path):
+    """Fault injection: SIGKILL the search's worker processes mid-run (a real kill, no mock)."""
+    import hashlib
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "o"
+    assert cli(*BASE, "--objective", "maximise bend_angle_deg", "--budget", "10", "--out", out).status == 0
+
+    def digest():
+        return {
+            p.relative_to(out).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(out.rglob("*"))
+            if p.is_file()
+        }
+
+    before = digest()
+    argv = ["optimise", "paper", "--model", "section", "--vary", "tube.h=-0.04:0.04", "--no-fem-check"]
+    argv += ["--objective", "maximise bend_angle_deg at p=0.5", "--budget", "2000", "--workers", "2"]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "softcath", *argv, "--no-progress", "--out", str(out)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        # the pool's workers: forked by its fork server (depth 2), beside the resource tracker
+        while time.monotonic() < deadline and not [p for p, d in _descendants(proc.pid) if d >= 2]:
+            time.sleep(0.2)
+        time.sleep(2.0)  # the workers are evaluating
+        workers = [p for p, d in _descendants(proc.pid) if d >= 2]
+        assert workers, "no worker processes started"
+        for pid in workers:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 2, err
+    lines = [ln for ln in err.splitlines() if ": error: " in ln]
+    assert len(lines) == 1 and "a worker process died" in lines[0] and "Traceback" not in err
+    assert digest() == before  # the earlier run's optimum, designs, report and ledger as they were
