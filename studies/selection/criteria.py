@@ -160,10 +160,13 @@ def check_columns(items, columns, *, listed: str = "see columns.json for the lis
 
 
 def without_text(message: str, text: str) -> str:
-    """A :class:`SelectionError` message without its ``in 'TEXT': `` lead (the caller names TEXT)."""
-    for lead in (f"in '{short(text)}': ", f"in '{text}': "):
+    """A :class:`SelectionError` message without its quotes of ``text`` (the caller names it)."""
+    for lead in (f"in '{short(text)}': ", f"in '{text}': ", f"'{short(text)}' ", f"'{text}' "):
         if message.startswith(lead):
-            return message[len(lead) :]
+            message = message[len(lead) :]
+            break
+    for quoted in (f" in '{short(text)}'", f" in '{text}'"):
+        message = message.replace(quoted, "")
     return message
 
 
