@@ -26,7 +26,7 @@ import traceback
 import warnings
 
 from softcath import __version__
-from softcath.cli.options import in_command_terms, option_terms
+from softcath.cli.options import check_option_effects, in_command_terms, option_terms
 from softcath.design.errors import SoftcathError
 from softcath.interrupts import clear_stop, request_stop
 
@@ -163,7 +163,11 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__)
         module.add_arguments(p)
-        p.set_defaults(_run=module.run, _terms=option_terms(p))
+        p.set_defaults(
+            _run=module.run,
+            _terms=option_terms(p),
+            _defaults={a.dest: a.default for a in p._actions if a.option_strings},
+        )
     return parser
 
 
@@ -262,6 +266,7 @@ def main(argv: list[str] | None = None) -> int:
     warnings.formatwarning = _one_line_warning
     sys.stdout = _GuardedStdout(real_stdout)
     try:
+        check_option_effects(args, args.command, getattr(args, "_defaults", {}))
         status = int(args._run(args) or 0)
         sys.stdout.flush()
         ok = status == 0

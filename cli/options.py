@@ -248,3 +248,57 @@ def in_command_terms(exc: Exception, terms: dict[str, str]) -> Exception:
         if option is not None:
             return DesignError(f"{option} {rest}", exc.value, exc.bound)
     return exc
+
+
+def _robust(args) -> bool:
+    return getattr(args, "robust", None) is not None
+
+
+def _fem_tier(args) -> bool:
+    return args.model == "fem" or "fem" in str(getattr(args, "compare", "")).replace(" ", "").split(",")
+
+
+#: Options that act only together with another: command -> ((dests, active(args), why), ...).
+#: Given without it (a value other than the parser's default) they are refused, not ignored.
+_ACTS_ONLY_WITH: dict[str, tuple] = {
+    "optimise": ((("samples", "robust_vary", "ranges"), _robust, "has no effect without --robust"),),
+    "select": (
+        (("vary", "ranges", "samples", "seed", "robust_model"), _robust, "has no effect without --robust"),
+    ),
+    "predict": (
+        (("curve_samples",), lambda a: a.nonlinear, "has no effect without --nonlinear"),
+        (("fem_samples",), _fem_tier, "has no effect without the fem tier (--model fem or --compare fem)"),
+    ),
+    "fem": (
+        (
+            ("steps", "layers", "curvature_points", "mixed", "compare_linear"),
+            lambda a: a.nonlinear,
+            "has no effect without --nonlinear",
+        ),
+        (
+            ("mesher", "coil_modulus", "no_cache", "no_png"),
+            lambda a: not a.nonlinear,
+            "is an option of the linear check; it has no effect with --nonlinear",
+        ),
+    ),
+}
+
+
+def check_option_effects(args: argparse.Namespace, command: str, defaults: dict) -> None:
+    """Refuse an option given where it has no effect (e.g. ``optimise --samples`` without ``--robust``).
+
+    Raises
+    ------
+    DesignError
+        Naming the option, its value and the option it needs.
+    """
+    from softcath.design.errors import DesignError
+
+    terms = getattr(args, "_terms", {})
+    for dests, active, why in _ACTS_ONLY_WITH.get(command, ()):
+        if active(args):
+            continue
+        for dest in dests:
+            value = getattr(args, dest, None)
+            if dest in defaults and value != defaults[dest]:
+                raise DesignError(terms.get(dest, dest), value, why)
