@@ -287,7 +287,8 @@ def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
     from softcath.studies.model_validity import check_measured_pressures
 
     m = read_measurement_csv(args.measured, missing="drop")
-    check_measured_pressures(m.pressure_MPa, max(pressures), param="--measured", value=str(args.measured))
+    top = max(pressures or [0.0])
+    check_measured_pressures(m.pressure_MPa, top, param="--measured", value=str(args.measured))
     return m
 
 
@@ -296,7 +297,7 @@ def _check_curve_work(args: argparse.Namespace, pressures) -> None:
     from softcath import design
     from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
 
-    each = finite_strain_curve_seconds(design.resolve(args.design), len(pressures))
+    each = finite_strain_curve_seconds(design.resolve(args.design), len(pressures or ()))
     check_work_seconds(
         (args.curve_samples + 1) * each,
         param="--curve-samples",

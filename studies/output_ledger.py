@@ -45,12 +45,14 @@ LEDGER = ".softcath-outputs.json"
 _INPUTS: dict[Path, str] = {}
 
 
-def protect_inputs(paths: Iterable[tuple[str, str | os.PathLike]]) -> None:
+def protect_inputs(paths: Iterable[tuple[str, object]]) -> None:
     """Remember the command's input files ``(option, path)``: no output may replace one.
 
     Paths that are not existing files (preset names, folders) are ignored.
     """
     for option, path in paths:
+        if not isinstance(path, str | os.PathLike):
+            continue
         try:
             p = Path(path)
             if p.is_file():

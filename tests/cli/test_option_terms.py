@@ -25,7 +25,8 @@ SETTINGS = settings(
 def _commands() -> dict[str, argparse.ArgumentParser]:
     parser = build_parser()
     out = {}
-    for name, sub in parser._subparsers._group_actions[0].choices.items():
+    sub_action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, sub in sub_action.choices.items():
         nested = [a for a in sub._actions if isinstance(a, argparse._SubParsersAction)]
         if nested:
             out.update({f"{name} {act}": leaf for act, leaf in nested[0].choices.items()})
@@ -45,6 +46,7 @@ def test_a_library_refusal_naming_an_options_dest_names_the_option(pick, value):
     command, dest = pick
     terms = option_terms(COMMANDS[command])
     said = in_command_terms(DesignError(dest, value, "must be sensible"), terms)
+    assert isinstance(said, DesignError)
     assert said.parameter == terms[dest] and said.parameter.startswith("--")
     assert said.bound == "must be sensible" and said.value is value or said.value == value
 
@@ -65,14 +67,17 @@ def test_a_library_refusal_naming_an_options_dest_names_the_option(pick, value):
 )
 def test_known_aliases(command, library, option):
     said = in_command_terms(DesignError(library, 1.0, "b"), option_terms(COMMANDS[command]))
+    assert isinstance(said, DesignError)
     assert said.parameter == option
 
 
 def test_an_item_keeps_its_tail_and_a_design_path_stays():
     terms = option_terms(COMMANDS["optimise"])
-    assert in_command_terms(DesignError("vary.tube.h", 1.0, "b"), terms).parameter == "--vary tube.h"
+    item = in_command_terms(DesignError("vary.tube.h", 1.0, "b"), terms)
+    assert isinstance(item, DesignError) and item.parameter == "--vary tube.h"
     # a design file's own parameter is not an option, even where its head looks like one
-    assert in_command_terms(DesignError("assembly.filler", "x", "b"), terms).parameter == "assembly.filler"
+    own = in_command_terms(DesignError("assembly.filler", "x", "b"), terms)
+    assert isinstance(own, DesignError) and own.parameter == "assembly.filler"
 
 
 @SETTINGS

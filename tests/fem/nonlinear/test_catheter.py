@@ -11,6 +11,7 @@ from softcath.fem.nonlinear import NonlinearSettings, run_check
 from softcath.fem.nonlinear.bend import bend_curve, departure_angle
 from softcath.fem.nonlinear.catheter import REGIONS, catheter_laws, mesh_catheter
 from softcath.fem.nonlinear.errors import NonlinearError
+from softcath.fem.nonlinear.laws import Yeoh
 
 
 @pytest.fixture(scope="module")
@@ -70,6 +71,7 @@ def test_laws_follow_the_design_materials(paper):
     laws = catheter_laws(paper)
     ecoflex = laws[REGIONS["filler"]]
     # the design's Yeoh fit, scaled so its small-strain shear modulus is the design's E / (2 (1 + nu))
+    assert isinstance(ecoflex, Yeoh) and paper.filler is not None and paper.filler.yeoh is not None
     c1, c2, c3 = paper.filler.yeoh
     assert 2 * ecoflex.c1 == pytest.approx(
         paper.filler.youngs_modulus / (2 * (1 + paper.filler.poisson_ratio))
