@@ -54,3 +54,15 @@ def test_predict_refuses_curve_samples_beyond_the_limit_before_any_work(cli, tmp
     assert time.perf_counter() - t0 < 10
     assert "--curve-samples = 2000: 2000 finite-strain curves through 10 pressures is estimated at" in line
     assert not (tmp_path / "o").exists()
+
+
+def test_a_long_coil_bound_curve_is_said_before_it_starts(cli, tmp_path, caplog):
+    """10^6 pressures of the bilinear curve take about two minutes: the estimate comes first."""
+    import logging
+
+    from softcath.cli.section import _BILINEAR_SECONDS, _BILINEAR_SECONDS_PER_PRESSURE
+
+    assert _BILINEAR_SECONDS + _BILINEAR_SECONDS_PER_PRESSURE * 10**6 > WARN_WORK_SECONDS
+    caplog.set_level(logging.WARNING)
+    r = cli("section", "paper", "--coil-bound", "--pressure", "0:1:2", "--no-png", "--out", tmp_path / "o")
+    assert r.status == 0 and "estimated" not in r.err + caplog.text  # short curves say nothing
