@@ -128,3 +128,25 @@ def test_a_writer_killed_mid_commit_leaves_earlier_outputs_and_a_usable_ledger(t
         (stage / "r.json").write_text("next")
     assert (out / "r.json").read_text() == "next"
     assert sorted(p.name for p in out.iterdir()) == [LEDGER, "r.json"]
+
+
+def test_select_never_writes_over_a_users_selection_json(cli, spec_writer, tmp_path):
+    spec = spec_writer(
+        """
+        [sweep]
+        base = "paper"
+        pressures_MPa = [0.0, 0.5]
+        [parameters]
+        "tube.h" = { values = [0.0, 0.02] }
+        """
+    )
+    sweep = tmp_path / "s"
+    assert cli("sweep", spec, "--out", sweep, "--workers", "1", "--no-progress").status == 0
+    out = tmp_path / "sel"
+    out.mkdir()
+    (out / "selection.json").write_text("my notes")
+    line = cli("select", sweep, "--objective", "maximise bend_angle_deg", "--out", out).error_line()
+    assert "holds selection.json, which softcath did not write" in line
+    assert (out / "selection.json").read_text() == "my notes"
+    assert cli("select", sweep, "--objective", "maximise bend_angle_deg").status == 0  # into the sweep
+    assert cli("select", sweep, "--objective", "minimise max_strain").status == 0  # its own: replaced
