@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from softcath.design.errors import DesignError
+from softcath.design.validation import MAX_MAGNITUDE
 from softcath.studies.model_validity import MAX_PRESSURE_MPA
 from softcath.studies.selection.criteria import (
     Constraint,
@@ -105,6 +106,8 @@ def parse_variable(text: str) -> Variable:
         raise DesignError(f"vary.{path}", spec, "LO and HI must be numbers") from None
     if not (math.isfinite(low) and math.isfinite(high)):
         raise DesignError(f"vary.{path}", spec, "LO and HI must be finite")
+    if max(abs(low), abs(high)) > MAX_MAGNITUDE:  # the rule of every number of a design
+        raise DesignError(f"vary.{path}", spec, f"LO and HI must be within ±{MAX_MAGNITUDE:g} (mm, MPa)")
     if not high > low:
         raise DesignError(f"vary.{path}.high", high, f"must be > low = {low:g}")
     return Variable(path, low, high)

@@ -91,3 +91,31 @@ def test_a_text_field_cannot_vary_between_numbers(cli, tmp_path):
     line = cli(*argv, "--out", out).error_line()
     assert "--vary coil.material = '0:1': coil.material is 'stainless_steel_sus304', not a number" in line
     assert not out.exists()
+
+
+@SETTINGS
+@given(t=st.floats(0.001, 2.0))
+def test_a_coat_that_fills_every_void_is_refused(t):
+    d = design.preset("paper")
+    reach = d.coil.inner_diameter - d.channel.outer_diameter
+    if t >= reach:
+        with pytest.raises(design.DesignError, match=r"fills every void, the same as filler = \"full\""):
+            replace(d, assembly=Assembly(filler="coat", filler_coat_thickness=t))
+    else:
+        assert replace(d, assembly=Assembly(filler="coat", filler_coat_thickness=t)).assembly.filler == "coat"
+
+
+def test_vary_bounds_follow_the_design_number_rule(cli, tmp_path):
+    argv = [
+        "optimise",
+        "paper",
+        "--model",
+        "paper",
+        "--vary",
+        "tube.h=-1e300:1e300",
+        "--objective",
+        "maximise x",
+    ]
+    line = cli(*argv, "--out", tmp_path / "o").error_line()
+    assert "--vary tube.h = '-1e300:1e300': LO and HI must be within ±1e+09" in line
+    assert not (tmp_path / "o").exists()
