@@ -44,19 +44,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from softcath import analytic, design
+    from softcath import analytic
     from softcath.studies.atomic import Outputs, prepare_out_dir
     from softcath.studies.model_validity import check_finite_columns, warn_linear_range
     from softcath.studies.plots import analytic_plot
+    from softcath.studies.tiers import check_assembly
 
     p = parse_pressure_range(args.pressure)  # checked before the output folder is made
     d = resolve_design(args)
-    if args.model != "section" and not d.assembly.is_default:
-        raise design.DesignError(
-            "assembly",
-            d.assembly.to_dict(),
-            "is modelled by the section model only (the paper's formula is one bonded body)",
-        )
+    check_assembly("section" if args.model == "section" else "paper", d.assembly)
     out = prepare_out_dir(args.out)
     if args.model == "section":
         from softcath.fem.section_model import section_model

@@ -88,9 +88,11 @@ def run(args: argparse.Namespace) -> int:
             return analytic.response(dd, m.pressure_MPa, load)
 
         what = f"paper's formula, {load} load"
-    if getattr(res, "converged", True) is False:
-        # A calibration that did not converge is not a calibrated design: nothing is written
-        # (earlier outputs stay as they were) and the command fails with the reason.
+    if getattr(res, "usable", True) is False:
+        # A calibration that neither converged nor reached the data is not a calibrated design:
+        # nothing is written (earlier outputs stay as they were) and the command fails with the
+        # reason. One that reaches the data with a shape the data cannot pin is a result, and
+        # calibration.json says so ("identifiable": false).
         raise design.DataError(
             f"{res.message}; nothing written (no calibrated_design.toml): free fewer parameters "
             "(--free) or check the measurement"
@@ -121,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
         g, dg = res.gains_model, res.gains_data
         print(
             f"{res.iterations} space-mapping iteration(s), "
-            f"{'converged' if res.converged else 'NOT converged'}; "
+            f"{'converged' if res.converged else 'reaches the data, shape not identified'}; "
             f"section-model gains {g['curvature_per_mm_per_MPa']:.5g} 1/(mm MPa), "
             f"{g['elongation_per_MPa']:.4g} "
             f"1/MPa vs data {dg['curvature_per_mm_per_MPa']:.5g}, "

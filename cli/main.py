@@ -19,12 +19,14 @@ import argparse
 import importlib
 import logging
 import os
+import re
 import signal
 import sys
 import traceback
 import warnings
 
 from softcath import __version__
+from softcath.cli.options import check_option_effects, in_command_terms, option_terms
 from softcath.design.errors import SoftcathError
 from softcath.interrupts import clear_stop, request_stop
 
@@ -86,11 +88,57 @@ class _GuardedStdout:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with the CLI's one-line refusal: ``softcath CMD: error: ...``, exit 2, no usage block."""
+    """argparse with the CLI's one-line refusal: ``softcath CMD: error: OPTION = VALUE: BOUND``, exit 2."""
 
     def error(self, message: str):  # type: ignore[override]
-        _say(f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)")
+        _say(f"{self.prog}: error: {parser_message(' '.join(message.split()))} (see {self.prog} --help)")
         raise SystemExit(EXIT_ERROR)
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        # A subcommand's parser reports its own leftovers, so the line names the command.
+        parsed, extra = super().parse_known_args(args, namespace)
+        if extra and self._subparsers is None:
+            self.error(_unrecognized(extra))
+        return parsed, extra
+
+
+def _unrecognized(extra: list[str]) -> str:
+    """argparse's message for arguments the command does not take, as ``OPTION = VALUE: bound``."""
+    first = extra[0]
+    if first.startswith("-") and len(first) > 1:
+        option, eq, value = first.partition("=")
+        if not eq and len(extra) > 1 and not extra[1].startswith("-"):
+            value = extra[1]
+        shown = repr(value) if value else "None"
+        return f"{option} = {shown}: not an option of this command"
+    return f"argument = {first!r}: not expected here (every positional is taken)"
+
+
+_ARGPARSE_FORMS = (
+    (re.compile(r"^argument (?P<opt>[^:]+): invalid (?P<type>\w+) value: (?P<val>.*)$"), "must be a {type}"),
+    (
+        re.compile(r"^argument (?P<opt>[^:]+): invalid choice: (?P<val>'.*?') \((?P<rest>.*)\)$"),
+        "invalid choice; {rest}",
+    ),
+    (re.compile(r"^argument (?P<opt>[^:]+): (?P<val>)expected one argument$"), "needs a value"),
+    (re.compile(r"^argument (?P<opt>[^:]+): (?P<val>)(?P<rest>.*)$"), "{rest}"),
+)
+
+
+def parser_message(message: str) -> str:
+    """argparse's refusal said as ``OPTION = VALUE: BOUND`` where it names one argument."""
+    if " = " in message.split(":", 1)[0]:
+        return message
+    if message.startswith("the following arguments are required: "):
+        names = message.split(": ", 1)[1]
+        return f"{names} = None: required"
+    for pattern, bound in _ARGPARSE_FORMS:
+        m = pattern.match(message)
+        if m:
+            opt = m.group("opt").split("/")[-1]
+            val = m.group("val") or "None"
+            return f"{opt} = {val}: {bound.format(**m.groupdict())}"
+    return message
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -116,7 +164,11 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__)
         module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(
+            _run=module.run,
+            _terms=option_terms(p),
+            _defaults={a.dest: a.default for a in p._actions if a.option_strings},
+        )
     return parser
 
 
@@ -158,23 +210,15 @@ def _on_sigint(signum, frame) -> None:  # pragma: no cover - exercised by subpro
     raise KeyboardInterrupt()
 
 
-#: Library parameters every command takes from the same option (the library never names options).
-_OPTION_OF = {"out_dir": "--out"}
-
-
-def _in_command_terms(exc: SoftcathError) -> SoftcathError:
-    """``exc`` naming the command's option where the library named its own parameter."""
-    from softcath.design.errors import DesignError
-
-    if isinstance(exc, DesignError) and exc.parameter in _OPTION_OF:
-        return DesignError(_OPTION_OF[exc.parameter], exc.value, exc.bound)
-    return exc
-
-
 def _describe(exc: BaseException) -> str:
     """One line for an exception that is not an input error."""
     if isinstance(exc, MemoryError):
         return "out of memory; use a coarser mesh / fewer designs (rerun with --debug for details)"
+    if type(exc).__name__ == "BrokenProcessPool":  # concurrent.futures: a worker was killed
+        return (
+            "a worker process died (killed, or out of memory); this run's outputs were not written: "
+            "rerun it (with fewer --workers if memory is short)"
+        )
     if isinstance(exc, OSError) and exc.strerror:
         where = f": {exc.filename}" if exc.filename else ""
         return f"{exc.strerror}{where}"
@@ -213,13 +257,17 @@ def main(argv: list[str] | None = None) -> int:
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
     _printable_streams()
     from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
+    from softcath.studies.output_ledger import forget_inputs, protect_inputs
 
     forget_created_dirs()
+    forget_inputs()
+    protect_inputs(_input_files(args))
     ok = False
     real_stdout, real_formatwarning = sys.stdout, warnings.formatwarning
     warnings.formatwarning = _one_line_warning
     sys.stdout = _GuardedStdout(real_stdout)
     try:
+        check_option_effects(args, args.command, getattr(args, "_defaults", {}))
         status = int(args._run(args) or 0)
         sys.stdout.flush()
         ok = status == 0
@@ -236,7 +284,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.debug:
             traceback.print_exc()
         if isinstance(exc, SoftcathError):
-            _say(f"softcath {name}: error: {' '.join(str(_in_command_terms(exc)).split())}")
+            said = in_command_terms(exc, getattr(args, "_terms", {}))
+            _say(f"softcath {name}: error: {' '.join(str(said).split())}")
         else:
             _say(f"softcath {name}: error: {_describe(exc)}")
         return EXIT_ERROR
@@ -246,12 +295,30 @@ def main(argv: list[str] | None = None) -> int:
             forget_created_dirs()
         else:
             remove_created_dirs()
+        forget_inputs()
         sys.stdout, warnings.formatwarning = real_stdout, real_formatwarning
         logging.captureWarnings(False)
         if old_term is not None:
             signal.signal(signal.SIGTERM, old_term)
         if old_int is not None:
             signal.signal(signal.SIGINT, old_int)
+
+
+#: Options that name what a command writes, not what it reads.
+_OUTPUT_OPTIONS = frozenset({"out", "step", "stl"})
+
+
+def _input_files(args: argparse.Namespace) -> list[tuple[str, object]]:
+    """``(option, path)`` of every argument that may name a file the command reads."""
+    terms = getattr(args, "_terms", {})
+    found = []
+    for dest, value in vars(args).items():
+        if dest.startswith("_") or dest in _OUTPUT_OPTIONS:
+            continue
+        for v in value if isinstance(value, list) else [value]:
+            if isinstance(v, str | os.PathLike) and str(v):
+                found.append((terms.get(dest, dest.upper()), v))
+    return found
 
 
 def _printable_streams() -> None:

@@ -91,11 +91,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from softcath.fem.limits import check_workers
     from softcath.studies.atomic import prepare_out_dir
     from softcath.studies.optimise import check_search, make_problem, make_robustness, optimise, write_optimum
+    from softcath.studies.output_ledger import check_inputs_outside, check_replace
     from softcath.studies.predict.ranges import base_table
 
     # Everything that can be checked is checked before the output folder or any run.
+    check_workers(args.workers, param="--workers")
     pressures = parse_pressure_list(args.pressures, param="--pressures")
     table = base_table(args.design)
     load = args.load or ("cap" if args.model == "paper" else "lumen")
@@ -117,6 +120,8 @@ def run(args: argparse.Namespace) -> int:
             robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
         check_search(problem, budget=args.budget, seed=args.seed, robust=robust)
     out = prepare_out_dir(args.out)
+    check_inputs_outside(out, "designs")  # the designs folder is refilled: no input may live there
+    check_replace(out, [out / n for n in ("optimum.json", "history.parquet", "index.html")])
     with _as_options():
         opt = optimise(
             problem,
@@ -131,7 +136,9 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.atomic import staged_dir, unstage
     from softcath.studies.report.optimum import write_optimum_report
 
-    with staged_dir(out) as stage:  # the record, designs and report replace earlier ones only together
+    # The record, designs and report replace earlier ones only together; an earlier run's designs
+    # that this one did not write (pareto_07.toml of a longer front) are removed.
+    with staged_dir(out, owner="optimise") as stage:
         paths = {k: unstage(v, stage, out) for k, v in write_optimum(opt, problem, stage).items()}
         report = unstage(write_optimum_report(stage), stage, out)
     print(
@@ -154,6 +161,15 @@ def run(args: argparse.Namespace) -> int:
     if len(opt.best) > 5:
         print(f"  ... {len(opt.best) - 5} more on the Pareto front")
     print(f"optimum: {paths['optimum']}; report: {report}")
+    if not opt.feasible:
+        from softcath.design.errors import DesignError
+
+        given = ("--constraint", args.constraint) if args.constraint else ("--vary", args.vary)
+        raise DesignError(
+            given[0],
+            given[1][0] if len(given[1]) == 1 else given[1],
+            f"{opt.reason}; no design written ({paths['optimum']} records the search and why)",
+        )
     return 0
 
 

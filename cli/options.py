@@ -183,3 +183,122 @@ def resolve_design(args: argparse.Namespace):
     d = design.resolve(args.design)
     overrides = getattr(args, "assembly", None) or []
     return replace(d, assembly=d.assembly.with_overrides(overrides)) if overrides else d
+
+
+#: Library parameter names that are not their option's ``dest`` (the rest are found by dest).
+_ALIASES: dict[str, tuple[str, ...]] = {
+    "out_dir": ("out",),
+    "silicone_poisson": ("poisson",),
+    "pressures": ("pressures", "pressure"),
+    "pressure": ("pressure", "pressures"),
+    "load factors": ("pressure", "pressures"),
+    "objectives": ("objective",),
+    "constraints": ("constraint",),
+    "variables": ("vary",),
+    "backend": ("workers", "scheduler"),
+    "ranges": ("robust_vary", "ranges"),
+}
+
+
+#: Library parameters whose refusals name an item after the name (``vary.tube.h``, ``vary tube.h low``).
+_ITEM_HEADS = ("vary", "objectives", "constraints", "pressures", "ranges", "initial_tension", "samples")
+
+
+def option_terms(parser: argparse.ArgumentParser) -> dict[str, str]:
+    """``{dest: option}`` of a command's parser (the long spelling: ``mesh_size`` -> ``--mesh-size``)."""
+    terms: dict[str, str] = {}
+    for action in parser._actions:
+        longs = [s for s in action.option_strings if s.startswith("--")]
+        if longs and action.dest not in ("help", "version"):
+            terms[action.dest] = longs[0]
+    return terms
+
+
+def _option_for(name: str, terms: dict[str, str]) -> str | None:
+    for dest in (*_ALIASES.get(name, ()), name, name.replace("-", "_")):
+        if dest in terms:
+            if name == "backend" and {"workers", "scheduler"} <= set(terms):
+                return f"{terms['workers']}/{terms['scheduler']}"
+            return terms[dest]
+    return None
+
+
+def in_command_terms(exc: Exception, terms: dict[str, str]) -> Exception:
+    """``exc`` naming the command's option where the library named its own parameter.
+
+    The one translation every command shares: a :class:`~softcath.design.errors.DesignError`
+    whose parameter is an option's ``dest`` (``mesh_size``, ``hoop_cap``, ``scheduler``) or a
+    known alias of one (``silicone_poisson`` -> ``--poisson``, ``pressures`` -> ``--pressure``)
+    is said with the option; a dotted or spaced tail is kept (``vary.tube.h`` ->
+    ``--vary tube.h``). Anything else is returned unchanged.
+    """
+    from softcath.design.errors import DesignError
+
+    if not isinstance(exc, DesignError) or not isinstance(exc.parameter, str):
+        return exc
+    name = exc.parameter
+    if name.startswith("-"):
+        return exc
+    option = _option_for(name, terms)
+    if option is not None:
+        return DesignError(option, exc.value, exc.bound)
+    for sep in (" ", "."):
+        head, found, rest = name.partition(sep)
+        option = _option_for(head, terms) if found and head in _ITEM_HEADS else None
+        if option is not None:
+            return DesignError(f"{option} {rest}", exc.value, exc.bound)
+    return exc
+
+
+def _robust(args) -> bool:
+    return getattr(args, "robust", None) is not None
+
+
+def _fem_tier(args) -> bool:
+    return args.model == "fem" or "fem" in str(getattr(args, "compare", "")).replace(" ", "").split(",")
+
+
+#: Options that act only together with another: command -> ((dests, active(args), why), ...).
+#: Given without it (a value other than the parser's default) they are refused, not ignored.
+_ACTS_ONLY_WITH: dict[str, tuple] = {
+    "optimise": ((("samples", "robust_vary", "ranges"), _robust, "has no effect without --robust"),),
+    "select": (
+        (("vary", "ranges", "samples", "seed", "robust_model"), _robust, "has no effect without --robust"),
+    ),
+    "predict": (
+        (("curve_samples",), lambda a: a.nonlinear, "has no effect without --nonlinear"),
+        (("fem_samples",), _fem_tier, "has no effect without the fem tier (--model fem or --compare fem)"),
+    ),
+    "fem": (
+        (
+            ("steps", "layers", "curvature_points", "mixed", "compare_linear"),
+            lambda a: a.nonlinear,
+            "has no effect without --nonlinear",
+        ),
+        (
+            ("mesher", "coil_modulus", "no_cache", "no_png"),
+            lambda a: not a.nonlinear,
+            "is an option of the linear check; it has no effect with --nonlinear",
+        ),
+    ),
+}
+
+
+def check_option_effects(args: argparse.Namespace, command: str, defaults: dict) -> None:
+    """Refuse an option given where it has no effect (e.g. ``optimise --samples`` without ``--robust``).
+
+    Raises
+    ------
+    DesignError
+        Naming the option, its value and the option it needs.
+    """
+    from softcath.design.errors import DesignError
+
+    terms = getattr(args, "_terms", {})
+    for dests, active, why in _ACTS_ONLY_WITH.get(command, ()):
+        if active(args):
+            continue
+        for dest in dests:
+            value = getattr(args, dest, None)
+            if dest in defaults and value != defaults[dest]:
+                raise DesignError(terms.get(dest, dest), value, why)

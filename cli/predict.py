@@ -133,10 +133,10 @@ def run(args: argparse.Namespace) -> int:
     from softcath.studies.predict import predict
     from softcath.studies.predict.workflow import check_predict_inputs
 
-    compare = tuple(model_name(t.strip()) for t in args.compare.split(",") if t.strip())
+    compare = _compare(args.compare)
     # Everything that can be checked is checked before the output folder or any run.
     pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
-    measured = _nonlinear_inputs(args)
+    measured = _nonlinear_inputs(args, pressures)
     with as_options(_OPTIONS):
         check_predict_inputs(
             samples=args.samples,
@@ -250,7 +250,21 @@ def _print_tiers(tiers, doc: dict) -> None:
         )
 
 
-def _nonlinear_inputs(args: argparse.Namespace):
+def _compare(text: str) -> tuple[str, ...]:
+    """``--compare TIER,TIER``: each a tier this command runs (the same names as ``--model``)."""
+    from softcath.design.errors import DesignError
+
+    choices = ("paper", "section", "fem")
+    tiers = tuple(model_name(t.strip()) for t in text.split(",") if t.strip())
+    for t in tiers:
+        if t not in choices:
+            raise DesignError(
+                "--compare", text, f"{t!r} is not a tier of predict; give some of {', '.join(choices)}"
+            )
+    return tiers
+
+
+def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
     """Check the --nonlinear options before any work; the measurement read, or None."""
     from softcath.design.errors import DesignError
 
@@ -266,11 +280,31 @@ def _nonlinear_inputs(args: argparse.Namespace):
 
     if not 2 <= args.curve_samples <= MAX_CURVE_SAMPLES:
         raise DesignError("--curve-samples", args.curve_samples, f"must be in [2, {MAX_CURVE_SAMPLES}]")
+    _check_curve_work(args, pressures)
     if args.measured is None:
         return None
     from softcath.design.measurement import read_measurement_csv
+    from softcath.studies.model_validity import check_measured_pressures
 
-    return read_measurement_csv(args.measured, missing="drop")
+    m = read_measurement_csv(args.measured, missing="drop")
+    top = max(pressures or [0.0])
+    check_measured_pressures(m.pressure_MPa, top, param="--measured", value=str(args.measured))
+    return m
+
+
+def _check_curve_work(args: argparse.Namespace, pressures) -> None:
+    """Refuse --curve-samples whose curves are estimated beyond the work limit; warn beyond a minute."""
+    from softcath import design
+    from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
+
+    each = finite_strain_curve_seconds(design.resolve(args.design), len(pressures or ()))
+    check_work_seconds(
+        (args.curve_samples + 1) * each,
+        param="--curve-samples",
+        value=args.curve_samples,
+        what=f"{args.curve_samples} finite-strain curves through {len(pressures)} pressures",
+        hint="use fewer --curve-samples or --pressures",
+    )
 
 
 def _print_nonlinear(nl: dict) -> None:

@@ -78,6 +78,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--run", default="", metavar="LABEL", help="value of the run column")
 
 
+def _refuse_an_earlier_recording(out) -> None:
+    """A recording streams into DIR/measurements.csv from its first row (so a kill keeps it): an
+    earlier recording there would be truncated before the new one knows it has data. Refused."""
+    from softcath.design.errors import DesignError
+
+    for name in ("measurements.csv", "record.json"):
+        if (out / name).exists():
+            raise DesignError(
+                "--out",
+                str(out),
+                f"holds an earlier recording ({name}); a new one would replace it: give a new folder",
+            )
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``softcath record``."""
 
@@ -89,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
 
     _check_args(args)
     out = prepare_out_dir(args.out)
+    _refuse_an_earlier_recording(out)
     framed = not args.plain
     pressure = SerialSensor(
         args.pressure_port, name="pressure sensor", framed=framed, scale=args.pressure_scale

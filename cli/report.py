@@ -16,6 +16,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import re
     from pathlib import Path
 
     from softcath.design.errors import DataError
@@ -30,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
 
         out = prepare_out_dir(args.out)
     path, _ = write_report(args.dir, out=out)
-    n = len(list(path.parent.glob("*.png")))
+    # the report's figures, not other PNGs the folder holds
+    n = len(set(re.findall(r'<img src="([^"]+)"', path.read_text(encoding="utf-8"))))
     print(f"report: {path} ({n} figures)")
     return 0

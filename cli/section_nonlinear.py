@@ -28,6 +28,8 @@ def check_options(args: argparse.Namespace) -> None:
             if value is not None:
                 raise DesignError(flag, str(value), "needs --nonlinear")
         return
+    if args.hoop_cap is not None and not (math.isfinite(args.hoop_cap) and args.hoop_cap > 0):
+        raise DesignError("--hoop-cap", args.hoop_cap, "must be finite and > 0 (leave it out for no cap)")
     for name in LINEAR_ONLY:
         value = getattr(args, name, None)
         if value not in (None, False):
@@ -35,26 +37,57 @@ def check_options(args: argparse.Namespace) -> None:
             raise DesignError(flag, value, "is a linear section model option; not with --nonlinear")
 
 
+def check_cost(d, n_pressures: int, args: argparse.Namespace) -> float:
+    """Refuse a curve estimated beyond the work limit (warn above a minute); the estimate in s."""
+    from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
+
+    mesh_size = MESH_SIZE if args.mesh_size is None else args.mesh_size
+    check_size(mesh_size, SEGMENTS if args.segments is None else args.segments)  # named by the library
+    return check_work_seconds(
+        finite_strain_curve_seconds(d, n_pressures, mesh_size=args.mesh_size, param="--mesh-size"),
+        param="--pressure",
+        value=args.pressure,
+        what=f"the finite-strain curve through {n_pressures} pressures",
+        hint="give fewer pressures (START:STOP:N with a smaller N)",
+    )
+
+
 def run_nonlinear(args: argparse.Namespace) -> int:
     from softcath.cli.options import parse_pressure_range, resolve_design
-    from softcath.fem.section_model.finite_strain import section_curve
     from softcath.fem.section_model.finite_strain.curve import CSV_COLUMNS
     from softcath.studies.atomic import Outputs, prepare_out_dir
+    from softcath.studies.model_validity import check_measured_pressures, warn_self_contact
+    from softcath.studies.output_ledger import check_replace
+    from softcath.studies.sweep.section_nonlinear_eval import curve_with_rest
 
     check_options(args)
     pressures = parse_pressure_range(args.pressure)  # options first, then the folder, then the work
+    if (pressures < 0).any():
+        raise DesignError(
+            "--pressure",
+            args.pressure,
+            "must be >= 0 MPa with --nonlinear (the finite-strain model inflates the lumen; suction "
+            "is not modelled)",
+        )
+    walk = sorted({float(p) for p in pressures})
     d = resolve_design(args)
     if not d.assembly.is_default:
         raise DesignError("--assembly", d.assembly.to_dict(), "is not taken by --nonlinear (bonded tip only)")
-    out = prepare_out_dir(args.out)
+    check_cost(d, len(walk), args)
     measured = None
     if args.measured is not None:
         from softcath.design.measurement import read_measurement_csv
 
         measured = read_measurement_csv(args.measured, missing="drop")
-    c = section_curve(
+        check_measured_pressures(
+            measured.pressure_MPa, max(walk), param="--measured", value=str(args.measured)
+        )
+    out = prepare_out_dir(args.out)
+    check_replace(out, [out / n for n in ("section.json", "section.csv", "section_curve.png")])
+    c = curve_with_rest(
         d,
-        sorted({float(p) for p in pressures}),
+        walk,
         load=args.load,
         mesh_size=args.mesh_size,
         segments=args.segments,
@@ -63,11 +96,13 @@ def run_nonlinear(args: argparse.Namespace) -> int:
         mesher=args.mesher,
         progress=True,
     )
+    contact = warn_self_contact(c.pressure, c.bend_angle_rad, model="the finite-strain section model")
     p90 = c.pressure_for_angle(math.pi / 2)
     doc = {
         "design": c.design_name,
         **c.to_json(),
         "pressure_for_90_deg_MPa": None if math.isnan(p90) else p90,
+        "self_contact_from_MPa": _self_contact_from(c) if contact else None,
     }
     wrote = "section.json, section.csv"
     with Outputs(out) as o:  # all files or none, only on success
@@ -95,6 +130,18 @@ def run_nonlinear(args: argparse.Namespace) -> int:
         f"{out}/{wrote}"
     )
     return 0
+
+
+def _self_contact_from(c) -> float:
+    """The first pressure of ``c`` whose bend passes a full turn (the tip through itself)."""
+    from softcath.studies.model_validity import SELF_CONTACT_DEG
+
+    past = [
+        p
+        for p, a in zip(c.pressure, c.bend_angle_rad, strict=True)
+        if abs(math.degrees(a)) > SELF_CONTACT_DEG
+    ]
+    return float(past[0])
 
 
 def curve_picture(c, path: Path, *, measured=None) -> None:

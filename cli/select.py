@@ -85,11 +85,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from softcath.fem.limits import check_workers
     from softcath.studies.selection import MODEL_NAMES, SelectionError, select, write_selection
     from softcath.studies.sweep.results import read_results
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
+    check_workers(args.workers, param="--workers")
+    _check_expressions(args)
     from pathlib import Path
 
     from softcath.design.errors import DataError
@@ -151,6 +154,23 @@ def run(args: argparse.Namespace) -> int:
             )
     print(f"selection: {path}")
     return 0
+
+
+def _check_expressions(args: argparse.Namespace) -> None:
+    """Parse every --constraint and --objective before any work; a refusal names the option."""
+    from softcath.design.errors import DesignError
+    from softcath.studies.selection import SelectionError
+    from softcath.studies.selection.criteria import parse_constraint, parse_objective, without_text
+
+    for option, texts, parse in (
+        ("--constraint", args.constraint, parse_constraint),
+        ("--objective", args.objective, parse_objective),
+    ):
+        for text in texts:
+            try:
+                parse(text)
+            except SelectionError as exc:
+                raise DesignError(option, text, without_text(str(exc), text)) from None
 
 
 def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:

@@ -69,7 +69,7 @@ class Assembly:
     channel_coil: str = "bonded"
     filler_coil: str = "bonded"
     filler: str = "full"
-    filler_coat_thickness: float = 0.02
+    filler_coat_thickness: float = 0.02  # _COAT_DEFAULT
     proximal: str = "clamped"
 
     def __post_init__(self) -> None:
@@ -82,6 +82,8 @@ class Assembly:
             "filler_coat_thickness",
             positive("assembly.filler_coat_thickness", self.filler_coat_thickness),
         )
+        if self.filler != "coat" and self.filler_coat_thickness != _COAT_DEFAULT:
+            _coat_unused(self.filler, self.filler_coat_thickness)
 
     @property
     def is_default(self) -> bool:
@@ -127,6 +129,20 @@ class Assembly:
             else:
                 changes[key] = value
         return replace(self, **changes)
+
+
+#: The coat thickness an assembly has when none is given, mm.
+_COAT_DEFAULT = 0.02
+
+
+def _coat_unused(filler: str, thickness) -> None:
+    """Refuse a coat thickness that would have no effect (the filler is not a coat)."""
+    raise DesignError(
+        "assembly.filler_coat_thickness",
+        thickness,
+        f'has no effect with filler = "{filler}" (it sizes filler = "coat" only); '
+        'remove it or set filler = "coat"',
+    )
 
 
 @functools.cache

@@ -47,4 +47,11 @@ def _fmt(value: object) -> str:
         short = f"{float(value):.6g}"
         # Six digits unless they round to another number (0.49999999 must not read as 0.5).
         return short if float(short) == float(value) else repr(float(value))
+    if isinstance(value, str) and len(value) > _LONG:
+        return f"{value[: _LONG - 20]!r}... ({len(value)} characters)"
     return repr(value)
+
+
+#: Strings longer than this are quoted by their start and their length (a 10 000-character
+#: expression must not fill the terminal).
+_LONG = 120

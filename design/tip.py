@@ -48,11 +48,31 @@ class TipDesign:
     name: str = "design"
     assembly: Assembly = _field(default_factory=Assembly)
 
+    def _check_coat(self) -> None:
+        """Refuse a coat so thick that it reaches every void: it would be ``filler = "full"`` unsaid.
+
+        The coat is the voids within ``t`` of the channel, which touches the coil's inner wall; the
+        farthest void point is ``2 (R_i - r_c)`` from the channel's surface.
+        """
+        if not (isinstance(self.coil, Coil) and isinstance(self.channel, Coil)):
+            return  # refused below, naming the part
+        reach = self.coil.inner_diameter - self.channel.outer_diameter
+        t = self.assembly.filler_coat_thickness
+        if reach > 0 and t >= reach:
+            raise DesignError(
+                "assembly.filler_coat_thickness",
+                t,
+                f'must be < {reach:.6g} mm: a coat that thick fills every void, the same as filler = "full" '
+                '(give filler = "full")',
+            )
+
     def __post_init__(self) -> None:
         if not isinstance(self.assembly, Assembly):
             raise DesignError("assembly", self.assembly, "must be a design.Assembly")
         if self.assembly.filler == "coat" and self.filler is None:
             raise DesignError("assembly.filler", "coat", "needs a filler material ([filler] material)")
+        if self.assembly.filler == "coat":
+            self._check_coat()
         for field, cls in (("coil", Coil), ("tube", Tube), ("channel", Coil), ("tip", Tip)):
             if not isinstance(getattr(self, field), cls):
                 raise DesignError(field, getattr(self, field), f"must be a design.{cls.__name__}")

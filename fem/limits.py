@@ -17,6 +17,7 @@ meshes (0.77 and 1.25 GB).
 
 from __future__ import annotations
 
+import logging
 import math
 import os
 
@@ -32,7 +33,28 @@ __all__ = [
     "estimate_section_memory_bytes",
     "check_section_budget",
     "estimate_section_seconds",
+    "estimate_finite_strain_seconds",
+    "finite_strain_curve_seconds",
+    "check_work_seconds",
+    "MAX_WORK_SECONDS",
+    "WARN_WORK_SECONDS",
+    "MAX_WORKERS",
+    "check_workers",
 ]
+
+log = logging.getLogger(__name__)
+
+#: Longest estimated work a command starts, s: two hours (``predict``, ``optimise``, ``select --robust``,
+#: ``section --nonlinear``): a run beyond is refused before any work with its estimate.
+MAX_WORK_SECONDS = 2 * 3600.0
+#: Estimated work above which a command says its estimate on stderr before it starts, s.
+WARN_WORK_SECONDS = 60.0
+#: One pressure of the finite-strain section walk per estimated (linear) section DOF, s: 64 ms a
+#: pressure for the paper section (2.8k estimated DOFs) in a dense walk (2-3 Newton iterations).
+_FINITE_STRAIN_SECONDS_PER_DOF = 2.3e-5
+#: The extra cost of each of a walk's first ten pressures (large load steps take most Newton
+#: iterations): 1.1 s a curve through 3 pressures of the paper section, measured in ``predict``.
+_FINITE_STRAIN_FIRST_STEPS_PER_DOF = 9.0e-5
 
 #: Thinnest lumen semi-axis or wall the FEM geometry resolves, mm (its bonded-land gap).
 MIN_FEATURE_MM = 0.01
@@ -170,3 +192,95 @@ def check_section_budget(*, coil_outer_radius: float, mesh_size: float, param: s
             "use a coarser mesh",
         )
     return dofs
+
+
+def estimate_finite_strain_seconds(dofs: float, pressures: int) -> float:
+    """Estimated wall time of one finite-strain section curve through ``pressures`` pressures, s.
+
+    ``0.5 s + DOFs x (23 us x pressures + 90 us x min(pressures, 10))`` with the estimated section
+    DOFs (:func:`estimate_section_dofs`): 1.4 s for 3 pressures of the paper section (measured
+    about 1.1 s), 6.9 s for 60 (measured 3.9 s): an upper estimate.
+    """
+    n = int(pressures)
+    return 0.5 + dofs * (_FINITE_STRAIN_SECONDS_PER_DOF * n + _FINITE_STRAIN_FIRST_STEPS_PER_DOF * min(n, 10))
+
+
+def finite_strain_curve_seconds(design, pressures: int, *, mesh_size: float | None = None, param="mesh_size"):
+    """Estimated seconds of one finite-strain section curve of ``design`` (mesh size checked first).
+
+    Raises
+    ------
+    DesignError
+        Naming ``param``: a mesh size outside the mesher's range or a section too large to solve.
+    """
+    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
+
+    h = MESH_SIZE if mesh_size is None else mesh_size
+    try:
+        check_size(h, SEGMENTS)
+    except DesignError as exc:
+        raise DesignError(param, exc.value, exc.bound) from None
+    dofs = check_section_budget(coil_outer_radius=design.coil.outer_diameter / 2, mesh_size=h, param=param)
+    return estimate_finite_strain_seconds(dofs, pressures)
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.3g} s"
+    if seconds < 2 * 3600:
+        return f"{seconds / 60:.3g} min"
+    return f"{seconds / 3600:.3g} h"
+
+
+def check_work_seconds(seconds: float, *, param: str, value: object, what: str, hint: str) -> float:
+    """Refuse work estimated above :data:`MAX_WORK_SECONDS`; warn with the estimate above a minute.
+
+    Parameters
+    ----------
+    seconds
+        The estimate.
+    param, value
+        The input that sized the work (named in the refusal).
+    what
+        What is estimated (e.g. ``"10^6 pressures of the finite-strain section model"``).
+    hint
+        How to make it smaller.
+
+    Raises
+    ------
+    DesignError
+        Naming ``param`` with the estimate and the limit.
+    """
+    if not seconds <= MAX_WORK_SECONDS:
+        raise DesignError(
+            param,
+            value,
+            f"{what} is estimated at {_duration(seconds)}, above the {_duration(MAX_WORK_SECONDS)} "
+            f"a command starts; {hint}",
+        )
+    if seconds > WARN_WORK_SECONDS:
+        log.warning("%s: estimated %s before it finishes", what, _duration(seconds))
+    return seconds
+
+
+#: Most local worker processes a command starts: each is a Python process with its own memory
+#: (~0.2 GB), and more processes than cores only queue.
+MAX_WORKERS = 256
+
+
+def check_workers(workers, *, param: str = "workers") -> None:
+    """Refuse a worker count that is not an integer in [1, :data:`MAX_WORKERS`] (None: the default).
+
+    Raises
+    ------
+    DesignError
+        Naming ``param``.
+    """
+    if workers is None:
+        return
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise DesignError(
+            param,
+            workers,
+            f"must be an integer in [1, {MAX_WORKERS}] (this machine has {os.cpu_count()} CPUs)",
+        )

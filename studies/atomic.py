@@ -30,6 +30,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from softcath.design.errors import DataError, DesignError
+from softcath.studies.output_ledger import check_replace, record, stale_files
 
 __all__ = [
     "prepare_out_dir",
@@ -332,11 +333,15 @@ class Outputs:
     ``with Outputs(out) as o:`` then ``o.path("calibration.json")`` gives a temporary
     path to write; :meth:`text` and :meth:`json` write through it. When the block ends
     without an exception every file is renamed to its real name; otherwise all
-    temporary files are removed and the earlier outputs stay as they were.
+    temporary files are removed and the earlier outputs stay as they were. A file that
+    softcath did not write, or one the command reads, is never replaced
+    (:mod:`softcath.studies.output_ledger`); with ``owner``, the files that owner wrote
+    into the folder before and this commit did not are removed.
     """
 
-    def __init__(self, folder: str | Path) -> None:
+    def __init__(self, folder: str | Path, *, owner: str | None = None) -> None:
         self.folder = Path(folder)
+        self.owner = owner
         self._pending: dict[Path, Path] = {}
 
     def __enter__(self) -> Outputs:
@@ -364,38 +369,54 @@ class Outputs:
                 missing = [f for f, t in self._pending.items() if not t.exists()]
                 if missing:
                     raise DataError(f"{missing[0]}: the writer produced no file; nothing written")
+                check_replace(self.folder, self._pending)
                 for tmp in self._pending.values():
                     _fsync(tmp)
                 for final, tmp in self._pending.items():
                     os.replace(tmp, final)
+                _settle(self.folder, list(self._pending), self.owner)
         finally:
             for tmp in self._pending.values():
                 with contextlib.suppress(FileNotFoundError, IsADirectoryError):
                     tmp.unlink()
 
 
+def _settle(root: Path, written: list[Path], owner: str | None) -> None:
+    """After a commit: remove the owner's stale files, then record what was written."""
+    stale = stale_files(root, owner, written) if owner else []
+    for path in stale:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+    record(root, written, owner=owner, removed=stale)
+
+
 @contextlib.contextmanager
-def staged_dir(out: str | Path) -> Iterator[Path]:
+def staged_dir(out: str | Path, *, owner: str | None = None) -> Iterator[Path]:
     """Yield a hidden staging folder inside ``out`` for a writer that fills a whole folder.
 
     When the block succeeds every file written under the staging folder is renamed to
-    the same relative path under ``out`` (each rename atomic; existing files replaced);
-    when it fails the staging folder is deleted and ``out`` keeps its earlier files.
+    the same relative path under ``out`` (each rename atomic; softcath's earlier files
+    replaced); when it fails the staging folder is deleted and ``out`` keeps its earlier
+    files. Nothing is moved if one destination is a file softcath did not write or one
+    the command reads (:func:`softcath.studies.output_ledger.check_replace`). With
+    ``owner`` (e.g. ``"optimise"``), the files that owner wrote into ``out`` before and
+    this run did not (stale Pareto designs, figures) are removed after the move.
     """
     root = prepare_out_dir(out)
     stage = root / f".softcath-staging-{os.getpid()}-{uuid.uuid4().hex[:8]}"
     stage.mkdir()
     try:
         yield stage
-        for src in sorted(stage.rglob("*")):
-            if src.is_dir():
-                continue
-            dst = root / src.relative_to(stage)
+        moves = [(src, root / src.relative_to(stage)) for src in sorted(stage.rglob("*")) if not src.is_dir()]
+        for _, dst in moves:
             if dst.is_dir():
-                raise DataError(f"{dst}: is a folder where the output file goes; nothing more written")
+                raise DataError(f"{dst}: is a folder where the output file goes; nothing written")
+        check_replace(root, [dst for _, dst in moves])
+        for src, dst in moves:
             dst.parent.mkdir(parents=True, exist_ok=True)
             _fsync(src)
             os.replace(src, dst)
+        _settle(root, [dst for _, dst in moves], owner)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
 

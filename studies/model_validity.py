@@ -26,6 +26,12 @@ __all__ = [
     "check_pressure",
     "linear_range_warnings",
     "warn_linear_range",
+    "SELF_CONTACT_DEG",
+    "self_contact_warning",
+    "warn_self_contact",
+    "check_measured_pressures",
+    "self_contact_reasons",
+    "fail_self_contact",
 ]
 
 log = logging.getLogger("softcath.validity")
@@ -60,6 +66,112 @@ def check_finite_columns(columns: Mapping[str, object], *, param: str, value: ob
             raise DesignError(param, value, f"gives a non-finite {name} (overflow); use a smaller value")
 
 
+#: Bend angle of a uniform arc past which the tip passes through itself (a full turn: the arc's end
+#: meets its start). No model of softcath has self-contact, so its numbers beyond are not physical.
+SELF_CONTACT_DEG = 360.0
+#: Measured pressures above this multiple of a model's highest pressure are refused as a unit mistake
+#: (a file in bar reads 10x the MPa); above :data:`_MEASURED_WARN_RATIO` they are named in a warning.
+_MEASURED_REFUSE_RATIO = 5.0
+_MEASURED_WARN_RATIO = 1.5
+
+
+def self_contact_warning(pressures, bend_angle_rad, *, model: str) -> str | None:
+    """The message for a bend past :data:`SELF_CONTACT_DEG` (the tip passing through itself), or None."""
+    p = np.atleast_1d(np.asarray(pressures, dtype=float))
+    theta = np.degrees(np.abs(np.atleast_1d(np.asarray(bend_angle_rad, dtype=float))))
+    if p.shape != theta.shape:
+        p = np.full(theta.shape, np.nan)
+    past = np.isfinite(theta) & (theta > SELF_CONTACT_DEG)
+    if not past.any():
+        return None
+    first = int(np.argmax(past))
+    where = f" from {p[first]:g} MPa" if np.isfinite(p[first]) else ""
+    return (
+        f"bend {np.nanmax(theta):.4g} deg is past {SELF_CONTACT_DEG:g} deg{where}: the tip would pass "
+        f"through itself; {model} has no self-contact, so its answers there are not physical"
+    )
+
+
+def warn_self_contact(pressures, bend_angle_rad, *, model: str) -> bool:
+    """Log :func:`self_contact_warning` as a warning; True when the bend passed a full turn."""
+    msg = self_contact_warning(pressures, bend_angle_rad, model=model)
+    if msg:
+        log.warning(msg)
+    return msg is not None
+
+
+def self_contact_reasons(df, column: str = "bend_angle_deg") -> dict[int, str]:
+    """``{design_id: reason}`` of the designs in a results table whose bend passes a full turn.
+
+    The table's ``column`` (degrees) is the model's bend; a design past :data:`SELF_CONTACT_DEG`
+    at any of its pressures passes through itself there, which no model of softcath represents.
+    """
+    if column not in df.columns or df.empty:
+        return {}
+    theta = np.abs(df[column].to_numpy(float))
+    past = np.isfinite(theta) & (theta > SELF_CONTACT_DEG)
+    out: dict[int, str] = {}
+    for i in np.flatnonzero(past):
+        did = int(df["design_id"].iloc[i])
+        if did not in out:
+            out[did] = (
+                f"bend {theta[i]:.4g} deg at {float(df['pressure_MPa'].iloc[i]):g} MPa is past "
+                f"{SELF_CONTACT_DEG:g} deg: the tip passes through itself (self-contact is not modelled)"
+            )
+    return out
+
+
+def fail_self_contact(df, column: str = "bend_angle_deg"):
+    """``df`` with the designs of :func:`self_contact_reasons` marked failed, with their reason."""
+    reasons = self_contact_reasons(df, column)
+    if not reasons:
+        return df
+    df = df.copy()
+    hit = df["design_id"].isin(list(reasons)).to_numpy()
+    df.loc[hit, "status"] = "failed"
+    df.loc[hit, "reason"] = df.loc[hit, "design_id"].map(reasons)
+    return df
+
+
+def check_measured_pressures(measured_MPa, model_top_MPa: float, *, param: str, value: object) -> None:
+    """Refuse a measurement drawn against a model whose pressures it far exceeds (bar read as MPa).
+
+    A measurement's ``pressure_MPa`` reaching more than 5x the model's highest pressure is
+    refused (a file in bar reads 10x); more than 1.5x is said in a warning (the model is not
+    drawn there).
+
+    Raises
+    ------
+    DesignError
+        Naming ``param`` (the measurement option) with the measured and the model's range.
+    """
+    p = np.asarray(measured_MPa, dtype=float)
+    p = p[np.isfinite(p)]
+    top = float(model_top_MPa)
+    if p.size == 0 or not top > 0:
+        return
+    high = float(np.abs(p).max())
+    ratio = high / top
+    if ratio > _MEASURED_REFUSE_RATIO:
+        raise DesignError(
+            param,
+            value,
+            f"its pressure_MPa reaches {high:g}, {ratio:.3g}x the model's highest {top:g} MPa: is the file "
+            "in bar (1 bar = 0.1 MPa) or kPa? convert pressure_MPa to MPa, or compute the model to "
+            "the measured pressures",
+        )
+    if ratio > _MEASURED_WARN_RATIO:
+        log.warning(
+            "the measurement %s reaches %g MPa, %.3gx the model's highest %g MPa: the model is not drawn "
+            "beyond %g MPa",
+            value,
+            high,
+            ratio,
+            top,
+            top,
+        )
+
+
 def linear_range_warnings(
     pressures, bend_angle_rad, *, max_strain=None, elongation=None, model: str = "the linear model"
 ) -> list[str]:
@@ -78,6 +190,9 @@ def linear_range_warnings(
             f"bend {theta.max():.3g} deg is beyond the ~{LINEAR_BEND_LIMIT_DEG:g} deg where {model} "
             "departs from finite strain by 5 %; use `softcath fem --nonlinear` for large bends"
         )
+    contact = self_contact_warning(p, bend_angle_rad, model=model)
+    if contact:
+        msgs.append(contact)
     if max_strain is not None:
         e = np.atleast_1d(np.asarray(max_strain, dtype=float))
         e = e[np.isfinite(e)]

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 from softcath.design.errors import DesignError
 
-__all__ = ["Tier", "TIERS", "ALIASES", "tier", "tier_name", "tier_names"]
+__all__ = ["Tier", "TIERS", "ALIASES", "ASSEMBLY_TIERS", "check_assembly", "tier", "tier_name", "tier_names"]
 
 log = logging.getLogger(__name__)
 
@@ -134,3 +134,46 @@ def tier_names(*, exclude: Iterable[str] = ()) -> tuple[str, ...]:
     """The tiers' names in order, without those in ``exclude`` (e.g. for a command's choices)."""
     skip = set(exclude)
     return tuple(n for n in TIERS if n not in skip)
+
+
+#: The tiers that model an as-built ``[assembly]`` (sliding or tied interfaces, a coat or no filler,
+#: a free tube base); every other tier is one bonded body and answers only the default assembly.
+ASSEMBLY_TIERS = ("section", "fem")
+
+
+def check_assembly(name: str, assembly, *, parameter: str = "assembly") -> None:
+    """Refuse a tier that would answer an as-built design with its bonded model.
+
+    Parameters
+    ----------
+    name
+        The tier's name.
+    assembly
+        The design's :class:`~softcath.design.assembly.Assembly` (or its ``[assembly]`` table).
+    parameter
+        How the caller names the assembly (``assembly``, ``--assembly``).
+
+    Raises
+    ------
+    DesignError
+        Naming ``parameter`` with the options that differ from the bonded tip and the tiers
+        that model them.
+    """
+    from softcath.design.assembly import Assembly
+
+    a = assembly if isinstance(assembly, Assembly) else Assembly.from_dict(assembly or {})
+    if a.is_default or name in ASSEMBLY_TIERS:
+        return
+    if name == "fem-nonlinear":
+        from softcath.fem.api import check_assembly as fem_nonlinear_takes
+
+        fem_nonlinear_takes(a)
+        return
+    base = Assembly()
+    changed = {k: v for k, v in a.to_dict().items() if getattr(base, k) != v}
+    raise DesignError(
+        parameter,
+        changed,
+        f"is modelled by {' and '.join(TIERS[t].label for t in ASSEMBLY_TIERS)} only "
+        f"({TIERS[name].label} is one bonded body and would answer another tip); use --model section",
+    )

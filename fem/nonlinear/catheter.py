@@ -260,7 +260,12 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
     terms of the coil — stays usable. ``hoop_cap=None`` keeps the steel value.
     """
     from softcath.design import coil_stiffness
-    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
+    from softcath.fem.nonlinear.laws import (
+        AnisotropicSVK,
+        isotropic_from_young,
+        transversely_isotropic,
+        yeoh_at_modulus,
+    )
 
     silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
     e_max = max(m.youngs_modulus for m in silicones)
@@ -280,9 +285,8 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
         )
 
     def silicone(m):
-        return isotropic_from_young(
-            youngs_modulus=m.youngs_modulus, poisson_ratio=m.poisson_ratio, yeoh=m.yeoh
-        )
+        yeoh = yeoh_at_modulus(m.yeoh, youngs_modulus=m.youngs_modulus, poisson_ratio=m.poisson_ratio)
+        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=m.poisson_ratio, yeoh=yeoh)
 
     laws = {
         REGIONS["coil"]: coil_law(design.coil),

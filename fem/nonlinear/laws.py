@@ -21,6 +21,7 @@ Moduli in MPa. ``F`` arrays carry the tensor indices last (``(..., 3, 3)``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -33,6 +34,7 @@ __all__ = [
     "AnisotropicSVK",
     "neo_hookean",
     "isotropic_from_young",
+    "yeoh_at_modulus",
     "transversely_isotropic",
     "isotropic_tensor",
 ]
@@ -148,6 +150,26 @@ class Yeoh:
 def neo_hookean(*, shear_modulus: float, bulk_modulus: float) -> Yeoh:
     """Compressible (decoupled) neo-Hookean solid: Yeoh with C₁ = μ/2, C₂ = C₃ = 0."""
     return Yeoh(c1=0.5 * _check_positive("shear_modulus", shear_modulus), bulk_modulus=bulk_modulus)
+
+
+def yeoh_at_modulus(
+    yeoh: tuple[float, float, float] | None, *, youngs_modulus: float, poisson_ratio: float
+) -> tuple[float, float, float] | None:
+    """A material's Yeoh fit scaled to the design's modulus (``None`` stays ``None``).
+
+    The fit gives the shape of the stress-strain curve; the design's E sets its small-strain
+    stiffness, as in the linear models: every coefficient is multiplied by
+    ``E / (2 (1 + nu)) / (2 C1)`` so that the initial shear modulus ``2 C1`` is the linear
+    models' ``E / (2 (1 + nu))``. A design that changes a silicone's E (a sweep path
+    ``materials.NAME.youngs_modulus``) therefore changes its finite-strain law too.
+    """
+    if yeoh is None:
+        return None
+    c1, c2, c3 = (float(c) for c in yeoh)
+    if not (c1 > 0 and math.isfinite(c1)):
+        return yeoh  # refused by isotropic_from_young, naming yeoh[0]
+    scale = float(youngs_modulus) / (2.0 * (1.0 + float(poisson_ratio))) / (2.0 * c1)
+    return (c1 * scale, c2 * scale, c3 * scale)
 
 
 def isotropic_from_young(

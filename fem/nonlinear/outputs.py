@@ -136,7 +136,7 @@ def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
 
     doc = json.loads(path.read_text(encoding="utf-8"))
     p = float(curve.pressure[-1])
-    ref = analytic.response(design, p, curve.load)
+    ref = analytic.response(design, p, "cap")  # the paper's formula (eq. 7, cap load), as `softcath analytic`
     k_ref = float(ref.curvature)
     last = curve.result.steps[-1]
     doc.update(
@@ -145,7 +145,7 @@ def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
             "dofs": int(curve.ndofs),
             "residual": float(last.residuals[-1]) if len(last.residuals) else None,
             "solve_seconds": seconds,
-            "analytic": {"curvature_per_mm": k_ref, "elongation": float(ref.elongation)},
+            "analytic": {"curvature_per_mm": k_ref, "elongation": float(ref.elongation), "load": "cap"},
             "ratio_fem_over_analytic": float(curve.curvature[-1]) / k_ref if k_ref else None,
             # finite-strain counterparts: section-rotation profile, principal stretch strain
             "curvature_variation": _finite_or_none(curve.curvature_variation[-1]),

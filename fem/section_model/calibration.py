@@ -35,6 +35,10 @@ log = logging.getLogger(__name__)
 
 #: Floor of the relative change of a shape number (mm): h is often 0.
 SHAPE_FLOOR_MM = 0.01
+#: Relative difference of the section model's curvature gain at the result from the data's below
+#: which the fit reaches the data (a result even when the shape does not settle: then the free
+#: shape numbers are not identifiable from the data, and the result says so).
+MATCH_TOL = 1e-3
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -60,7 +64,10 @@ class SectionCalibration:
         Curvature NRMSE of the section model at the nominal and calibrated
         shapes, and their ratio.
     reachable, identifiable, message
-        From the last inner calibration, plus the space-mapping outcome.
+        From the last inner calibration, plus the space-mapping outcome; ``identifiable`` is
+        False when the fit reaches the data but its shape did not settle.
+    matches_data
+        The section model's curvature gain at ``x_opt`` is the data's within :data:`MATCH_TOL`.
     inner
         The last :class:`softcath.analytic.calibration.CalibrationResult`.
     design
@@ -84,6 +91,12 @@ class SectionCalibration:
     message: str
     inner: object
     design: object
+    matches_data: bool = False
+
+    @property
+    def usable(self) -> bool:
+        """A result to write: converged, or reaching the data with its shape not identifiable."""
+        return self.converged or self.matches_data
 
     def to_json(self) -> dict:
         """The JSON document ``softcath calibrate --model section`` writes."""
@@ -103,6 +116,7 @@ class SectionCalibration:
             "gains_model": self.gains_model,
             "reachable": self.reachable,
             "identifiable": self.identifiable,
+            "matches_data": self.matches_data,
             "starts": self.inner.starts,
             "starts_at_optimum": self.inner.starts_at_optimum,
             "message": self.message,
@@ -186,6 +200,7 @@ def calibrate_section(
     p = np.asarray(measurement.pressure_MPa, float)
     kap = np.asarray(measurement.curvature_per_mm, float)
     nr_nom, nr_opt = nrmse(gains_nominal[0] * p, kap), nrmse(gains[0] * p, kap)
+    matched = _miss(it) <= MATCH_TOL
     return SectionCalibration(
         x_opt=x,
         x_nominal=x_nom,
@@ -200,10 +215,11 @@ def calibrate_section(
         nrmse_optimized=nr_opt,
         ratio=nr_nom / nr_opt if nr_opt > 0 else float("inf"),
         reachable=inner.reachable,
-        identifiable=inner.identifiable,
-        message=_message(load, tol, it),
+        identifiable=inner.identifiable and it.converged,
+        message=_message(load, tol, it, free),
         inner=inner,
         design=design.with_tube_shape(**x),
+        matches_data=matched,
     )
 
 
@@ -280,19 +296,28 @@ def _iterate(
     )
 
 
-def _message(load, tol, it: _Iteration) -> str:
+def _miss(it: _Iteration) -> float:
+    """Relative difference of the section model's curvature gain at the result from the data's."""
+    data = it.inner.gains_data["curvature_per_mm_per_MPa"]
+    return abs(it.gains[0] - data) / max(abs(data), 1e-300)
+
+
+def _message(load, tol, it: _Iteration, free=()) -> str:
     """Summary line of the calibration."""
     gains, data = it.gains, it.inner.gains_data
-    miss = abs(gains[0] - data["curvature_per_mm_per_MPa"]) / max(
-        abs(data["curvature_per_mm_per_MPa"]), 1e-300
-    )
-    return (
-        f"section model ({load} load), {len(it.history)} iteration(s), "
-        + (
-            "converged"
-            if it.converged
-            else f"NOT converged to {tol:g} (last step {it.step:.2g}, factor mismatch {it.mismatch:.2g})"
+    miss = _miss(it)
+    if it.converged:
+        outcome = "converged"
+    elif miss <= MATCH_TOL:
+        outcome = (
+            f"reaches the data, shape not identified: {len(free)} free shape numbers "
+            f"({', '.join(free)}) move along shapes of equal gain (last step {it.step:.2g}); "
+            "x_opt is one of them, fix all but one with --free to pin it"
         )
+    else:
+        outcome = f"NOT converged to {tol:g} (last step {it.step:.2g}, factor mismatch {it.mismatch:.2g})"
+    return (
+        f"section model ({load} load), {len(it.history)} iteration(s), {outcome}"
         + f": curvature gain {gains[0]:.5g} vs data {data['curvature_per_mm_per_MPa']:.5g} 1/(mm MPa)"
         + f" ({100 * miss:.2g} % off); inner fit: {it.inner.message}"
     )

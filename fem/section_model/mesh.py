@@ -25,7 +25,15 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import VOID, TipGeometry
 
-__all__ = ["SectionMesh", "catheter_section_mesh", "disk_section_mesh", "MESH_SIZE", "MESHERS", "SEGMENTS"]
+__all__ = [
+    "SectionMesh",
+    "catheter_section_mesh",
+    "check_size",
+    "disk_section_mesh",
+    "MESH_SIZE",
+    "MESHERS",
+    "SEGMENTS",
+]
 
 log = logging.getLogger(__name__)
 
@@ -127,11 +135,21 @@ def _finish(xy, tri, labels, ce, cm, in_lumen: Callable, seconds: float, key: st
     return SectionMesh(xy, tri, labels.astype(np.int8), ce, cm, lumen, seconds, key)
 
 
-def _check_size(mesh_size: float, segments: int) -> None:
+def check_size(mesh_size: float, segments: int) -> None:
+    """Refuse a section mesh size outside [0.005, 0.5] mm or segments outside [8, 256].
+
+    Raises
+    ------
+    DesignError
+        Naming ``mesh_size`` or ``segments``.
+    """
     if not (math.isfinite(mesh_size) and 0.005 <= mesh_size <= 0.5):
         raise DesignError("mesh_size", mesh_size, "must be in [0.005, 0.5] mm")
     if not (8 <= int(segments) <= 256):
         raise DesignError("segments", segments, "must be in [8, 256] points per full turn")
+
+
+_check_size = check_size
 
 
 @functools.lru_cache(maxsize=64)

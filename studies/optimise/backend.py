@@ -35,8 +35,9 @@ class Backend:
     def __init__(self, *, workers: int | None = None, scheduler: str | None = None, client=None) -> None:
         if sum(x is not None for x in (workers, scheduler, client)) > 1:
             raise DesignError("backend", (workers, scheduler), "choose one of workers, scheduler, client")
-        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-            raise DesignError("workers", workers, "must be an integer >= 1")
+        from softcath.fem.limits import check_workers
+
+        check_workers(workers)
         if scheduler is not None and not str(scheduler).startswith(("tcp://", "tls://", "inproc://")):
             raise DesignError(
                 "scheduler", scheduler, "must be a Dask scheduler address such as tcp://HOST:8786"

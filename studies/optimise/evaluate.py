@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.studies.model_validity import fail_self_contact
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
@@ -191,7 +192,8 @@ def run_variants(problem: Problem, variants: list[dict], backend: Backend, evalu
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))
     df = pd.concat(frames, ignore_index=True)
     df = add_derived_columns(df, max_strain=math.inf, p_max=max(problem.pressures_MPa))
-    return model_columns(df, model or problem.model)
+    # a design bending past a full turn passes through itself: no tier models it, none ranks it
+    return fail_self_contact(model_columns(df, model or problem.model))
 
 
 def evaluate_parameters(

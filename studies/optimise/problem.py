@@ -13,8 +13,20 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from softcath.design.errors import DesignError
-from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
-from softcath.studies.tiers import tier_name
+from softcath.design.validation import MAX_MAGNITUDE
+from softcath.studies.model_validity import MAX_PRESSURE_MPA
+from softcath.studies.selection.criteria import (
+    Constraint,
+    Objective,
+    at_pressure,
+    check_columns,
+    parse_constraint,
+    parse_objective,
+    without_text,
+)
+from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.sweep.results import COLUMN_UNITS
+from softcath.studies.tiers import check_assembly, tier_name
 
 __all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
 
@@ -94,6 +106,8 @@ def parse_variable(text: str) -> Variable:
         raise DesignError(f"vary.{path}", spec, "LO and HI must be numbers") from None
     if not (math.isfinite(low) and math.isfinite(high)):
         raise DesignError(f"vary.{path}", spec, "LO and HI must be finite")
+    if max(abs(low), abs(high)) > MAX_MAGNITUDE:  # the rule of every number of a design
+        raise DesignError(f"vary.{path}", spec, f"LO and HI must be within ±{MAX_MAGNITUDE:g} (mm, MPa)")
     if not high > low:
         raise DesignError(f"vary.{path}.high", high, f"must be > low = {low:g}")
     return Variable(path, low, high)
@@ -103,6 +117,53 @@ def _available_evaluators() -> tuple[str, ...]:
     from softcath.studies.sweep.spec import EVALUATORS
 
     return tuple(EVALUATORS)
+
+
+#: Where a refused column name points the user (optimise writes no columns.json).
+_LISTED = (
+    "the columns are a sweep's result columns (e.g. bend_angle_deg, curvature_per_mm, elongation, "
+    "max_strain, bend_per_MPa_deg) and the --vary paths"
+)
+
+
+def _check_numeric(base_table: Mapping[str, Any], v: Variable) -> None:
+    """Refuse a variable whose field is not a number (a material name, a flag): LO:HI means nothing there."""
+    node: Any = base_table
+    for part in v.path.split("."):
+        node = node.get(part) if isinstance(node, Mapping) else None
+    if node is not None and (isinstance(node, bool) or not isinstance(node, (int, float))):
+        raise DesignError(
+            f"vary.{v.path}",
+            f"{v.low:g}:{v.high:g}",
+            f"{v.path} is {node!r}, not a number: only numeric fields vary between LO and HI "
+            "(compare materials with separate runs)",
+        )
+
+
+def _parsed(param: str, text: str, parse):
+    """``parse(text)`` with a refusal said as ``param = text: why`` (the option names the expression)."""
+    try:
+        return parse(text)
+    except SelectionError as exc:
+        raise DesignError(param, text, without_text(str(exc), text)) from None
+
+
+def _pressure(param: str, value, p) -> float:
+    """One rule for every pressure of a search, from ``pressures`` or an ``at p=`` of ``param``."""
+    if (
+        isinstance(p, bool)
+        or not isinstance(p, (int, float))
+        or not math.isfinite(p)
+        or not 0 <= p <= MAX_PRESSURE_MPA
+    ):
+        where = "" if param == "pressures" else f"at p={p:g}: "
+        raise DesignError(
+            param,
+            value,
+            f"{where}pressures must be finite and in [0, {MAX_PRESSURE_MPA:g}] MPa (the sweep tiers inflate "
+            "the lumen; suction is not modelled)",
+        )
+    return float(p)
 
 
 def make_problem(
@@ -126,6 +187,7 @@ def make_problem(
         )
     if load not in ("cap", "lumen"):
         raise DesignError("load", load, "must be cap or lumen")
+    check_assembly(model, base_table.get("assembly"))
     vs = tuple(v if isinstance(v, Variable) else parse_variable(v) for v in variables)
     if not vs:
         raise DesignError("variables", [], "give at least one design variable PATH=LO:HI")
@@ -138,18 +200,22 @@ def make_problem(
             check_path(base_table, v.path)
         except DesignError as exc:
             raise DesignError(f"vary.{v.path}", v.path, exc.bound) from None
+        _check_numeric(base_table, v)
     if not objectives:
         raise DesignError("objectives", [], "give at least one objective, e.g. 'maximise bend_angle_deg'")
-    objs = tuple(parse_objective(o) for o in objectives)
-    cons = tuple(parse_constraint(c) for c in constraints)
+    objs = tuple(_parsed("objectives", o, parse_objective) for o in objectives)
+    cons = tuple(_parsed("constraints", c, parse_constraint) for c in constraints)
     ps = set()
     for p in pressures:
-        if isinstance(p, bool) or not isinstance(p, (int, float)) or not math.isfinite(p) or p < 0:
-            raise DesignError("pressures", p, "must be finite numbers >= 0")
-        ps.add(float(p))
-    for item in (*objs, *cons):
-        if item.where and item.where.startswith("p="):
-            ps.add(float(item.where.split("=", 1)[1]))
+        ps.add(_pressure("pressures", p, p))
+    for param, items in (("objectives", objs), ("constraints", cons)):
+        for item in items:
+            if item.where and item.where.startswith("p="):
+                ps.add(_pressure(param, item.text, at_pressure(item.where, item.text)))
+    known = set(COLUMN_UNITS) | {v.path for v in vs}
+    for param, items in (("objectives", objs), ("constraints", cons)):
+        for item in items:
+            _parsed(param, item.text, lambda _, it=item: check_columns([it], known, listed=_LISTED))
     if not any(p > 0 for p in ps):
         raise DesignError("pressures", sorted(ps), "must include a pressure > 0")
     return Problem(

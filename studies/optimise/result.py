@@ -28,6 +28,9 @@ class Winner:
         Robust only: ``{constraint text: probability of meeting it}``.
     fem_check
         The 3-D linear FEM's re-check (``None`` when skipped).
+    reason
+        Why an infeasible winner is not a design ("" when feasible): the constraints it
+        misses and by how much, or why the model could not evaluate it.
     """
 
     name: str
@@ -38,6 +41,7 @@ class Winner:
     percentiles: dict[str, dict[str, float]] | None = None
     probabilities: dict[str, float] | None = None
     fem_check: dict[str, Any] | None = None
+    reason: str = ""
 
     def to_json(self) -> dict:
         out = {
@@ -47,6 +51,8 @@ class Winner:
             "constraints": self.constraints,
             "feasible": self.feasible,
         }
+        if not self.feasible:
+            out["reason"] = self.reason
         if self.percentiles is not None:
             out["percentiles"] = self.percentiles
             out["probabilities"] = self.probabilities
@@ -76,8 +82,23 @@ class Optimum:
     robust: dict | None = None
     history: Any = field(default=None, repr=False, compare=False)
 
+    @property
+    def feasible(self) -> bool:
+        """True when at least one winner meets every constraint (and so has a design file)."""
+        return any(w.feasible for w in self.best)
+
+    @property
+    def reason(self) -> str | None:
+        """Why the search found no feasible design (None when it did): its closest candidate's reason."""
+        if self.feasible:
+            return None
+        why = self.best[0].reason if self.best else "no candidate was evaluated"
+        return f"none of the {self.evaluations} designs evaluated is feasible; the closest: {why}"
+
     def to_json(self) -> dict:
         return {
+            "feasible": self.feasible,
+            "reason": self.reason,
             "model": self.model,
             "load": self.load,
             "algorithm": self.algorithm,

@@ -59,6 +59,7 @@ def _winner(problem: Problem, name: str, row: dict, robust: bool) -> Winner:
 
     return Winner(
         name=name,
+        reason=_reason(problem, row),
         parameters={p: float(row[p]) for p in problem.paths},
         objectives={o.text: num(row[o.text]) for o in problem.objectives},
         constraints={c.text: num(row[f"margin {c.text}"]) for c in problem.constraints},
@@ -77,6 +78,22 @@ def _winner(problem: Problem, name: str, row: dict, robust: bool) -> Winner:
         if robust
         else None,
     )
+
+
+def _reason(problem: Problem, row: dict) -> str:
+    """Why the history row ``row`` is not a feasible design ("" when it is)."""
+    if row["feasible"]:
+        return ""
+    if not row["ok"]:
+        return str(row.get("reason") or "the model could not evaluate it")
+    missed = [
+        f"'{c.text}' missed by {-float(row[f'margin {c.text}']):.4g}"
+        for c in problem.constraints
+        if not float(row[f"margin {c.text}"]) >= 0
+    ]
+    if missed:
+        return "constraint " + "; ".join(missed)
+    return "an objective is not a finite number there"
 
 
 def check_search(problem: Problem, *, budget: int, seed: int = 0, robust: Robustness | None = None) -> None:
@@ -201,7 +218,11 @@ def _pick(problem: Problem, history, unit: np.ndarray, robust: bool) -> list[Win
 
 
 def write_optimum(optimum: Optimum, problem: Problem, out_dir: str | Path) -> dict[str, Path]:
-    """Write ``optimum.json``, ``history.parquet`` and ``designs/<name>.toml`` into ``out_dir``."""
+    """Write ``optimum.json``, ``history.parquet`` and ``designs/<name>.toml`` into ``out_dir``.
+
+    Only feasible winners get a design file; an infeasible search writes its reason
+    (``optimum.json``: ``feasible`` false, ``reason``) and the history, no design.
+    """
     from softcath import design
     from softcath.studies.atomic import write_json
     from softcath.studies.sweep.variants import build_variant
@@ -214,10 +235,12 @@ def write_optimum(optimum: Optimum, problem: Problem, out_dir: str | Path) -> di
     tmp.replace(out / "history.parquet")
     paths["history"] = out / "history.parquet"
     for w in optimum.best:
+        if not w.feasible:
+            continue  # an infeasible winner is no design: optimum.json says why, no TOML is written
         try:
             d = build_variant(problem.base_table, w.parameters, name=w.name)
         except DesignError:
-            continue  # an infeasible "best" (nothing feasible found) has no design file
+            continue
         header = f"softcath optimise ({optimum.model} model): {w.name}\n" + "\n".join(
             f"{k} = {v:.6g}" for k, v in w.parameters.items()
         )

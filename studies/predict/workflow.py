@@ -14,7 +14,7 @@ from softcath.studies.predict.ranges import (
     chosen_ranges,
 )
 from softcath.studies.predict.tier import TierPrediction, predict_tier
-from softcath.studies.tiers import tier_name
+from softcath.studies.tiers import check_assembly, tier_name
 
 __all__ = [
     "DEFAULT_SAMPLES",
@@ -146,6 +146,8 @@ def predict(
         tiers=(model, *compare),
     )
     table = base_table(design_ref)
+    for name in (model, *compare):
+        check_assembly(name, table.get("assembly"))
     ranges = resolve_ranges(design_ref, vary, ranges_file)
     order = [model] + [t for t in TIERS if t in compare and t != model]
     if "section" in order:

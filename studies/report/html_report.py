@@ -345,7 +345,9 @@ def write_report(
 
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report" if out is None else Path(out)
-    with staged_dir(out) as stage:  # the page and its figures replace the old ones only as a whole
+    # The page and its figures replace the old ones only as a whole; an earlier report's figures
+    # that this one did not redraw go (they are the report's), anything else in the folder stays.
+    with staged_dir(out, owner="report") as stage:
         sections = sweep_sections(sweep_dir, stage, prefix=prefix)
         mark = '<img src="' + prefix
         body = "".join(f"<h2>{esc(t)}</h2>{h}" for t, h in sections)
@@ -356,10 +358,6 @@ def write_report(
             page("softcath sweep report", body, subtitle=f"Directory: <code>{esc(sweep_dir)}</code>"),
             encoding="utf-8",
         )
-        drawn = {p.name for p in stage.glob("*.png")}
-    for stale in out.glob("*.png"):  # figures of an earlier report that this one did not redraw
-        if stale.name not in drawn:
-            stale.unlink()
     path = out / "index.html"
     return path, sections
 

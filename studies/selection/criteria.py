@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ast
 import difflib
+import math
 import re
 from dataclasses import dataclass
 
@@ -15,27 +16,71 @@ import numpy as np
 
 from softcath.studies.selection.expressions import (
     COMPARE,
+    MAX_EXPR_CHARS,
     Expr,
     SelectionError,
     check_tree,
     finite_constant,
     op_name,
     parse_expr,
+    parse_tree,
+    short,
 )
 
-__all__ = ["Constraint", "Objective", "parse_constraint", "parse_objective", "check_columns", "rows_at"]
+__all__ = [
+    "Constraint",
+    "Objective",
+    "at_pressure",
+    "parse_constraint",
+    "parse_objective",
+    "check_columns",
+    "rows_at",
+    "without_text",
+]
 
-_AT = re.compile(r"^(?P<expr>.*?)\s+at\s+(?P<where>p_max|p_min|p\s*=\s*[-+0-9.eE]+)\s*$")
+_AT = re.compile(r"^(?P<expr>.*?)\s+at\s+(?P<where>p_max|p_min|p\s*=\s*\S+)\s*$")
 _DIRECTIONS = {"maximise": -1.0, "maximize": -1.0, "max": -1.0, "minimise": 1.0, "minimize": 1.0, "min": 1.0}
 
 
 def _split_at(text: str) -> tuple[str, str | None]:
+    """``(expression, where)``: ``where`` is p_max, p_min or ``p=VALUE`` with VALUE checked.
+
+    VALUE follows the rule of every pressure a command takes (a finite number within
+    ±:data:`~softcath.studies.model_validity.MAX_PRESSURE_MPA` MPa), checked here, before
+    any evaluation.
+    """
+    if len(text) > MAX_EXPR_CHARS:
+        raise SelectionError(
+            f"'{short(text)}' is {len(text)} characters long; at most {MAX_EXPR_CHARS} are accepted"
+        )
     m = _AT.match(text.strip())
     if m:
-        return m.group("expr"), re.sub(r"\s+", "", m.group("where"))
+        where = re.sub(r"\s+", "", m.group("where"))
+        if where.startswith("p="):
+            at_pressure(where, text)
+        return m.group("expr"), where
     if re.search(r"\sat\s", text):
-        raise SelectionError(f"in '{text}': 'at' must be followed by p_max, p_min or p=NUMBER")
+        raise SelectionError(f"in '{short(text)}': 'at' must be followed by p_max, p_min or p=NUMBER")
     return text, None
+
+
+def at_pressure(where: str, text: str) -> float:
+    """The pressure of ``at p=VALUE`` in MPa: a finite number within ±100 MPa (the options' rule)."""
+    from softcath.studies.model_validity import MAX_PRESSURE_MPA
+
+    value = where.split("=", 1)[1]
+    try:
+        p = float(value)
+    except ValueError:
+        raise SelectionError(
+            f"in '{short(text)}': 'at p={value}': the pressure must be a number in MPa"
+        ) from None
+    if not (math.isfinite(p) and abs(p) <= MAX_PRESSURE_MPA):
+        raise SelectionError(
+            f"in '{short(text)}': 'at p={value}': the pressure must be finite and within "
+            f"±{MAX_PRESSURE_MPA:g} MPa (no model holds beyond)"
+        )
+    return p
 
 
 @dataclass(frozen=True)
@@ -68,10 +113,7 @@ class Objective:
 def parse_constraint(text: str) -> Constraint:
     """Parse a constraint such as ``bend_angle_deg >= 90 at p_max``."""
     body, where = _split_at(text)
-    try:
-        tree = ast.parse(body.strip(), mode="eval").body
-    except SyntaxError as exc:
-        raise SelectionError(f"cannot parse '{text}': {exc.msg}") from None
+    tree = parse_tree(body, text)
     if isinstance(tree, ast.BoolOp):
         raise SelectionError(
             f"in '{text}': operator '{op_name(tree.op)}' is not allowed; give one constraint per condition"
@@ -106,15 +148,26 @@ def parse_objective(text: str) -> Objective:
     return Objective(text, _DIRECTIONS[parts[0].lower()], parse_expr(parts[1], text), where)
 
 
-def check_columns(items, columns) -> None:
-    """Refuse a column the results do not have, suggesting close names."""
+def check_columns(items, columns, *, listed: str = "see columns.json for the list") -> None:
+    """Refuse a column the results do not have, suggesting close names (else ``listed``)."""
     known = set(columns)
     for item in items:
         for name in sorted(item.columns()):
             if name not in known:
                 close = difflib.get_close_matches(name, sorted(known), n=3)
-                hint = f"; did you mean {', '.join(close)}?" if close else "; see columns.json for the list"
-                raise SelectionError(f"unknown column '{name}' in '{item.text}'{hint}")
+                hint = f"; did you mean {', '.join(close)}?" if close else f"; {listed}"
+                raise SelectionError(f"unknown column '{name}' in '{short(item.text)}'{hint}")
+
+
+def without_text(message: str, text: str) -> str:
+    """A :class:`SelectionError` message without its quotes of ``text`` (the caller names it)."""
+    for lead in (f"in '{short(text)}': ", f"in '{text}': ", f"'{short(text)}' ", f"'{text}' "):
+        if message.startswith(lead):
+            message = message[len(lead) :]
+            break
+    for quoted in (f" in '{short(text)}'", f" in '{text}'"):
+        message = message.replace(quoted, "")
+    return message
 
 
 def rows_at(df, where: str | None, default_all: bool):
@@ -126,7 +179,7 @@ def rows_at(df, where: str | None, default_all: bool):
         return np.isclose(p, np.nanmax(p))
     if where == "p_min":
         return np.isclose(p, np.nanmin(p))
-    value = float(where.split("=", 1)[1])
+    value = at_pressure(where, where)
     mask = np.isclose(p, value, rtol=1e-9, atol=1e-12)
     if not mask.any():
         raise SelectionError(

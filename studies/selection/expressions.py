@@ -14,7 +14,24 @@ import numpy as np
 
 from softcath.design.errors import SoftcathError
 
-__all__ = ["SelectionError", "Expr", "COMPARE", "check_tree", "parse_expr", "finite_constant", "op_name"]
+__all__ = [
+    "SelectionError",
+    "Expr",
+    "COMPARE",
+    "MAX_EXPR_CHARS",
+    "MAX_EXPR_DEPTH",
+    "check_tree",
+    "parse_tree",
+    "parse_expr",
+    "finite_constant",
+    "op_name",
+    "short",
+]
+
+#: Longest expression accepted, characters (a selection reads a few column names and numbers).
+MAX_EXPR_CHARS = 1000
+#: Deepest nesting of operators, calls and parentheses accepted in one expression.
+MAX_EXPR_DEPTH = 50
 
 COMPARE = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!="}
 _BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
@@ -111,6 +128,47 @@ class Expr:
         return np.broadcast_to(np.asarray(ev(self.tree), dtype=float), (len(df),))
 
 
+def short(text: str, limit: int = 80) -> str:
+    """``text`` as a message quotes it: whole when short, else its start and its length."""
+    return text if len(text) <= limit else f"{text[: limit - 20]}... ({len(text)} characters)"
+
+
+def _depth(tree: ast.AST) -> int:
+    """Nesting depth of ``tree`` (iterative: a deep tree must not exhaust the stack here)."""
+    deepest, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        if deepest > MAX_EXPR_DEPTH:
+            return deepest
+        stack.extend((child, d + 1) for child in ast.iter_child_nodes(node))
+    return deepest
+
+
+def parse_tree(text: str, whole: str) -> ast.AST:
+    """The syntax tree of ``text`` (part of the expression ``whole``), size and depth checked first.
+
+    Raises
+    ------
+    SelectionError
+        Longer than :data:`MAX_EXPR_CHARS`, nested deeper than :data:`MAX_EXPR_DEPTH`, or not
+        Python expression syntax; nothing is evaluated before these checks.
+    """
+    if len(whole) > MAX_EXPR_CHARS:
+        raise SelectionError(
+            f"'{short(whole)}' is {len(whole)} characters long; at most {MAX_EXPR_CHARS} are accepted"
+        )
+    try:
+        tree = ast.parse(text.strip(), mode="eval").body
+    except SyntaxError as exc:
+        raise SelectionError(f"cannot parse '{short(whole)}': {exc.msg}") from None
+    except (RecursionError, MemoryError):
+        tree = None
+    if tree is None or _depth(tree) > MAX_EXPR_DEPTH:
+        raise SelectionError(f"'{short(whole)}' is nested deeper than {MAX_EXPR_DEPTH} levels")
+    return tree
+
+
 def check_tree(node: ast.AST, text: str) -> None:
     if _dotted(node) is not None:
         return
@@ -152,10 +210,8 @@ def check_tree(node: ast.AST, text: str) -> None:
 
 
 def parse_expr(text: str, whole: str) -> Expr:
-    try:
-        tree = ast.parse(text.strip(), mode="eval").body
-    except SyntaxError as exc:
-        raise SelectionError(f"cannot parse '{whole}': {exc.msg}") from None
+    """A checked :class:`Expr` of ``text`` (part of ``whole``, named in refusals)."""
+    tree = parse_tree(text, whole)
     check_tree(tree, whole)
     return finite_constant(Expr(text.strip(), tree), whole)
 

@@ -1,4 +1,4 @@
-"""Writing a selection: ``selection.json``, atomically."""
+"""Writing a selection: ``selection.json``, atomically, never over a file softcath did not write."""
 
 from __future__ import annotations
 
@@ -11,11 +11,15 @@ __all__ = ["write_selection"]
 
 
 def write_selection(selection: Selection, out_dir: str | Path) -> Path:
-    """Write ``DIR/selection.json`` (atomically)."""
-    import os
+    """Write ``DIR/selection.json`` (atomically; :class:`softcath.studies.atomic.Outputs`).
 
-    path = Path(out_dir) / "selection.json"
-    tmp = path.with_name(".selection.json.tmp")
-    tmp.write_text(json.dumps(selection.to_json(), indent=1), encoding="utf-8")
-    os.replace(tmp, path)
-    return path
+    Raises
+    ------
+    DesignError
+        ``DIR/selection.json`` exists and softcath did not write it, or it is an input.
+    """
+    from softcath.studies.atomic import Outputs
+
+    with Outputs(out_dir) as o:
+        path = o.text("selection.json", json.dumps(selection.to_json(), indent=1))
+    return Path(path)

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.studies.model_validity import self_contact_reasons
 from softcath.studies.selection.criteria import check_columns, parse_constraint, parse_objective, rows_at
 from softcath.studies.selection.expressions import SelectionError
 from softcath.studies.selection.models import resolve_model
@@ -208,6 +209,12 @@ def _feasible(sub, ids, all_ids, cons) -> tuple[set[int], dict[str, int]]:
     failed = {int(i) for i in np.unique(ids[(sub["status"] != "ok").to_numpy()])}
     rejected["status failed"] = len(failed & alive)
     alive -= failed
+    past = set(self_contact_reasons(sub)) & alive
+    if past:
+        rejected["bend past 360 deg at a swept pressure (the tip passes through itself; not modelled)"] = len(
+            past
+        )
+        alive -= past
     for c in cons:
         mask = rows_at(sub, c.where, default_all=True)
         lv, rv = c.left.evaluate(sub), c.right.evaluate(sub)

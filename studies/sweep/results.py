@@ -42,6 +42,7 @@ import numpy as np
 
 from softcath.design.errors import DataError
 from softcath.studies.atomic import write_json
+from softcath.studies.model_validity import SELF_CONTACT_DEG
 from softcath.studies.sweep.section_eval import SECTION_KEYS
 
 __all__ = [
@@ -104,6 +105,7 @@ COLUMN_UNITS = {
     "source": "analytic|section|fem|section-nonlinear",
     "feasible_strain": "bool",
     "feasible": "bool",
+    "self_contact": "bool",
     "status": "ok|failed",
     "reason": "text",
     "analytic_seconds": "s",
@@ -223,7 +225,10 @@ def add_derived_columns(df, *, max_strain: float, p_max: float):
     ok = (df["status"] == "ok").to_numpy()
     strain = df["max_strain"].to_numpy(float)
     df["feasible_strain"] = ok & (strain <= max_strain)
-    df["feasible"] = df["feasible_strain"]
+    # past a full turn the tip passes through itself: no tier models that, so the row is flagged
+    with np.errstate(invalid="ignore"):
+        df["self_contact"] = np.abs(df["bend_angle_deg"].to_numpy(float)) > SELF_CONTACT_DEG
+    df["feasible"] = df["feasible_strain"] & ~df["self_contact"]
     return df
 
 

@@ -202,9 +202,10 @@ def _check_options(workers, dask_local, scheduler) -> None:
     chosen = [n for n, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler)) if v]
     if len(chosen) > 1:
         raise DesignError("backend", " ".join(chosen), "choose one of workers, dask_local, scheduler")
+    from softcath.fem.limits import check_workers
+
     for name, v in (("workers", workers), ("dask_local", dask_local)):
-        if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
-            raise DesignError(name, v, "must be an integer >= 1")
+        check_workers(v, param=name)
     if scheduler is not None and not str(scheduler).startswith(("tcp://", "tls://", "inproc://", "ucx://")):
         raise DesignError("scheduler", scheduler, "must be a Dask scheduler address such as tcp://HOST:8786")
 

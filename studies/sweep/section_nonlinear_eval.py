@@ -14,7 +14,11 @@ import time
 
 import numpy as np
 
-__all__ = ["SECTION_NONLINEAR_KEYS", "section_nonlinear_columns"]
+__all__ = ["REST_PROBE_MPA", "SECTION_NONLINEAR_KEYS", "curve_with_rest", "section_nonlinear_columns"]
+
+#: Pressure [MPa] walked to when only the rest state is asked for (the walk needs a load to scale);
+#: its row is dropped again. Far inside the linear range: one or two Newton iterations.
+REST_PROBE_MPA = 1e-3
 
 #: Result columns (per design x pressure x load) and the curve field each comes from.
 SECTION_NONLINEAR_KEYS = {
@@ -28,6 +32,30 @@ SECTION_NONLINEAR_KEYS = {
 }
 
 
+def curve_with_rest(design, pressures, **options):
+    """The finite-strain curve at ``pressures`` (>= 0, increasing), the rest state alone included.
+
+    :func:`~softcath.fem.section_model.finite_strain.section_curve` scales its load to the
+    highest positive pressure, so pressures of only 0 MPa walk to :data:`REST_PROBE_MPA` as
+    well and that row is dropped: the rest state is a valid answer, not an error.
+    """
+    from dataclasses import fields, replace
+
+    from softcath.fem.section_model.finite_strain import section_curve
+
+    p = [float(x) for x in np.atleast_1d(np.asarray(pressures, float))]
+    if any(x > 0 for x in p):
+        return section_curve(design, p, **options)
+    c = section_curve(design, [*p, REST_PROBE_MPA], **options)
+    n = len(p)
+    cut = {
+        f.name: getattr(c, f.name)[:n]
+        for f in fields(c)
+        if isinstance(getattr(c, f.name), np.ndarray) and getattr(c, f.name).shape[:1] == (n + 1,)
+    }
+    return replace(c, **cut)
+
+
 def section_nonlinear_columns(
     design, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
 ) -> dict:
@@ -36,8 +64,6 @@ def section_nonlinear_columns(
     ``options`` are the ``[sweep.section]`` table's; the mesh ones (``mesh_size``,
     ``mesher``) apply. ``section_nonlinear_seconds`` is the wall time for this design and load.
     """
-    from softcath.fem.section_model.finite_strain import section_curve
-
     opts = {k: v for k, v in (options or {}).items() if k in ("mesh_size", "mesher") and v is not None}
     p = np.asarray(pressures, float)
     walk = np.unique(p[p >= 0])
@@ -46,7 +72,7 @@ def section_nonlinear_columns(
         t0 = time.perf_counter()
         cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
         if walk.size:
-            c = section_curve(design, walk, load=load, linear_gain=False, **opts)
+            c = curve_with_rest(design, walk, load=load, linear_gain=False, **opts)
             idx = np.searchsorted(walk, p)
             ok = p >= 0
             for col, attr in SECTION_NONLINEAR_KEYS.items():

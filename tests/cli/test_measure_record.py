@@ -88,7 +88,7 @@ def test_measure_cli_bad_input(video, tmp_path, capsys):
     assert main(["measure", str(tmp_path / "nope.avi"), "--px-per-mm", "40", "--out", str(tmp_path)]) == 2
     assert "nope.avi: no such file" in capsys.readouterr().err
     assert main(["measure", str(video), "--px-per-mm", "0", "--out", str(tmp_path)]) == 2
-    assert "px_per_mm = 0: must be a finite number > 0" in capsys.readouterr().err
+    assert "--px-per-mm = 0: must be a finite number > 0" in capsys.readouterr().err
     assert main(["measure", str(video), "--px-per-mm", "40", "--base", "3", "--out", str(tmp_path)]) == 2
     assert "--base = '3': must be two numbers X,Y" in capsys.readouterr().err
 
@@ -249,3 +249,17 @@ def test_measure_cli_scale_from_a_chessboard(video, tmp_path, capsys):
         == 2
     )
     assert "--square-mm = None: is required with --chessboard" in capsys.readouterr().err
+
+
+def test_a_refused_recording_leaves_an_earlier_recording_whole(tmp_path, cli):
+    """A recording streams into measurements.csv from its first row; an earlier recording in the
+    folder is refused up front instead of being truncated by a run that then hears nothing."""
+    out = tmp_path / "rec"
+    out.mkdir()
+    (out / "measurements.csv").write_text("time_s,pressure_MPa,curvature_per_mm\n0,0.1,0.01\n")
+    (out / "record.json").write_text("{}")
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    argv = ["record", "--pressure-port", "loop://", "--encoder-port", "loop://", "--duration", "0.1"]
+    line = cli(*argv, "--out", out).error_line()
+    assert "--out = " in line and "holds an earlier recording (measurements.csv)" in line
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before

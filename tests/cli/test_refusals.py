@@ -20,7 +20,9 @@ DATA = ROOT / "studies" / "data"
 
 def _digest(folder: Path) -> dict[str, str]:
     return {
-        p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()
+        p.name: hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(folder.iterdir())
+        if p.is_file() and not p.name.startswith(".")
     }
 
 
@@ -194,7 +196,7 @@ def test_measure_with_a_base_outside_the_image_is_refused(tmp_path, cli):
     line = cli("measure", frames, "--px-per-mm", "40", "--base", "5000,-300", "--out", out).error_line()
     assert "--base = '5000,-300': must be finite pixel coordinates >= 0" in line
     line = cli("measure", frames, "--px-per-mm", "nan", "--out", out).error_line()
-    assert "px_per_mm = nan: must be a finite number > 0" in line
+    assert "--px-per-mm = nan: must be a finite number > 0" in line
 
 
 def test_record_refuses_non_finite_scales(tmp_path, cli):

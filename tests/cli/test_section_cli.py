@@ -119,4 +119,4 @@ def test_mesher_option_template_and_gmsh_agree_on_a_random_design(tmp_path, caps
         k[mesher] = json.loads((out / "section.json").read_text())["curvature_per_mm_per_MPa"]
     assert k["template"] == pytest.approx(k["gmsh"], rel=2e-3)
     assert main(["section", "paper", "--mesher", "delaunay", "--out", str(tmp_path / "x")]) != 0
-    assert "invalid choice: 'delaunay'" in capsys.readouterr().err
+    assert "--mesher = 'delaunay': invalid choice" in capsys.readouterr().err

@@ -70,14 +70,15 @@ def test_write_json_refuses_non_finite_numbers_naming_the_key(tmp_path):
 
 
 def test_outputs_commit_all_files_or_none(tmp_path):
-    (tmp_path / "a.json").write_text("old a")
-    (tmp_path / "b.png").write_text("old b")
+    with Outputs(tmp_path) as o:  # an earlier run's outputs
+        o.text("a.json", "old a")
+        o.text("b.png", "old b")
     with pytest.raises(DataError, match="not finite"):
         with Outputs(tmp_path) as o:
             o.path("b.png").write_text("new b")
             o.json("a.json", {"v": float("nan")})
     assert (tmp_path / "a.json").read_text() == "old a" and (tmp_path / "b.png").read_text() == "old b"
-    assert sorted(os.listdir(tmp_path)) == ["a.json", "b.png"]
+    assert _visible(tmp_path) == ["a.json", "b.png"]
     with Outputs(tmp_path) as o:
         o.json("a.json", {"v": 1})
         o.text("b.png", "new b")
@@ -97,7 +98,11 @@ def test_staged_dir_moves_a_whole_tree_or_nothing(tmp_path):
             (stage / "y.txt").write_text("3")
             raise KeyError("fail")
     assert (out / "y.txt").read_text() == "2"
-    assert sorted(os.listdir(out)) == ["sub", "y.txt"]
+    assert _visible(out) == ["sub", "y.txt"]
+
+
+def _visible(folder) -> list[str]:
+    return sorted(n for n in os.listdir(folder) if not n.startswith("."))
 
 
 def test_leftovers_of_a_killed_writer_are_removed_but_not_a_live_ones(tmp_path):

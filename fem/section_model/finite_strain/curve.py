@@ -160,9 +160,9 @@ class SectionCurve:
 def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: float | None = None) -> dict:
     """Region label -> finite-strain law whose small-strain limit is the linear section model's.
 
-    Silicones: the decoupled Yeoh law of ``softcath.fem.nonlinear`` (neo-Hookean from E, nu
-    when the material has no Yeoh fit); coils: Saint Venant-Kirchhoff with the linear
-    section model's homogenised transversely isotropic tensor.
+    Silicones: the decoupled Yeoh law of ``softcath.fem.nonlinear``, its fit scaled to the
+    design's E (neo-Hookean from E, nu when the material has no Yeoh fit); coils: Saint
+    Venant-Kirchhoff with the linear section model's homogenised transversely isotropic tensor.
 
     Parameters
     ----------
@@ -174,7 +174,7 @@ def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: flo
     """
     from softcath.fem.adapter import coil_law
     from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
-    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young
+    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
     from softcath.fem.section_model.laws import NU_MAX
 
     if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
@@ -186,7 +186,8 @@ def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: flo
 
     def silicone(m):
         nu = m.poisson_ratio if silicone_poisson is None else silicone_poisson
-        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=nu, yeoh=m.yeoh)
+        yeoh = yeoh_at_modulus(m.yeoh, youngs_modulus=m.youngs_modulus, poisson_ratio=nu)  # the design's E
+        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=nu, yeoh=yeoh)
 
     def coil(c):
         law = coil_law(c, "tension")

@@ -138,7 +138,7 @@ def test_cli_sweep_and_bad_options(small_spec, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "12 designs (10 ok, 2 failed)" in out
     assert main(["sweep", str(small_spec), "--out", str(tmp_path / "o2"), "--workers", "0"]) == 2
-    assert "workers = 0: must be an integer >= 1" in capsys.readouterr().err
+    assert "--workers = 0: must be an integer in [1, 256]" in capsys.readouterr().err
     assert main(["sweep", str(small_spec), "--out", str(tmp_path / "o3"), "--scheduler", "localhost:1"]) == 2
     assert "scheduler = 'localhost:1'" in capsys.readouterr().err
 
