@@ -95,11 +95,28 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_ERROR)
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        # A subcommand's positionals may come after its options (``discrepancy paper --reference
+        # prototype CURVE.csv``): argparse's intermixed parse, which calls back here, so guarded.
+        if self._intermixing or not self._can_intermix():
+            parsed, extra = super().parse_known_args(args, namespace)
+        else:
+            self._intermixing = True
+            try:
+                parsed, extra = self.parse_known_intermixed_args(args, namespace)
+            finally:
+                self._intermixing = False
         # A subcommand's parser reports its own leftovers, so the line names the command.
-        parsed, extra = super().parse_known_args(args, namespace)
-        if extra and self._subparsers is None:
+        if extra and self._subparsers is None and not self._intermixing:
             self.error(_unrecognized(extra))
         return parsed, extra
+
+    _intermixing = False
+
+    def _can_intermix(self) -> bool:
+        """A leaf parser whose arguments argparse's intermixed parse takes."""
+        if self._subparsers is not None:
+            return False
+        return all(a.nargs not in (argparse.REMAINDER, argparse.PARSER) for a in self._actions)
 
 
 def _unrecognized(extra: list[str]) -> str:

@@ -163,7 +163,7 @@ def explain_prototype(
     )
     outside = None
     if chosen is None:
-        notes.append(_unexplained(m, best, max_size))
+        notes.append(_unexplained(m, best, min(max_size, len(cands))))
         outside = beyond_ranges(
             design, m, best, load=load, tip_factor=tip_factor, workers=workers, progress=progress
         )

@@ -32,7 +32,8 @@ def test_prototype_reference_writes_hypotheses(tmp_path, capsys):
 def test_prototype_reference_refuses_a_bad_tip_factor(tmp_path, capsys):
     csv = tmp_path / "m.csv"
     csv.write_text("pressure_MPa,curvature_per_mm\n0.1,0.02\n0.2,0.04\n0.3,0.07\n0.4,0.1\n")
-    argv = ["discrepancy", "paper", str(csv), "--reference", "prototype", "--tip-factor", "9"]
+    # the file may come after the options
+    argv = ["discrepancy", "paper", "--reference", "prototype", "--tip-factor", "9", str(csv)]
     assert main([*argv, "--out", str(tmp_path / "d")]) != 0
     assert "--tip-factor = 9: must be in [0.2, 5]" in capsys.readouterr().err
 
