@@ -19,3 +19,9 @@ LAUNCH_ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 SKIP_REASON = "Chromium not installed: apt-get install chromium (CI's .ci/run does this)"
+
+
+def record_errors(page, errors: list[str]) -> None:
+    """Append every console error and uncaught page error of ``page`` to ``errors``."""
+    page.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(f"page error: {e}"))

@@ -18,7 +18,7 @@ import pytest
 
 from softcath import design
 from softcath.studies.app import apply_value, initial_state, start_in_thread
-from tests.browser._chromium import CHROMIUM, SKIP_REASON
+from tests.browser._chromium import CHROMIUM, SKIP_REASON, record_errors
 
 ROOT = Path(__file__).resolve().parents[2]
 PAPER_SINE = ROOT / "studies" / "data" / "paper_sine.csv"
@@ -52,11 +52,7 @@ class AppPage:
         self.errors: list[str] = []
         self.context.route("**/*", self._route)
         self.page = self.context.new_page()
-        self.page.on(
-            "console",
-            lambda m: self.errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None,
-        )
-        self.page.on("pageerror", lambda e: self.errors.append(f"page error: {e}"))
+        record_errors(self.page, self.errors)
         self.page.goto(url)
         self.wait_version(0)
 

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from softcath.cli.main import main
-from tests.browser._chromium import CHROMIUM, SKIP_REASON
+from tests.browser._chromium import CHROMIUM, SKIP_REASON, record_errors
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -43,11 +43,7 @@ class Opened:
         self.errors: list[str] = []
         self.context.route("**/*", self._route)
         self.page = self.context.new_page()
-        self.page.on(
-            "console",
-            lambda m: self.errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None,
-        )
-        self.page.on("pageerror", lambda e: self.errors.append(f"page error: {e}"))
+        record_errors(self.page, self.errors)
         self.page.goto(html.resolve().as_uri(), wait_until="load")
         self.shots, self.name = shots, name
 
