@@ -7,12 +7,15 @@ finite-strain section model when the sweep ran it, else the section model under 
 the sweep has section-model columns, else the paper's formula (cap load); --model and --load choose.
 A bend constraint ranked on a linear model whose designs bend past its validity (5 deg) is re-checked
 with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json
-(ranked list, Pareto front, model and load); `softcath report DIR` shows it.
+(ranked list, Pareto front, model and load) and the first ranked designs as design files,
+DIR/designs/design_ID.toml, which `softcath design validate`, `section` and `fem` take as they are;
+`softcath report DIR` shows them.
 """
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from softcath.cli.options import add_out, add_seed, model_name
 
@@ -53,6 +56,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         ),
     )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
+    parser.add_argument(
+        "--designs",
+        type=int,
+        default=5,
+        metavar="N",
+        help="write the first N ranked designs as DIR/designs/design_ID.toml (default 5; 0: none)",
+    )
     robust = parser.add_argument_group(
         "robust selection (re-evaluates the ranked designs over material ranges)"
     )
@@ -91,10 +101,12 @@ def run(args: argparse.Namespace) -> int:
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
+    if args.designs < 0:
+        from softcath.design.errors import DesignError
+
+        raise DesignError("--designs", args.designs, "must be >= 0")
     check_workers(args.workers, param="--workers")
     _check_expressions(args)
-    from pathlib import Path
-
     from softcath.design.errors import DataError
 
     if not Path(args.dir).is_dir():
@@ -117,7 +129,10 @@ def run(args: argparse.Namespace) -> int:
         sel = _recheck(args, sel, df)
     if args.robust is not None:
         sel = _robust(args, sel)
-    path = write_selection(sel, out)
+    from softcath.studies.selection.designs import chosen_design_files
+
+    sel, files = chosen_design_files(sel, args.dir, count=args.designs)
+    path = write_selection(sel, out, designs=files)
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
         print(f"note: {sel.note}")
@@ -134,6 +149,8 @@ def run(args: argparse.Namespace) -> int:
             f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["parameters"].items()
         )
         print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
+        if "design_file" in r:
+            print(f"    design file: {Path(out) / r['design_file']}")
     if sel.robust is not None:
         rb = sel.robust
         print(

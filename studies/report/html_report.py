@@ -129,8 +129,22 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         best = sel["ranked"][0]
         out += (
             f"<p><b>Build design {best['design_id']}</b>"
-            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())}).</p>"
+            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())})"
+            + (
+                f": its design file is <code>{esc(best['design_file'])}</code> in the selection's folder, "
+                "ready for <code>softcath design validate</code>, <code>section</code> and <code>fem</code>"
+                if best.get("design_file")
+                else ""
+            )
+            + ".</p>"
         )
+        files = [r for r in sel["ranked"][1:] if r.get("design_file")]
+        if files:
+            out += (
+                "<p>Design files of the next ranked designs: "
+                + ", ".join(f"#{r['rank']} <code>{esc(r['design_file'])}</code>" for r in files)
+                + ".</p>"
+            )
     return out
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import pytest
@@ -42,6 +43,9 @@ def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, ca
     assert "http://" not in html and "https://" not in html and "<script" not in html  # opens offline
     assert "|h| must be &lt;= b - min_wall - b_int" in html  # failed designs with their reason
     assert "Build design" in html and "maximise bend_per_MPa_deg" in html
+    best = json.loads((out / "selection.json").read_text())["ranked"][0]
+    assert f"its design file is <code>{best['design_file']}</code>" in html
+    assert (out / best["design_file"]).is_file()  # the report names the file select wrote
     assert "No FEM results" in html  # analytic-only sweep: the parity section says why it is empty
 
 
