@@ -125,6 +125,7 @@ def run(args: argparse.Namespace) -> int:
         from softcath.studies.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
+    sel = _validity(args, sel, df)
     if not args.no_recheck:
         sel = _recheck(args, sel, df)
     if args.robust is not None:
@@ -203,6 +204,26 @@ def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:
         return doc["spec"], doc["base_table"]
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); {why} needs it") from None
+
+
+def _validity(args: argparse.Namespace, sel, df):
+    """Warn (and record in the selection) when a linear tier ranked designs bending past its validity."""
+    import dataclasses
+    import logging
+
+    from softcath.studies.selection import large_bend_constraints
+    from softcath.studies.selection.large_bends import LINEAR_MODELS, linear_validity_warning
+    from softcath.studies.sweep.results import model_columns
+
+    if sel.model not in LINEAR_MODELS:
+        return sel
+    cols = model_columns(df, sel.model)
+    rechecked = not args.no_recheck and bool(large_bend_constraints(sel, cols))
+    msg = linear_validity_warning(sel, cols, rechecked=rechecked)
+    if not msg:
+        return sel
+    logging.getLogger("softcath.validity").warning(msg)
+    return dataclasses.replace(sel, warnings=(*sel.warnings, msg))
 
 
 def _recheck(args: argparse.Namespace, sel, df):

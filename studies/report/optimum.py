@@ -105,7 +105,7 @@ def _winners_table(opt: dict) -> str:
             w["feasible"],
             *w["parameters"].values(),
             *w["objectives"].values(),
-            *w["constraints"].values(),
+            *_margins(w).values(),
         ]
         for w in best
     ]
@@ -186,7 +186,7 @@ def write_optimum_report(out_dir: str | Path) -> Path:
         y, ylab = [w["objectives"][objs[1]] for w in opt["best"]], objs[1]
     else:
         y, ylab = (
-            [w["constraints"][cons[0]] if cons else 0.0 for w in opt["best"]],
+            [_margins(w)[cons[0]] if cons else 0.0 for w in opt["best"]],
             (f"margin {cons[0]}" if cons else ""),
         )
     hy_src = hist[objs[1]] if len(objs) > 1 else (hist[f"margin {cons[0]}"] if cons else hist[objs[0]] * 0)
@@ -221,3 +221,8 @@ def write_optimum_report(out_dir: str | Path) -> Path:
     tmp.write_text(page("softcath optimise", ia.script_tag() + body), encoding="utf-8")
     tmp.replace(path)
     return path
+
+
+def _margins(winner: dict) -> dict:
+    """A winner's ``{constraint: margin}`` (``margins``; ``constraints`` in earlier records)."""
+    return winner["margins"] if "margins" in winner else winner["constraints"]

@@ -55,6 +55,8 @@ class Selection:
     recheck
         Large-bend re-check (:func:`softcath.studies.selection.large_bends.recheck_large_bends`): the
         finite-strain section model's verdict on designs ranked by a linear tier; ``None`` if not run.
+    warnings
+        What the command warned before ranking (e.g. a linear tier past its validity).
     robust
         Robust re-evaluation (:func:`softcath.studies.selection.robust.robust_select`): P, samples,
         ranges, model, per-design probabilities and percentiles; ``None`` for a nominal selection.
@@ -86,6 +88,7 @@ class Selection:
     note: str = ""
     robust: dict | None = None
     recheck: dict | None = None
+    warnings: tuple[str, ...] = ()
 
     def to_json(self) -> dict:
         return {
@@ -102,6 +105,7 @@ class Selection:
             "points": self.points,
             **({"robust": self.robust} if self.robust is not None else {}),
             **({"recheck": self.recheck} if self.recheck is not None else {}),
+            **({"warnings": list(self.warnings)} if self.warnings else {}),
         }
 
 
