@@ -155,7 +155,8 @@ def run(args: argparse.Namespace) -> int:
     )
     for w in opt.best[:5]:
         objs = ", ".join(f"{k} = {v:.4g}" for k, v in w.objectives.items() if v is not None)
-        params = ", ".join(f"{k}={v:.4g}" for k, v in w.parameters.items())
+        objs += f" [{opt.model}, {opt.load} load]"
+        params = ", ".join(f"{k}={v:.4g}{_unit(k)}" for k, v in w.parameters.items())
         print(f"  {w.name}{'' if w.feasible else ' (INFEASIBLE)'}: {objs}; {params}")
         if w.at_bounds:
             ends = ", ".join(f"{path} at its {end} bound" for path, end in w.at_bounds.items())
@@ -233,6 +234,14 @@ def _fem_line(check: dict) -> str:
         for text, m in missed.items()
     )
     return f"3-D FEM: MISSES {which or 'the constraints'}{agree}"
+
+
+def _unit(path: str) -> str:
+    """`` mm`` after a value of a length path (nothing for a dimensionless or unknown one)."""
+    from softcath.design.reference import unit_of
+
+    unit = unit_of(path)
+    return f" {unit}" if unit not in ("", "-") else ""
 
 
 def _g(v) -> str:

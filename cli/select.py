@@ -137,19 +137,28 @@ def run(args: argparse.Namespace) -> int:
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
         print(f"note: {sel.note}")
-    print(
-        f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints (load {sel.load}); "
-        f"Pareto front: {len(sel.pareto_front)} designs"
-    )
+    if sel.recheck is not None:
+        rc = sel.recheck
+        print(
+            f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints on {rc['linear_model']} "
+            f"({sel.load} load); re-checked on {sel.model}: {rc['n_passing']} of {rc['n_rechecked']} still "
+            f"pass; Pareto front on {sel.model}: {len(sel.pareto_front)} of them"
+        )
+    else:
+        print(
+            f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints ({sel.model}, "
+            f"{sel.load} load); Pareto front: {len(sel.pareto_front)} designs"
+        )
     for name, n in sel.rejected.items():
         if n:
             print(f"  removed {n}: {name}")
     for r in sel.ranked[:5]:
         objs = ", ".join(f"{k.split(None, 1)[-1]} = {v:.4g}" for k, v in r["objectives"].items())
-        params = ", ".join(
-            f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["parameters"].items()
+        params = ", ".join(_parameter(k, v) for k, v in r["parameters"].items())
+        print(
+            f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs} "
+            f"[{sel.model}, {sel.load} load]; {params}"
         )
-        print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
         if "design_file" in r:
             print(f"    design file: {Path(out) / r['design_file']}")
     if sel.robust is not None:
@@ -172,6 +181,15 @@ def run(args: argparse.Namespace) -> int:
             )
     print(f"selection: {path}")
     return 0
+
+
+def _parameter(path: str, value) -> str:
+    """``tube.h=0.02 mm``: a swept value with its unit."""
+    from softcath.design.reference import unit_of
+
+    unit = unit_of(path)
+    text = f"{value:.4g}" if isinstance(value, float) else str(value)
+    return f"{path}={text}{' ' + unit if unit not in ('', '-') else ''}"
 
 
 def _check_expressions(args: argparse.Namespace) -> None:

@@ -22,7 +22,7 @@ from softcath.design.assembly import FILLERS, INTERFACE_KINDS, PROXIMAL, Assembl
 from softcath.design.components import Coil, Tip, Tube
 from softcath.design.materials import Material
 
-__all__ = ["FieldDoc", "TABLES", "FIELD_DOCS", "design_file_reference"]
+__all__ = ["FieldDoc", "TABLES", "FIELD_DOCS", "design_file_reference", "unit_of", "with_unit"]
 
 
 @dataclass(frozen=True)
@@ -132,6 +132,38 @@ FIELD_DOCS: dict[type, dict[str, FieldDoc]] = {
         "proximal": FieldDoc("-", _words(PROXIMAL), "how the base is held"),
     },
 }
+
+
+_PART_CLASSES = {"coil": Coil, "channel": Coil, "tube": Tube, "tip": Tip, "assembly": Assembly}
+
+
+def unit_of(path: str) -> str:
+    """The unit of a dotted design path (``tube.h`` -> ``mm``), ``-`` for none, ``""`` if unknown.
+
+    >>> unit_of("tube.h"), unit_of("materials.ecoflex_00_30.youngs_modulus"), unit_of("assembly.filler")
+    ('mm', 'MPa', '-')
+    """
+    head, _, rest = str(path).partition(".")
+    if head == "materials":
+        cls, name = Material, rest.partition(".")[2]
+    else:
+        cls, name = _PART_CLASSES.get(head), rest
+    doc = FIELD_DOCS.get(cls, {}).get(name) if cls is not None else None
+    return doc.unit if doc is not None else ""
+
+
+#: Units of result columns whose name does not say it (dimensionless ones as such).
+_COLUMN_UNITS = {"elongation": "-", "max_strain": "-"}
+
+
+def with_unit(name: str) -> str:
+    """``name`` with its unit for an axis or a column head: ``tube.h [mm]``, ``elongation [-]``.
+
+    A name that carries its unit (``bend_angle_deg``, ``curvature_per_mm``) or has none known is
+    returned as it is.
+    """
+    unit = unit_of(name) or _COLUMN_UNITS.get(name.split(" at ")[0].split()[-1] if name.split() else name, "")
+    return f"{name} [{unit}]" if unit else name
 
 
 def _power(x: float) -> str:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.reference import with_unit
 from softcath.studies.report import interactive as ia
 from softcath.studies.report.html_blocks import esc, fmt, note, page
 
@@ -109,7 +110,12 @@ def _pareto(sweep_dir: Path, stage: Path, sel: dict) -> str:
             image = figures.render_design(d, stage / f"explore_design_{did}.png", title=f"design {did}").name
         info.append({"label": f"design {did}", "html": html, "image": image})
     fig = ia.pareto(
-        x, y, info, xlabel=objs[0], ylabel=objs[1] if len(objs) > 1 else "", on_front=pts[:, 1] > 0
+        x,
+        y,
+        info,
+        xlabel=with_unit(objs[0]),
+        ylabel=with_unit(objs[1]) if len(objs) > 1 else "",
+        on_front=pts[:, 1] > 0,
     )
     what = "p50 over the material ranges of the robust passers" if robust else "feasible designs"
     return ia.chart(

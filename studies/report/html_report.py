@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DataError
+from softcath.design.reference import with_unit
 from softcath.studies.report import figures
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
 from softcath.studies.tiers import TIERS
@@ -120,7 +121,7 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
             out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
     if sel["ranked"]:
         params = list(sel["ranked"][0]["parameters"])
-        header = ["rank", "design", "Pareto", *sel["objectives"], *params]
+        header = ["rank", "design", "Pareto", *map(with_unit, sel["objectives"]), *map(with_unit, params)]
         rows = [
             [r["rank"], r["design_id"], r["pareto"], *r["objectives"].values(), *r["parameters"].values()]
             for r in sel["ranked"][:15]

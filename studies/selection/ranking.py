@@ -67,7 +67,8 @@ class Selection:
     rejected
         Per constraint (and ``"status failed"``): how many designs it removed.
     ranked
-        Feasible designs, best first: ``design_id``, ``rank``, ``pareto``, ``objectives``, ``parameters``.
+        Feasible designs, best first: ``design_id``, ``rank``, ``pareto``, ``objectives``, ``parameters``
+        (in the JSON each also names the ``tier`` and ``load`` its values come from).
     pareto_front
         Design ids on the Pareto front.
     points
@@ -101,7 +102,7 @@ class Selection:
             "n_feasible": self.n_feasible,
             "rejected": self.rejected,
             "pareto_front": self.pareto_front,
-            "ranked": self.ranked,
+            "ranked": [{**r, "tier": self.model, "load": self.load} for r in self.ranked],
             "points": self.points,
             **({"robust": self.robust} if self.robust is not None else {}),
             **({"recheck": self.recheck} if self.recheck is not None else {}),
