@@ -69,7 +69,26 @@ def _parity(df, params: list[str]) -> str:
     return out or note("No valid design to plot.")
 
 
-def _parallel(df, params: list[str], load: str) -> str:
+def _selection_tier(df, sel: dict | None) -> str | None:
+    """The tier whose values the selection was ranked on, if the sweep has its columns (else None)."""
+    from softcath.studies.sweep.results import MODEL_COLUMNS
+
+    if not sel:
+        return None
+    for tier in (sel.get("model"), (sel.get("recheck") or {}).get("linear_model")):
+        cols = MODEL_COLUMNS.get(tier or "", {})
+        if cols and any(c in df.columns and np.isfinite(df[c].to_numpy(float)).any() for c in cols.values()):
+            return tier
+    return None
+
+
+def _parallel(df, params: list[str], load: str, tier: str | None = None) -> str:
+    """Parameters and results at p_max; with ``tier``, the results are that tier's (the selection's)."""
+    from softcath.studies.sweep.results import model_columns
+    from softcath.studies.tiers import TIERS
+
+    if tier is not None:
+        df = model_columns(df, tier)
     at = df[(df.status == "ok") & df.at_p_max & (df.load == load)]
     if at.empty:
         return note("No valid design to plot.")
@@ -79,7 +98,9 @@ def _parallel(df, params: list[str], load: str) -> str:
     return ia.chart(
         fig,
         "parallel",
-        f"Designs at p_max, {esc(load)} load: drag along an axis to brush a range; "
+        f"Designs at p_max, {esc(load)} load"
+        + (f", {esc(TIERS[tier].label)}'s values (the selection's)" if tier else "")
+        + ": drag along an axis to brush a range; "
         "drag the brushed range to move it, click the axis outside it to clear.",
     )
 
@@ -136,7 +157,7 @@ def write_explore(sweep_dir: str | Path, stage: str | Path, df, params: list[str
     load = sel["load"] if sel else ("lumen" if (df.load == "lumen").any() else str(df.load.iloc[0]))
     body = "<p><a href='index.html'>Static report</a> (for print).</p>"
     body += "<h2>Parity</h2>" + _parity(df, params)
-    body += "<h2>Parameters and results</h2>" + _parallel(df, params, load)
+    body += "<h2>Parameters and results</h2>" + _parallel(df, params, load, _selection_tier(df, sel))
     body += "<h2>Selection</h2>" + (
         _pareto(sweep_dir, stage, sel)
         if sel

@@ -104,7 +104,13 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
         + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
-        f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+        + (
+            f"Re-checked with {TIERS['section-nonlinear'].label}: {sel['recheck']['n_passing']} of "
+            f"{sel['recheck']['n_rechecked']} still pass; Pareto front on its values: "
+            f"{len(sel['pareto_front'])} of them.</p>"
+            if sel.get("recheck")
+            else f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+        )
     )
     rb = sel.get("robust")
     if rb:
@@ -118,7 +124,13 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     if fig_dir is not None:
         ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
         if ppath:
-            out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
+            caption = (
+                f"The {sel['recheck']['n_passing']} re-checked designs that still pass, in the plane of the "
+                f"first two objectives, on {TIERS['section-nonlinear'].label}'s values."
+                if sel.get("recheck")
+                else "Feasible designs in the plane of the first two objectives."
+            )
+            out += figure(prefix + ppath.name, caption)
     if sel["ranked"]:
         params = list(sel["ranked"][0]["parameters"])
         header = ["rank", "design", "Pareto", *map(with_unit, sel["objectives"]), *map(with_unit, params)]
@@ -276,32 +288,43 @@ def _failed_html(df) -> str:
 
 
 def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
-    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula)."""
-    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
-    if tpath is None or not (figures.has_section(df) or figures.has_fem(df)):
+    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula).
+
+    The caption and the table name only the tiers that ran; a tier that ran but has nothing to be
+    compared with (the formula is a cap-load model: a lumen-only sweep has no formula value to
+    set the section model against) is said so, with what to add.
+    """
+    section, fem = figures.has_section(df), figures.has_fem(df)
+    if not (section or fem):
         return note(
             'Only the paper\'s formula ran in this sweep: add <code>"section"</code> (2-D section model, '
             '3-D-FEM-grade curvature in a fraction of a second per design) or <code>"fem"</code> to the '
             "sweep's evaluators to compare."
         )
+    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
+    ran = " and ".join(n for n, has in (("the section model", section), ("the 3-D FEM", fem)) if has)
+    if tpath is None:
+        return note(
+            f"{ran[0].upper() + ran[1:]} ran, but the paper's formula is a cap-load model (eq. 7) and this "
+            'sweep has no cap-load rows to compare with: add <code>"cap"</code> to the sweep\'s loads.'
+        )
+    what = [
+        f"{n} against the paper's formula"
+        for n, has in (("the section model", section), ("the 3-D FEM", fem))
+        if has
+    ]
+    if section and fem:
+        what.append("the 3-D FEM against the section model (their agreement)")
     body = figure(
         prefix + tpath.name,
-        "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
-        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section "
-        "model (their agreement), where each ran.",
+        f"Curvature of every design and pressure, each load of the sweep: {', '.join(what)}; the formula is "
+        "eq. 7 under the cap load, what the paper predicts.",
     )
-    body += table(
-        [
-            "load",
-            "rows",
-            "median section / formula",
-            "median FEM / formula",
-            "median |FEM / section − 1|",
-            "max |FEM / section − 1|",
-        ],
-        figures.tier_agreement(df),
-        left=1,
-    )
+    header = ["load", "rows", "median section / formula", "median FEM / formula"]
+    header += ["median |FEM / section − 1|", "max |FEM / section − 1|"]
+    keep = [0, 1] + ([2] if section else []) + ([3] if fem else []) + ([4, 5] if section and fem else [])
+    rows = [[row[i] for i in keep] for row in figures.tier_agreement(df)]
+    body += table([header[i] for i in keep], rows, left=1)
     return body
 
 

@@ -9,7 +9,9 @@ constraint on the bend (``bend_angle_deg``, ``bend_per_MPa_deg``,
 :data:`LINEAR_BEND_LIMIT_DEG`, the ranked designs are re-evaluated with the
 finite-strain section model at the sweep's pressures; those that still meet
 every constraint are ranked on their finite-strain objectives (Pareto front
-first, then the first objective).
+first, then the first objective). The selection's ``points`` (the report's Pareto
+plot) become the re-checked designs' finite-strain values; the linear ones stay in
+``recheck["linear_points"]``.
 """
 
 from __future__ import annotations
@@ -150,6 +152,7 @@ def recheck_large_bends(
         "n_rechecked": len(selection.ranked),
         "n_passing": len(passing),
         "dropped": dropped,
+        "linear_points": selection.points,
         "reasons": {
             str(r["design_id"]): s.reasons[i]
             for i, r in enumerate(selection.ranked)
@@ -163,6 +166,8 @@ def recheck_large_bends(
         recheck=recheck,
         note="; ".join(x for x in (selection.note, note) if x),
         pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
+        # the report's Pareto plot: the re-checked designs on the values they were ranked by
+        points=[[int(r["design_id"]), int(r["pareto"]), *r["objectives"].values()] for r in ranked],
     )
 
 

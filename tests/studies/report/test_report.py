@@ -97,3 +97,45 @@ def test_lhs_sweep_report_has_rbd_fast(spec_writer, tmp_path, n):
     # LHS columns are nearly uncorrelated (|r| ~ 1/sqrt(n)), so a parameter with no effect gets |SRC| ≲ 0.05
     assert abs(src["tip.bending_length"][0]) < 0.05
     assert src["tube.h"][1] > 0.8 and src["tip.bending_length"][1] < 0.2
+
+
+def test_tiers_section_promises_only_what_ran(spec_writer, tmp_path):
+    """A lumen-only section sweep: the section model ran, the formula has nothing to compare (cap load)."""
+    from softcath.studies.report import write_report
+
+    spec = spec_writer(
+        """
+        [sweep]
+        name = "lumen-only"
+        base = "paper"
+        pressures_MPa = [0.0, 0.5]
+        loads = ["lumen"]
+        evaluators = ["analytic", "section"]
+        [parameters]
+        "tube.h" = { values = [0.0, 0.01] }
+        """
+    )
+    out = tmp_path / "s"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    html = write_report(out)[0].read_text()
+    assert "Only the paper's formula ran" not in html
+    assert "The section model ran, but the paper's formula is a cap-load model" in html
+    spec2 = spec_writer(
+        """
+        [sweep]
+        name = "both-loads"
+        base = "paper"
+        pressures_MPa = [0.0, 0.5]
+        loads = ["cap", "lumen"]
+        evaluators = ["analytic", "section"]
+        [parameters]
+        "tube.h" = { values = [0.0, 0.01] }
+        """,
+        name="spec2.toml",
+    )
+    out2 = tmp_path / "s2"
+    assert main(["sweep", str(spec2), "--out", str(out2), "--workers", "1", "--no-progress"]) == 0
+    html = write_report(out2)[0].read_text()
+    tiers = html[html.index("Formula, section model and 3-D FEM") :]
+    tiers = tiers[: tiers.index("</table>")]
+    assert "median section / formula" in tiers and "FEM" not in tiers.split("</h2>", 1)[-1]
