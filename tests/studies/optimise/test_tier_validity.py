@@ -31,14 +31,19 @@ def test_one_validity_rule():
     assert "linear tier, valid to ~5 deg" in msg and "107 deg at 0.6 MPa" in msg
 
 
-@pytest.mark.parametrize(("model", "p", "warned"), [("paper", 0.6, True), ("paper", 0.01, False)])
-def test_the_estimate_warns_past_the_linear_range(table, model, p, warned):
+@pytest.mark.parametrize(
+    ("model", "load", "p", "warned"),
+    [("paper", "cap", 0.6, True), ("paper", "cap", 0.01, False), ("section", "lumen", 0.6, True)],
+)
+def test_the_estimate_warns_past_the_linear_range(table, model, load, p, warned):
+    """Under the lumen load too: the section model bends ~40 deg there (the issue's case)."""
     prob = make_problem(
         table,
         variables=["tube.h=-0.03:0.03"],
         objectives=[f"maximise bend_angle_deg at p={p}"],
+        constraints=[f"max_strain <= 1.0 at p={p}"],
         model=model,
-        load="cap",
+        load=load,
         pressures=[p],
     )
     v = tier_validity(prob)
