@@ -10,12 +10,16 @@ the selection's tier and load, its rank and its objective values.
 from __future__ import annotations
 
 import dataclasses
+import logging
 from pathlib import Path
 
+from softcath.design.errors import DataError, DesignError
 from softcath.studies.selection.ranking import Selection
 from softcath.studies.tiers import TIERS
 
 __all__ = ["DESIGNS_FOLDER", "DEFAULT_DESIGN_FILES", "design_file_name", "chosen_design_files"]
+
+log = logging.getLogger(__name__)
 
 #: Folder (inside the selection's output folder) that holds the chosen designs.
 DESIGNS_FOLDER = "designs"
@@ -54,6 +58,9 @@ def chosen_design_files(
     count
         How many ranked designs get a file (0: none).
 
+    A sweep folder whose designs cannot be rebuilt (no ``designs.csv``, a damaged manifest) gets
+    no files; a warning says why and the ranking stands.
+
     Returns
     -------
     selection, files
@@ -67,7 +74,11 @@ def chosen_design_files(
     ranked = []
     for entry in selection.ranked:
         if len(files) < count:
-            d = design_of(sweep_dir, entry["design_id"])
+            try:
+                d = design_of(sweep_dir, entry["design_id"])
+            except (DataError, DesignError) as exc:  # a damaged or older sweep folder: the ranking stands
+                log.warning("no design files written: %s", exc)
+                return selection, {}
             name = design_file_name(entry["design_id"])
             files[name] = design.dumps(d, header=_header(selection, entry))
             entry = {**entry, "design_file": name}

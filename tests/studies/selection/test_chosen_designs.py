@@ -62,3 +62,14 @@ def test_designs_zero_writes_none_and_a_negative_count_is_refused(small_spec, tm
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["softcath select: error: --designs = -1: must be >= 0"]
+
+
+def test_a_sweep_without_its_designs_table_still_selects_without_files(small_spec, tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    (out / "designs.csv").unlink()
+    capsys.readouterr()
+    assert main(["select", str(out), "--objective", "maximise bend_per_MPa_deg"]) == 0
+    assert "no design files written" in capsys.readouterr().err
+    data = json.loads((out / "selection.json").read_text())
+    assert data["ranked"] and not any("design_file" in r for r in data["ranked"])
