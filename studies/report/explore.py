@@ -94,6 +94,7 @@ def _parallel(df, params: list[str], load: str, tier: str | None = None) -> str:
         return note("No valid design to plot.")
     cols = {p: at[p].to_numpy() for p in params if p in at and np.issubdtype(at[p].dtype, np.number)}
     cols.update({c: at[c].to_numpy(float) for c in _RESULTS if c in at})
+    cols = {with_unit(k): v for k, v in cols.items()}  # axis titles with units: tube.h [mm]
     fig = ia.parallel(cols, color="bend_angle_deg")
     return ia.chart(
         fig,
