@@ -157,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
         params = ", ".join(_parameter(k, v) for k, v in r["parameters"].items())
         print(
             f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs} "
-            f"[{sel.model}, {sel.load} load]; {params}"
+            f"[{_source(sel)}]; {params}"
         )
         if "design_file" in r:
             print(f"    design file: {Path(out) / r['design_file']}")
@@ -181,6 +181,12 @@ def run(args: argparse.Namespace) -> int:
             )
     print(f"selection: {path}")
     return 0
+
+
+def _source(sel) -> str:
+    """``section, lumen load`` (robust: ``section p50, lumen load``): where a ranked value comes from."""
+    src = sel.source
+    return f"{src['tier']}{' ' + src['statistic'] if 'statistic' in src else ''}, {src['load']} load"
 
 
 def _parameter(path: str, value) -> str:

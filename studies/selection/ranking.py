@@ -91,6 +91,14 @@ class Selection:
     recheck: dict | None = None
     warnings: tuple[str, ...] = ()
 
+    @property
+    def source(self) -> dict:
+        """Where the ranked objective values come from: ``tier`` and ``load`` (robust: the p50 of
+        the robust model's sample, ``statistic`` ``"p50"``)."""
+        if self.robust is not None:
+            return {"tier": self.robust["model"], "load": self.load, "statistic": "p50"}
+        return {"tier": self.model, "load": self.load}
+
     def to_json(self) -> dict:
         return {
             "load": self.load,
@@ -102,7 +110,7 @@ class Selection:
             "n_feasible": self.n_feasible,
             "rejected": self.rejected,
             "pareto_front": self.pareto_front,
-            "ranked": [{**r, "tier": self.model, "load": self.load} for r in self.ranked],
+            "ranked": [{**r, **self.source} for r in self.ranked],
             "points": self.points,
             **({"robust": self.robust} if self.robust is not None else {}),
             **({"recheck": self.recheck} if self.recheck is not None else {}),
