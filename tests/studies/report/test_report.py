@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 
+import numpy as np
 import pytest
 
 from softcath.cli.main import main
@@ -139,3 +140,20 @@ def test_tiers_section_promises_only_what_ran(spec_writer, tmp_path):
     tiers = html[html.index("Formula, section model and 3-D FEM") :]
     tiers = tiers[: tiers.index("</table>")]
     assert "median section / formula" in tiers and "FEM" not in tiers.split("</h2>", 1)[-1]
+
+
+def test_the_lumen_formula_points_near_zero_are_explained(small_spec, tmp_path):
+    """The analytic lumen-load bend is a few % of the cap-load one: the caption says it is its answer."""
+    from softcath.studies.report.html_report import _lumen_formula_caption
+    from softcath.studies.sweep.results import read_results
+
+    out = tmp_path / "o"
+    assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    df = read_results(out)
+    text = _lumen_formula_caption(df)
+    ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
+    cap = ok[ok.load == "cap"].curvature_analytic_per_mm.to_numpy(float)
+    lumen = ok[ok.load == "lumen"].curvature_analytic_per_mm.to_numpy(float)
+    assert f"bends {np.median(np.abs(lumen / cap)):.1%} of its cap-load bend" in text
+    assert "not missing data" in text
+    assert _lumen_formula_caption(df[df.load == "cap"]) == ""  # one load: nothing to explain
