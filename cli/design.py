@@ -31,7 +31,8 @@ def run(args: argparse.Namespace) -> int:
 
     d = design.resolve(args.design)
     if args.action == "validate":
-        print(f"{args.design}: valid design '{d.name}'")
+        squeezed = "" if d.catalogue_fits else "; note: the catalogue tube is squeezed to fit"
+        print(f"{args.design}: valid design '{d.name}'{squeezed}")
         print(d.fit_report())
         return 0
     if args.action == "export":

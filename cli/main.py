@@ -26,6 +26,7 @@ import traceback
 import warnings
 
 from softcath import __version__
+from softcath.cli.help_text import PlainFormatter
 from softcath.cli.options import check_option_effects, in_command_terms, option_terms
 from softcath.design.errors import SoftcathError
 from softcath.interrupts import clear_stop, request_stop
@@ -88,7 +89,14 @@ class _GuardedStdout:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with the CLI's one-line refusal: ``softcath CMD: error: OPTION = VALUE: BOUND``, exit 2."""
+    """argparse with the CLI's one-line refusal: ``softcath CMD: error: OPTION = VALUE: BOUND``, exit 2.
+
+    Its help is plain text (:class:`softcath.cli.help_text.PlainFormatter`), subcommands' too.
+    """
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", PlainFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str):  # type: ignore[override]
         _say(f"{self.prog}: error: {parser_message(' '.join(message.split()))} (see {self.prog} --help)")

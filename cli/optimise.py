@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
+import logging
 from pathlib import Path
 
 from softcath.cli.options import (
@@ -119,6 +121,11 @@ def run(args: argparse.Namespace) -> int:
             ranges = resolve_ranges(args.design, args.robust_vary, args.ranges)
             robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
         check_search(problem, budget=args.budget, seed=args.seed, robust=robust)
+    from softcath.studies.optimise.validity import tier_validity
+
+    validity = tier_validity(problem)
+    if validity.get("warning"):  # said before the search: the user may stop it and change --model
+        logging.getLogger("softcath.validity").warning(validity["warning"])
     out = prepare_out_dir(args.out)
     check_inputs_outside(out, "designs")  # the designs folder is refilled: no input may live there
     check_replace(out, [out / n for n in ("optimum.json", "history.parquet", "index.html")])
@@ -133,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
             fem_check=not args.no_fem_check,
             progress=not args.no_progress,
         )
+    opt = dataclasses.replace(opt, validity=validity)
     from softcath.studies.atomic import staged_dir, unstage
     from softcath.studies.report.optimum import write_optimum_report
 
@@ -147,8 +155,14 @@ def run(args: argparse.Namespace) -> int:
     )
     for w in opt.best[:5]:
         objs = ", ".join(f"{k} = {v:.4g}" for k, v in w.objectives.items() if v is not None)
-        params = ", ".join(f"{k}={v:.4g}" for k, v in w.parameters.items())
+        objs += f" [{opt.model}, {opt.load} load]"
+        params = ", ".join(f"{k}={v:.4g}{_unit(k)}" for k, v in w.parameters.items())
         print(f"  {w.name}{'' if w.feasible else ' (INFEASIBLE)'}: {objs}; {params}")
+        if w.at_bounds:
+            ends = ", ".join(f"{path} at its {end} bound" for path, end in w.at_bounds.items())
+            print(
+                f"    at the edge of the --vary range: {ends} (the optimum may lie beyond; widen the range)"
+            )
         if w.probabilities is not None:
             pct = "; ".join(
                 f"{k.split(None, 1)[-1]}: {_g(v['p5'])}/{_g(v['p50'])}/{_g(v['p95'])}"
@@ -210,10 +224,24 @@ def _as_options():
 def _fem_line(check: dict) -> str:
     if check["status"] != "ok":
         return f"3-D FEM re-check failed: {check['reason']}"
-    verdict = "meets" if check["feasible"] else "MISSES"
     rd = check["curvature_rel_diff"]
     agree = f"; its curvature differs from the model's by {rd:.2%}" if rd is not None else ""
-    return f"3-D FEM: {verdict} the constraints{agree}"
+    if check["feasible"]:
+        return f"3-D FEM: meets the constraints{agree}"
+    missed = check.get("missed") or {}
+    which = "; ".join(
+        f"{text} (undefined)" if m is None else f"{text} by {-m:.4g} (margin {m:.4g})"
+        for text, m in missed.items()
+    )
+    return f"3-D FEM: MISSES {which or 'the constraints'}{agree}"
+
+
+def _unit(path: str) -> str:
+    """`` mm`` after a value of a length path (nothing for a dimensionless or unknown one)."""
+    from softcath.design.reference import unit_of
+
+    unit = unit_of(path)
+    return f" {unit}" if unit not in ("", "-") else ""
 
 
 def _g(v) -> str:

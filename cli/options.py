@@ -47,63 +47,97 @@ def add_out(parser: argparse.ArgumentParser, *, required: bool = True, what: str
     parser.add_argument("--out", type=Path, required=required, metavar="DIR", help=what)
 
 
+#: How every pressure option is written (its metavar and the bound of its refusal).
+PRESSURE_SYNTAX = "P,P,... or START:STOP:N"
+_PRESSURE_BOUND = (
+    "expected START:STOP:N (MPa, MPa, count), one value or comma-separated numbers in MPa "
+    "(items may mix both: 0,0.1:0.5:5)"
+)
+
+
 def add_pressure_range(parser: argparse.ArgumentParser, *, default: str) -> None:
-    """``--pressure START:STOP:N`` (MPa), or one pressure."""
+    """``--pressure``: pressures in MPa as a list ``P,P,...``, a range ``START:STOP:N`` or both."""
     parser.add_argument(
-        "--pressure", default=default, metavar="START:STOP:N", help=f"pressures in MPa (default {default})"
+        "--pressure", default=default, metavar=PRESSURE_SYNTAX, help=f"pressures in MPa (default {default})"
     )
 
 
 def add_pressure_list(parser: argparse.ArgumentParser, *, default: str) -> None:
-    """``--pressures P,P,...`` (MPa)."""
+    """``--pressures``: the same syntax as ``--pressure`` (:func:`parse_pressures`)."""
     parser.add_argument(
-        "--pressures", default=default, metavar="P,P,...", help=f"pressures in MPa (default {default})"
+        "--pressures", default=default, metavar=PRESSURE_SYNTAX, help=f"pressures in MPa (default {default})"
     )
 
 
-def parse_pressure_range(text: str, *, param: str = "--pressure"):
-    """``START:STOP:N`` (N >= 2 points, inclusive) or one value -> checked numpy array, MPa.
+def parse_pressures(text: str, *, param: str = "--pressure", increasing: bool = False):
+    """Every command's pressures: comma-separated items, each one value or ``START:STOP:N``, in MPa.
 
-    Exactly one or three fields are accepted (``0:1:3:4`` is refused, not read as
-    ``0:1:3``), and every pressure is checked (finite, within ±100 MPa) before any work.
+    ``0.1,0.3,0.6`` is three pressures, ``0:1:3`` the three of ``linspace(0, 1, 3)``
+    (N >= 2 points, both ends included), ``0,0.2:0.6:3`` four. An item has exactly one or
+    three fields (``0:1:3:4`` is refused, not read as ``0:1:3``); every pressure is checked
+    (finite, within ±100 MPa) before any work.
+
+    Parameters
+    ----------
+    text
+        The option's value.
+    param
+        The option, for the refusal.
+    increasing
+        Refuse pressures that do not strictly increase.
+
+    Returns
+    -------
+    numpy.ndarray
+        The pressures in the order given, MPa.
+
+    Raises
+    ------
+    DesignError
+        Naming ``param`` and ``text``, with the syntax or the violated bound.
     """
     import numpy as np
 
     from softcath.design.errors import DesignError
     from softcath.studies.model_validity import check_pressure
 
-    parts = text.split(":")
-    try:
-        if len(parts) == 1:
-            return check_pressure(np.array([float(parts[0])]), param=param)
-        if len(parts) != 3:
-            raise ValueError
-        start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except ValueError:
-        raise DesignError(
-            param, text, "expected START:STOP:N (MPa, MPa, count) or one value in MPa"
-        ) from None
-    if n < 2 or n > 1_000_000:
-        raise DesignError(param, text, f"count N = {n} must be in [2, 1000000]")
-    check_pressure([start, stop], param=param)
-    return np.linspace(start, stop, n)
-
-
-def parse_pressure_list(text: str, *, param: str = "--pressures", increasing: bool = False):
-    """``P,P,...`` -> checked list of pressures in MPa (finite, within ±100 MPa; before any work)."""
-    from softcath.design.errors import DesignError
-    from softcath.studies.model_validity import check_pressure
-
-    try:
-        values = [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise DesignError(param, text, "must be comma-separated numbers in MPa") from None
-    if not values:
+    items = [item for item in text.split(",") if item.strip()]  # "0.1,0.3," : an empty item is nothing
+    if not items:
         raise DesignError(param, text, "must hold at least one pressure in MPa")
-    check_pressure(values, param=param)
-    if increasing and any(b <= a for a, b in zip(values, values[1:], strict=False)):
+    parts: list[np.ndarray] = []
+    for item in items:
+        fields = item.strip().split(":")
+        try:
+            if len(fields) not in (1, 3):
+                raise ValueError
+            numbers = [float(f) for f in fields[:2]]
+            n = int(fields[2]) if len(fields) == 3 else 1
+        except ValueError:
+            raise DesignError(param, text, _PRESSURE_BOUND) from None
+        if len(fields) == 1:
+            parts.append(check_pressure(np.array(numbers), param=param))
+            continue
+        start, stop = numbers
+        if n < 2 or n > 1_000_000:
+            raise DesignError(param, text, f"count N = {n} must be in [2, 1000000]")
+        check_pressure([start, stop], param=param)
+        parts.append(np.linspace(start, stop, n))
+    values = np.concatenate(parts)
+    if values.size > 1_000_000:
+        raise DesignError(param, text, f"gives {values.size} pressures, must be at most 1000000")
+    if increasing and np.any(np.diff(values) <= 0):
         raise DesignError(param, text, "must be strictly increasing")
     return values
+
+
+def parse_pressure_range(text: str, *, param: str = "--pressure"):
+    """:func:`parse_pressures` (kept under its older name): a checked numpy array, MPa."""
+    return parse_pressures(text, param=param)
+
+
+def parse_pressure_list(text: str, *, param: str = "--pressures", increasing: bool = False) -> list[float]:
+    """:func:`parse_pressures` as a list of floats (kept under its older name), MPa."""
+    return [float(v) for v in parse_pressures(text, param=param, increasing=increasing)]
 
 
 @contextlib.contextmanager

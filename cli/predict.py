@@ -24,6 +24,7 @@ import csv
 from pathlib import Path
 
 from softcath.cli.options import (
+    PRESSURE_SYNTAX,
     add_design,
     add_out,
     add_progress,
@@ -102,7 +103,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--pressures",
         default="0.1,0.3,0.6",
-        metavar="P,P,...",
+        metavar=PRESSURE_SYNTAX,
         help="pressures of --finite-strain and --nonlinear [MPa], increasing (default 0.1,0.3,0.6, "
         "the prototype's)",
     )

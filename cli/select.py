@@ -7,12 +7,15 @@ finite-strain section model when the sweep ran it, else the section model under 
 the sweep has section-model columns, else the paper's formula (cap load); --model and --load choose.
 A bend constraint ranked on a linear model whose designs bend past its validity (5 deg) is re-checked
 with the finite-strain section model (--no-recheck keeps the linear ranking). Writes DIR/selection.json
-(ranked list, Pareto front, model and load); `softcath report DIR` shows it.
+(ranked list, Pareto front, model and load) and the first ranked designs as design files,
+DIR/designs/design_ID.toml, which `softcath design validate`, `section` and `fem` take as they are;
+`softcath report DIR` shows them.
 """
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from softcath.cli.options import add_out, add_seed, model_name
 
@@ -53,6 +56,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         ),
     )
     parser.add_argument("--top", type=int, default=50, help="designs kept in the ranked list (default 50)")
+    parser.add_argument(
+        "--designs",
+        type=int,
+        default=5,
+        metavar="N",
+        help="write the first N ranked designs as DIR/designs/design_ID.toml (default 5; 0: none)",
+    )
     robust = parser.add_argument_group(
         "robust selection (re-evaluates the ranked designs over material ranges)"
     )
@@ -91,10 +101,12 @@ def run(args: argparse.Namespace) -> int:
 
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
+    if args.designs < 0:
+        from softcath.design.errors import DesignError
+
+        raise DesignError("--designs", args.designs, "must be >= 0")
     check_workers(args.workers, param="--workers")
     _check_expressions(args)
-    from pathlib import Path
-
     from softcath.design.errors import DataError
 
     if not Path(args.dir).is_dir():
@@ -113,27 +125,42 @@ def run(args: argparse.Namespace) -> int:
         from softcath.studies.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
+    sel = _validity(args, sel, df)
     if not args.no_recheck:
         sel = _recheck(args, sel, df)
     if args.robust is not None:
         sel = _robust(args, sel)
-    path = write_selection(sel, out)
+    from softcath.studies.selection.designs import chosen_design_files
+
+    sel, files = chosen_design_files(sel, args.dir, count=args.designs)
+    path = write_selection(sel, out, designs=files)
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
         print(f"note: {sel.note}")
-    print(
-        f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints (load {sel.load}); "
-        f"Pareto front: {len(sel.pareto_front)} designs"
-    )
+    if sel.recheck is not None:
+        rc = sel.recheck
+        print(
+            f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints on {rc['linear_model']} "
+            f"({sel.load} load); re-checked on {sel.model}: {rc['n_passing']} of {rc['n_rechecked']} still "
+            f"pass; Pareto front on {sel.model}: {len(sel.pareto_front)} of them"
+        )
+    else:
+        print(
+            f"{sel.n_feasible} of {sel.n_designs} designs meet the constraints ({sel.model}, "
+            f"{sel.load} load); Pareto front: {len(sel.pareto_front)} designs"
+        )
     for name, n in sel.rejected.items():
         if n:
             print(f"  removed {n}: {name}")
     for r in sel.ranked[:5]:
         objs = ", ".join(f"{k.split(None, 1)[-1]} = {v:.4g}" for k, v in r["objectives"].items())
-        params = ", ".join(
-            f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["parameters"].items()
+        params = ", ".join(_parameter(k, v) for k, v in r["parameters"].items())
+        print(
+            f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs} "
+            f"[{_source(sel)}]; {params}"
         )
-        print(f"  #{r['rank']} design {r['design_id']}{' (Pareto)' if r['pareto'] else ''}: {objs}; {params}")
+        if "design_file" in r:
+            print(f"    design file: {Path(out) / r['design_file']}")
     if sel.robust is not None:
         rb = sel.robust
         print(
@@ -154,6 +181,21 @@ def run(args: argparse.Namespace) -> int:
             )
     print(f"selection: {path}")
     return 0
+
+
+def _source(sel) -> str:
+    """``section, lumen load`` (robust: ``section p50, lumen load``): where a ranked value comes from."""
+    src = sel.source
+    return f"{src['tier']}{' ' + src['statistic'] if 'statistic' in src else ''}, {src['load']} load"
+
+
+def _parameter(path: str, value) -> str:
+    """``tube.h=0.02 mm``: a swept value with its unit."""
+    from softcath.design.reference import unit_of
+
+    unit = unit_of(path)
+    text = f"{value:.4g}" if isinstance(value, float) else str(value)
+    return f"{path}={text}{' ' + unit if unit not in ('', '-') else ''}"
 
 
 def _check_expressions(args: argparse.Namespace) -> None:
@@ -186,6 +228,26 @@ def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:
         return doc["spec"], doc["base_table"]
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); {why} needs it") from None
+
+
+def _validity(args: argparse.Namespace, sel, df):
+    """Warn (and record in the selection) when a linear tier ranked designs bending past its validity."""
+    import dataclasses
+    import logging
+
+    from softcath.studies.selection import large_bend_constraints
+    from softcath.studies.selection.large_bends import LINEAR_MODELS, linear_validity_warning
+    from softcath.studies.sweep.results import model_columns
+
+    if sel.model not in LINEAR_MODELS:
+        return sel
+    cols = model_columns(df, sel.model)
+    rechecked = not args.no_recheck and bool(large_bend_constraints(sel, cols))
+    msg = linear_validity_warning(sel, cols, rechecked=rechecked)
+    if not msg:
+        return sel
+    logging.getLogger("softcath.validity").warning(msg)
+    return dataclasses.replace(sel, warnings=(*sel.warnings, msg))
 
 
 def _recheck(args: argparse.Namespace, sel, df):

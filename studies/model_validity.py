@@ -25,6 +25,7 @@ __all__ = [
     "check_finite_columns",
     "check_pressure",
     "linear_range_warnings",
+    "linear_tier_warning",
     "warn_linear_range",
     "SELF_CONTACT_DEG",
     "self_contact_warning",
@@ -212,6 +213,39 @@ def linear_range_warnings(
                 f"of {model}; use `softcath fem --nonlinear`"
             )
     return msgs
+
+
+#: The small-rotation tiers: valid to :data:`LINEAR_BEND_LIMIT_DEG` of bend.
+LINEAR_TIERS = ("paper", "section", "fem")
+
+
+def linear_tier_warning(
+    model: str, bend_deg: float, pressure_MPa: float, *, how: str, way_out: str
+) -> str | None:
+    """The message when a linear tier is asked about bends past its validity, or None.
+
+    Parameters
+    ----------
+    model
+        The tier's name (only :data:`LINEAR_TIERS` can be out of range).
+    bend_deg
+        The largest bend [deg] the question involves.
+    pressure_MPa
+        The pressure [MPa] of that bend.
+    how
+        Where ``bend_deg`` comes from (e.g. "designs in the --vary box, by the paper's formula").
+    way_out
+        What to do instead (e.g. "give --model section-nonlinear").
+    """
+    from softcath.studies.tiers import TIERS
+
+    if model not in LINEAR_TIERS or not np.isfinite(bend_deg) or abs(bend_deg) <= LINEAR_BEND_LIMIT_DEG:
+        return None
+    return (
+        f"{TIERS[model].label} ({model}) is a linear tier, valid to ~{LINEAR_BEND_LIMIT_DEG:g} deg of bend, "
+        f"but {how} bend up to {abs(bend_deg):.3g} deg at {pressure_MPa:g} MPa: its values there are off "
+        f"by more than 5 %; {way_out}"
+    )
 
 
 def warn_linear_range(

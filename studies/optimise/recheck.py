@@ -22,8 +22,10 @@ def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backe
     """Per winner: the FEM's objectives and margins, and its curvature against the optimised model's.
 
     ``curvature_rel_diff`` is the largest ``|(FEM − model)/model|`` of the
-    curvature over the positive pressures; ``feasible`` whether the FEM's
-    values meet every constraint; ``status``/``reason`` report a FEM failure.
+    curvature over the positive pressures; ``margins`` the FEM's margin of each constraint
+    (``constraints``: the same, the old key); ``missed`` the constraints it misses with their
+    margins (``None``: undefined); ``feasible`` whether the FEM's values meet every constraint;
+    ``status``/``reason`` report a FEM failure.
     """
     if not params:
         return []
@@ -48,7 +50,13 @@ def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backe
                 "status": "ok" if ok[i] else "failed",
                 "reason": "" if ok[i] else str(rows["reason"].iloc[0] if len(rows) else ""),
                 "objectives": {o.text: _clean(objs[i, j]) for j, o in enumerate(problem.objectives)},
+                "margins": {c.text: _clean(margins[i, j]) for j, c in enumerate(problem.constraints)},
                 "constraints": {c.text: _clean(margins[i, j]) for j, c in enumerate(problem.constraints)},
+                "missed": {
+                    c.text: _clean(margins[i, j])
+                    for j, c in enumerate(problem.constraints)
+                    if not margins[i, j] >= 0
+                },
                 "feasible": bool(ok[i] and np.all(margins[i] >= 0)),
                 "curvature_rel_diff": _clean(float(finite.max())) if finite.size else None,
             }

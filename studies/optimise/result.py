@@ -21,13 +21,17 @@ class Winner:
     objectives
         ``{objective text: value}`` (robust: the p50).
     constraints
-        ``{constraint text: margin}``, ≥ 0 when met (robust: at probability P).
+        ``{constraint text: margin}``, ≥ 0 when met (robust: at probability P); written to
+        ``optimum.json`` as ``margins`` (and, for older readers, ``constraints``).
     percentiles
         Robust only: ``{objective text: {"p5", "p50", "p95"}}``.
     probabilities
         Robust only: ``{constraint text: probability of meeting it}``.
     fem_check
         The 3-D linear FEM's re-check (``None`` when skipped).
+    at_bounds
+        ``{path: "low" or "high"}`` of the variables at an end of their ``--vary`` range (the
+        optimum may lie beyond it).
     reason
         Why an infeasible winner is not a design ("" when feasible): the constraints it
         misses and by how much, or why the model could not evaluate it.
@@ -42,14 +46,17 @@ class Winner:
     probabilities: dict[str, float] | None = None
     fem_check: dict[str, Any] | None = None
     reason: str = ""
+    at_bounds: dict[str, str] = field(default_factory=dict)
 
     def to_json(self) -> dict:
         out = {
             "name": self.name,
             "parameters": self.parameters,
             "objectives": self.objectives,
-            "constraints": self.constraints,
+            "margins": self.constraints,
+            "constraints": self.constraints,  # the margins' old key, kept for earlier readers
             "feasible": self.feasible,
+            "at_bounds": self.at_bounds,
         }
         if not self.feasible:
             out["reason"] = self.reason
@@ -81,6 +88,7 @@ class Optimum:
     seconds: float
     robust: dict | None = None
     history: Any = field(default=None, repr=False, compare=False)
+    validity: dict | None = None
 
     @property
     def feasible(self) -> bool:
@@ -112,6 +120,7 @@ class Optimum:
             "constraints": list(self.constraints),
             "pressures_MPa": list(self.pressures_MPa),
             "robust": self.robust,
+            **({"validity": self.validity} if self.validity is not None else {}),
             "best": [w.to_json() for w in self.best],
             "seconds": self.seconds,
         }

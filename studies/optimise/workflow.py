@@ -77,7 +77,24 @@ def _winner(problem: Problem, name: str, row: dict, robust: bool) -> Winner:
         probabilities={c.text: float(row[f"probability {c.text}"]) for c in problem.constraints}
         if robust
         else None,
+        at_bounds=at_bounds(problem, {p: float(row[p]) for p in problem.paths}),
     )
+
+
+#: A variable within this fraction of its range from an end is "at" that end.
+BOUND_TOLERANCE = 1e-3
+
+
+def at_bounds(problem: Problem, parameters: dict[str, float]) -> dict[str, str]:
+    """``{path: "low" | "high"}`` of the variables of ``parameters`` at an end of their range."""
+    out = {}
+    for v in problem.variables:
+        x, tol = parameters[v.path], BOUND_TOLERANCE * (v.high - v.low)
+        if x <= v.low + tol:
+            out[v.path] = "low"
+        elif x >= v.high - tol:
+            out[v.path] = "high"
+    return out
 
 
 def _reason(problem: Problem, row: dict) -> str:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.reference import with_unit
 from softcath.studies.report import interactive as ia
 from softcath.studies.report.html_blocks import esc, fmt, note, page
 
@@ -68,17 +69,39 @@ def _parity(df, params: list[str]) -> str:
     return out or note("No valid design to plot.")
 
 
-def _parallel(df, params: list[str], load: str) -> str:
+def _selection_tier(df, sel: dict | None) -> str | None:
+    """The tier whose values the selection was ranked on, if the sweep has its columns (else None)."""
+    from softcath.studies.sweep.results import MODEL_COLUMNS
+
+    if not sel:
+        return None
+    for tier in (sel.get("model"), (sel.get("recheck") or {}).get("linear_model")):
+        cols = MODEL_COLUMNS.get(tier or "", {})
+        if cols and any(c in df.columns and np.isfinite(df[c].to_numpy(float)).any() for c in cols.values()):
+            return tier
+    return None
+
+
+def _parallel(df, params: list[str], load: str, tier: str | None = None) -> str:
+    """Parameters and results at p_max; with ``tier``, the results are that tier's (the selection's)."""
+    from softcath.studies.sweep.results import model_columns
+    from softcath.studies.tiers import TIERS
+
+    if tier is not None:
+        df = model_columns(df, tier)
     at = df[(df.status == "ok") & df.at_p_max & (df.load == load)]
     if at.empty:
         return note("No valid design to plot.")
     cols = {p: at[p].to_numpy() for p in params if p in at and np.issubdtype(at[p].dtype, np.number)}
     cols.update({c: at[c].to_numpy(float) for c in _RESULTS if c in at})
+    cols = {with_unit(k): v for k, v in cols.items()}  # axis titles with units: tube.h [mm]
     fig = ia.parallel(cols, color="bend_angle_deg")
     return ia.chart(
         fig,
         "parallel",
-        f"Designs at p_max, {esc(load)} load: drag along an axis to brush a range; "
+        f"Designs at p_max, {esc(load)} load"
+        + (f", {esc(TIERS[tier].label)}'s values (the selection's)" if tier else "")
+        + ": drag along an axis to brush a range; "
         "drag the brushed range to move it, click the axis outside it to clear.",
     )
 
@@ -109,7 +132,12 @@ def _pareto(sweep_dir: Path, stage: Path, sel: dict) -> str:
             image = figures.render_design(d, stage / f"explore_design_{did}.png", title=f"design {did}").name
         info.append({"label": f"design {did}", "html": html, "image": image})
     fig = ia.pareto(
-        x, y, info, xlabel=objs[0], ylabel=objs[1] if len(objs) > 1 else "", on_front=pts[:, 1] > 0
+        x,
+        y,
+        info,
+        xlabel=with_unit(objs[0]),
+        ylabel=with_unit(objs[1]) if len(objs) > 1 else "",
+        on_front=pts[:, 1] > 0,
     )
     what = "p50 over the material ranges of the robust passers" if robust else "feasible designs"
     return ia.chart(
@@ -130,7 +158,7 @@ def write_explore(sweep_dir: str | Path, stage: str | Path, df, params: list[str
     load = sel["load"] if sel else ("lumen" if (df.load == "lumen").any() else str(df.load.iloc[0]))
     body = "<p><a href='index.html'>Static report</a> (for print).</p>"
     body += "<h2>Parity</h2>" + _parity(df, params)
-    body += "<h2>Parameters and results</h2>" + _parallel(df, params, load)
+    body += "<h2>Parameters and results</h2>" + _parallel(df, params, load, _selection_tier(df, sel))
     body += "<h2>Selection</h2>" + (
         _pareto(sweep_dir, stage, sel)
         if sel

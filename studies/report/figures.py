@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.design.reference import with_unit
 from softcath.studies.tiers import TIERS
 
 __all__ = [
@@ -227,7 +228,7 @@ def parameter_plots(df, params: list[str], path: Path) -> tuple[Path | None, str
                     label=f"{ld} load",
                     color=_LOAD_COLOURS.get(ld),
                 )
-            ax.set_xlabel(p)
+            ax.set_xlabel(with_unit(p))
             ax.grid(alpha=0.3)
         axes[row][0].set_ylabel(label if load is None else f"{label}\n({load} load)")
         axes[row][-1].legend(fontsize=8)
@@ -282,8 +283,8 @@ def heat_maps(df, factorial: list[str], path: Path) -> tuple[Path | None, str]:
         )
         ax.set_xticks(range(len(xs)), [f"{v:.3g}" for v in xs], rotation=45)
         ax.set_yticks(range(len(ys)), [f"{v:.3g}" for v in ys])
-        ax.set_xlabel(px)
-        ax.set_ylabel(py)
+        ax.set_xlabel(with_unit(px))
+        ax.set_ylabel(with_unit(py))
         ax.set_title(f"{load} load (white: invalid design)")
         fig.colorbar(im, ax=ax, label=label)
     fig.tight_layout()
@@ -433,8 +434,8 @@ def pareto_plot(selection: dict, path: Path) -> Path | None:
         edgecolors="k",
         label=f"rank 1 (design {int(best[0])})",
     )
-    ax.set_xlabel(objs[0])
-    ax.set_ylabel(objs[1])
+    ax.set_xlabel(with_unit(objs[0]))
+    ax.set_ylabel(with_unit(objs[1]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     model = TIERS[selection["model"]].short_label if selection.get("model") in TIERS else None

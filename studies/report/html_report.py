@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DataError
+from softcath.design.reference import with_unit
 from softcath.studies.report import figures
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
 from softcath.studies.tiers import TIERS
@@ -103,7 +104,13 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         + (f" Note: {esc(sel['note'])}." if sel.get("note") else "")
         + f" Constraints:</p><ul>{items}</ul><p>Objectives:</p><ul>{objs}</ul>"
         f"<p><b>{sel['n_feasible']}</b> of {sel['n_designs']} designs meet the constraints (removed: {rej}). "
-        f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+        + (
+            f"Re-checked with {TIERS['section-nonlinear'].label}: {sel['recheck']['n_passing']} of "
+            f"{sel['recheck']['n_rechecked']} still pass; Pareto front on its values: "
+            f"{len(sel['pareto_front'])} of them.</p>"
+            if sel.get("recheck")
+            else f"Pareto front: {len(sel['pareto_front'])} designs.</p>"
+        )
     )
     rb = sel.get("robust")
     if rb:
@@ -117,10 +124,16 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
     if fig_dir is not None:
         ppath = figures.pareto_plot(sel, Path(fig_dir) / "pareto.png")
         if ppath:
-            out += figure(prefix + ppath.name, "Feasible designs in the plane of the first two objectives.")
+            caption = (
+                f"The {sel['recheck']['n_passing']} re-checked designs that still pass, in the plane of the "
+                f"first two objectives, on {TIERS['section-nonlinear'].label}'s values."
+                if sel.get("recheck")
+                else "Feasible designs in the plane of the first two objectives."
+            )
+            out += figure(prefix + ppath.name, caption)
     if sel["ranked"]:
         params = list(sel["ranked"][0]["parameters"])
-        header = ["rank", "design", "Pareto", *sel["objectives"], *params]
+        header = ["rank", "design", "Pareto", *map(with_unit, sel["objectives"]), *map(with_unit, params)]
         rows = [
             [r["rank"], r["design_id"], r["pareto"], *r["objectives"].values(), *r["parameters"].values()]
             for r in sel["ranked"][:15]
@@ -129,8 +142,22 @@ def _selection_body(sel: dict, fig_dir: Path | None, prefix: str) -> str:
         best = sel["ranked"][0]
         out += (
             f"<p><b>Build design {best['design_id']}</b>"
-            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())}).</p>"
+            f" ({', '.join(f'{esc(k)} = {fmt(v)}' for k, v in best['parameters'].items())})"
+            + (
+                f": its design file is <code>{esc(best['design_file'])}</code> in the selection's folder, "
+                "ready for <code>softcath design validate</code>, <code>section</code> and <code>fem</code>"
+                if best.get("design_file")
+                else ""
+            )
+            + ".</p>"
         )
+        files = [r for r in sel["ranked"][1:] if r.get("design_file")]
+        if files:
+            out += (
+                "<p>Design files of the next ranked designs: "
+                + ", ".join(f"#{r['rank']} <code>{esc(r['design_file'])}</code>" for r in files)
+                + ".</p>"
+            )
     return out
 
 
@@ -223,7 +250,8 @@ def _parity_html(df, fig_dir: Path, prefix: str):
         body = figure(
             prefix + ppath.name,
             "FEM vs analytic curvature, every design and pressure, both loads: against the analytic model of "
-            "the same load (left) and against the paper's formula, the analytic cap load (right).",
+            "the same load (left) and against the paper's formula, the analytic cap load (right)."
+            + _lumen_formula_caption(df),
         )
         body += table(
             ["load", "rows", "median (FEM − analytic)/|analytic|", "max |rel. diff.|"], stats, left=1
@@ -234,6 +262,26 @@ def _parity_html(df, fig_dir: Path, prefix: str):
             "no parity plot."
         )
     return ppath, body
+
+
+def _lumen_formula_caption(df) -> str:
+    """Why the lumen-load analytic points sit near zero, when they do (they are the formula's answer)."""
+    ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
+    cap = ok[ok.load == "cap"].set_index(["design_id", "pressure_MPa"]).curvature_analytic_per_mm
+    lumen = ok[ok.load == "lumen"].set_index(["design_id", "pressure_MPa"]).curvature_analytic_per_mm
+    both = cap.index.intersection(lumen.index)
+    if not len(both):
+        return ""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(lumen.loc[both].to_numpy(float) / cap.loc[both].to_numpy(float))
+    ratio = ratio[np.isfinite(ratio)]
+    if not ratio.size or np.median(ratio) >= 0.1:
+        return ""
+    return (
+        f" Under the lumen load the analytic model bends {np.median(ratio):.1%} of its cap-load bend "
+        "(median), so its lumen points sit near zero on the left: that is the model's answer under that "
+        "load, not missing data."
+    )
 
 
 def _sensitivity_html(df, params: list[str], lhs: bool, fig_dir: Path, prefix: str) -> str | None:
@@ -261,32 +309,43 @@ def _failed_html(df) -> str:
 
 
 def _tiers_html(df, fig_dir: Path, prefix: str) -> str:
-    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula)."""
-    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
-    if tpath is None or not (figures.has_section(df) or figures.has_fem(df)):
+    """The three tiers side by side: parity panels and the agreement table (section model, FEM, formula).
+
+    The caption and the table name only the tiers that ran; a tier that ran but has nothing to be
+    compared with (the formula is a cap-load model: a lumen-only sweep has no formula value to
+    set the section model against) is said so, with what to add.
+    """
+    section, fem = figures.has_section(df), figures.has_fem(df)
+    if not (section or fem):
         return note(
             'Only the paper\'s formula ran in this sweep: add <code>"section"</code> (2-D section model, '
             '3-D-FEM-grade curvature in a fraction of a second per design) or <code>"fem"</code> to the '
             "sweep's evaluators to compare."
         )
+    tpath = figures.tiers_parity_plot(df, fig_dir / "parity_tiers.png")
+    ran = " and ".join(n for n, has in (("the section model", section), ("the 3-D FEM", fem)) if has)
+    if tpath is None:
+        return note(
+            f"{ran[0].upper() + ran[1:]} ran, but the paper's formula is a cap-load model (eq. 7) and this "
+            'sweep has no cap-load rows to compare with: add <code>"cap"</code> to the sweep\'s loads.'
+        )
+    what = [
+        f"{n} against the paper's formula"
+        for n, has in (("the section model", section), ("the 3-D FEM", fem))
+        if has
+    ]
+    if section and fem:
+        what.append("the 3-D FEM against the section model (their agreement)")
     body = figure(
         prefix + tpath.name,
-        "Curvature of every design and pressure, both loads: the section model and the 3-D FEM against the "
-        "paper's formula (eq. 7, cap load: what the paper predicts), and the 3-D FEM against the section "
-        "model (their agreement), where each ran.",
+        f"Curvature of every design and pressure, each load of the sweep: {', '.join(what)}; the formula is "
+        "eq. 7 under the cap load, what the paper predicts.",
     )
-    body += table(
-        [
-            "load",
-            "rows",
-            "median section / formula",
-            "median FEM / formula",
-            "median |FEM / section − 1|",
-            "max |FEM / section − 1|",
-        ],
-        figures.tier_agreement(df),
-        left=1,
-    )
+    header = ["load", "rows", "median section / formula", "median FEM / formula"]
+    header += ["median |FEM / section − 1|", "max |FEM / section − 1|"]
+    keep = [0, 1] + ([2] if section else []) + ([3] if fem else []) + ([4, 5] if section and fem else [])
+    rows = [[row[i] for i in keep] for row in figures.tier_agreement(df)]
+    body += table([header[i] for i in keep], rows, left=1)
     return body
 
 

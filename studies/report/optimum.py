@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DataError
+from softcath.design.reference import with_unit
 from softcath.studies.report import interactive as ia
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
 
@@ -53,7 +54,7 @@ def _convergence_png(opt: dict, hist, path: Path) -> Path:
     ok = np.isfinite(run)
     ax.plot(np.flatnonzero(ok), sign * run[ok], "-", color="C3", label="best so far")
     ax.set_xlabel("evaluation")
-    ax.set_ylabel(first)
+    ax.set_ylabel(with_unit(first))
     ax.legend(fontsize=8)
     return _save(fig, path)
 
@@ -95,7 +96,7 @@ def _winners_table(opt: dict) -> str:
     header = [
         "design",
         "feasible",
-        *params,
+        *map(with_unit, params),
         *opt["objectives"],
         *(f"margin: {c}" for c in opt["constraints"]),
     ]
@@ -105,7 +106,7 @@ def _winners_table(opt: dict) -> str:
             w["feasible"],
             *w["parameters"].values(),
             *w["objectives"].values(),
-            *w["constraints"].values(),
+            *_margins(w).values(),
         ]
         for w in best
     ]
@@ -186,7 +187,7 @@ def write_optimum_report(out_dir: str | Path) -> Path:
         y, ylab = [w["objectives"][objs[1]] for w in opt["best"]], objs[1]
     else:
         y, ylab = (
-            [w["constraints"][cons[0]] if cons else 0.0 for w in opt["best"]],
+            [_margins(w)[cons[0]] if cons else 0.0 for w in opt["best"]],
             (f"margin {cons[0]}" if cons else ""),
         )
     hy_src = hist[objs[1]] if len(objs) > 1 else (hist[f"margin {cons[0]}"] if cons else hist[objs[0]] * 0)
@@ -202,7 +203,7 @@ def write_optimum_report(out_dir: str | Path) -> Path:
     hx = np.concatenate([np.asarray(x, float), hx_all[feas]])
     hy = np.concatenate([np.asarray(y, float), hy_all[feas]])
     front = np.r_[np.ones(len(x), bool), np.zeros(int(feas.sum()), bool)]
-    fig = ia.pareto(hx, hy, all_info, xlabel=objs[0], ylabel=ylab, on_front=front)
+    fig = ia.pareto(hx, hy, all_info, xlabel=with_unit(objs[0]), ylabel=with_unit(ylab), on_front=front)
     body += (
         "<h2>Objectives</h2>"
         + ia.chart(
@@ -221,3 +222,8 @@ def write_optimum_report(out_dir: str | Path) -> Path:
     tmp.write_text(page("softcath optimise", ia.script_tag() + body), encoding="utf-8")
     tmp.replace(path)
     return path
+
+
+def _margins(winner: dict) -> dict:
+    """A winner's ``{constraint: margin}`` (``margins``; ``constraints`` in earlier records)."""
+    return winner["margins"] if "margins" in winner else winner["constraints"]

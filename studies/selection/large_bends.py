@@ -9,7 +9,9 @@ constraint on the bend (``bend_angle_deg``, ``bend_per_MPa_deg``,
 :data:`LINEAR_BEND_LIMIT_DEG`, the ranked designs are re-evaluated with the
 finite-strain section model at the sweep's pressures; those that still meet
 every constraint are ranked on their finite-strain objectives (Pareto front
-first, then the first objective).
+first, then the first objective). The selection's ``points`` (the report's Pareto
+plot) become the re-checked designs' finite-strain values; the linear ones stay in
+``recheck["linear_points"]``.
 """
 
 from __future__ import annotations
@@ -20,15 +22,23 @@ from typing import Any
 
 import numpy as np
 
+from softcath.studies.model_validity import LINEAR_BEND_LIMIT_DEG as _LIMIT
+from softcath.studies.model_validity import LINEAR_TIERS
 from softcath.studies.selection.criteria import parse_constraint, parse_objective, rows_at
 from softcath.studies.selection.ranking import Selection, pareto_front
 
-__all__ = ["LINEAR_BEND_LIMIT_DEG", "LINEAR_MODELS", "large_bend_constraints", "recheck_large_bends"]
+__all__ = [
+    "LINEAR_BEND_LIMIT_DEG",
+    "LINEAR_MODELS",
+    "large_bend_constraints",
+    "linear_validity_warning",
+    "recheck_large_bends",
+]
 
-#: Bend [deg] past which a linear tier's bend is off by more than ~5 % (paper design, lumen load).
-LINEAR_BEND_LIMIT_DEG = 5.0
+#: Bend [deg] past which a linear tier's bend is off by more than ~5 % (one rule: model_validity's).
+LINEAR_BEND_LIMIT_DEG = _LIMIT
 #: The small-rotation tiers of a selection.
-LINEAR_MODELS = ("paper", "section", "fem")
+LINEAR_MODELS = LINEAR_TIERS
 _BEND_COLUMNS = {"bend_angle_deg", "bend_per_MPa_deg", "curvature_per_mm"}
 
 
@@ -51,6 +61,37 @@ def large_bend_constraints(selection: Selection, df) -> list[str]:
         if bend.size and np.nanmax(bend, initial=0.0) > LINEAR_BEND_LIMIT_DEG:
             out.append(text)
     return out
+
+
+def linear_validity_warning(selection: Selection, df, *, rechecked: bool) -> str | None:
+    """The warning when ``selection`` ranked on a linear tier whose ranked designs bend past its validity.
+
+    ``df`` is the results table with the selection model's best-estimate columns; ``rechecked``
+    whether the finite-strain re-check of the bend constraints runs (it does not re-check
+    other columns such as ``max_strain``).
+    """
+    from softcath.studies.model_validity import linear_tier_warning
+
+    if selection.model not in LINEAR_MODELS or not selection.ranked:
+        return None
+    ids = {r["design_id"] for r in selection.ranked}
+    sub = df[(df["load"] == selection.load) & df["design_id"].isin(ids)]
+    bend = np.abs(sub["bend_angle_deg"].to_numpy(float))
+    if not bend.size or not np.isfinite(bend).any():
+        return None
+    i = int(np.nanargmax(bend))
+    way_out = (
+        "its bend constraints are re-checked with the finite-strain section model, its other values are not; "
+        if rechecked
+        else ""
+    ) + "rank on the finite-strain tier with --model section-nonlinear (a sweep with that evaluator)"
+    return linear_tier_warning(
+        selection.model,
+        float(bend[i]),
+        float(sub["pressure_MPa"].to_numpy(float)[i]),
+        how=f"the {len(ids)} ranked designs ({selection.load} load)",
+        way_out=way_out,
+    )
 
 
 def recheck_large_bends(
@@ -111,6 +152,7 @@ def recheck_large_bends(
         "n_rechecked": len(selection.ranked),
         "n_passing": len(passing),
         "dropped": dropped,
+        "linear_points": selection.points,
         "reasons": {
             str(r["design_id"]): s.reasons[i]
             for i, r in enumerate(selection.ranked)
@@ -124,6 +166,8 @@ def recheck_large_bends(
         recheck=recheck,
         note="; ".join(x for x in (selection.note, note) if x),
         pareto_front=sorted(int(passing[k][0]["design_id"]) for k in range(len(passing)) if front[k]),
+        # the report's Pareto plot: the re-checked designs on the values they were ranked by
+        points=[[int(r["design_id"]), int(r["pareto"]), *r["objectives"].values()] for r in ranked],
     )
 
 

@@ -55,6 +55,8 @@ class Selection:
     recheck
         Large-bend re-check (:func:`softcath.studies.selection.large_bends.recheck_large_bends`): the
         finite-strain section model's verdict on designs ranked by a linear tier; ``None`` if not run.
+    warnings
+        What the command warned before ranking (e.g. a linear tier past its validity).
     robust
         Robust re-evaluation (:func:`softcath.studies.selection.robust.robust_select`): P, samples,
         ranges, model, per-design probabilities and percentiles; ``None`` for a nominal selection.
@@ -65,7 +67,8 @@ class Selection:
     rejected
         Per constraint (and ``"status failed"``): how many designs it removed.
     ranked
-        Feasible designs, best first: ``design_id``, ``rank``, ``pareto``, ``objectives``, ``parameters``.
+        Feasible designs, best first: ``design_id``, ``rank``, ``pareto``, ``objectives``, ``parameters``
+        (in the JSON each also names the ``tier`` and ``load`` its values come from).
     pareto_front
         Design ids on the Pareto front.
     points
@@ -86,6 +89,15 @@ class Selection:
     note: str = ""
     robust: dict | None = None
     recheck: dict | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def source(self) -> dict:
+        """Where the ranked objective values come from: ``tier`` and ``load`` (robust: the p50 of
+        the robust model's sample, ``statistic`` ``"p50"``)."""
+        if self.robust is not None:
+            return {"tier": self.robust["model"], "load": self.load, "statistic": "p50"}
+        return {"tier": self.model, "load": self.load}
 
     def to_json(self) -> dict:
         return {
@@ -98,10 +110,11 @@ class Selection:
             "n_feasible": self.n_feasible,
             "rejected": self.rejected,
             "pareto_front": self.pareto_front,
-            "ranked": self.ranked,
+            "ranked": [{**r, **self.source} for r in self.ranked],
             "points": self.points,
             **({"robust": self.robust} if self.robust is not None else {}),
             **({"recheck": self.recheck} if self.recheck is not None else {}),
+            **({"warnings": list(self.warnings)} if self.warnings else {}),
         }
 
 

@@ -17,9 +17,12 @@ DATA = ROOT / "studies" / "data" / "paper_sine.csv"
 def test_design_show_and_validate(capsys, tmp_path):
     assert main(["design", "show", "paper", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "does NOT fit" in out and "neutral axis" in out
+    assert "the catalogue tube is squeezed to fit" in out and "neutral axis" in out
     assert (tmp_path / "section.png").stat().st_size > 1000
     assert main(["design", "validate", str(ROOT / "design/presets/paper.toml")]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0].endswith("valid design 'paper'; note: the catalogue tube is squeezed to fit")
+    assert "NOT" not in out
 
 
 def test_bad_design_is_one_line_and_exit_2(tmp_path, capsys):

@@ -77,4 +77,7 @@ def test_cli_refuses_bad_pressures_in_one_line(tmp_path, capsys):
     ]
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
-    assert err == "softcath predict: error: --pressures = '0.1,x': must be comma-separated numbers in MPa"
+    assert err == (
+        "softcath predict: error: --pressures = '0.1,x': expected START:STOP:N (MPa, MPa, count), one value "
+        "or comma-separated numbers in MPa (items may mix both: 0,0.1:0.5:5)"
+    )

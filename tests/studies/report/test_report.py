@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import re
 
+import numpy as np
 import pytest
 
 from softcath.cli.main import main
@@ -42,6 +44,9 @@ def test_report_contains_figures_failures_and_selection(small_spec, tmp_path, ca
     assert "http://" not in html and "https://" not in html and "<script" not in html  # opens offline
     assert "|h| must be &lt;= b - min_wall - b_int" in html  # failed designs with their reason
     assert "Build design" in html and "maximise bend_per_MPa_deg" in html
+    best = json.loads((out / "selection.json").read_text())["ranked"][0]
+    assert f"its design file is <code>{best['design_file']}</code>" in html
+    assert (out / best["design_file"]).is_file()  # the report names the file select wrote
     assert "No FEM results" in html  # analytic-only sweep: the parity section says why it is empty
 
 
@@ -93,3 +98,62 @@ def test_lhs_sweep_report_has_rbd_fast(spec_writer, tmp_path, n):
     # LHS columns are nearly uncorrelated (|r| ~ 1/sqrt(n)), so a parameter with no effect gets |SRC| ≲ 0.05
     assert abs(src["tip.bending_length"][0]) < 0.05
     assert src["tube.h"][1] > 0.8 and src["tip.bending_length"][1] < 0.2
+
+
+def test_tiers_section_promises_only_what_ran(spec_writer, tmp_path):
+    """A lumen-only section sweep: the section model ran, the formula has nothing to compare (cap load)."""
+    from softcath.studies.report import write_report
+
+    spec = spec_writer(
+        """
+        [sweep]
+        name = "lumen-only"
+        base = "paper"
+        pressures_MPa = [0.0, 0.5]
+        loads = ["lumen"]
+        evaluators = ["analytic", "section"]
+        [parameters]
+        "tube.h" = { values = [0.0, 0.01] }
+        """
+    )
+    out = tmp_path / "s"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    html = write_report(out)[0].read_text()
+    assert "Only the paper's formula ran" not in html
+    assert "The section model ran, but the paper's formula is a cap-load model" in html
+    spec2 = spec_writer(
+        """
+        [sweep]
+        name = "both-loads"
+        base = "paper"
+        pressures_MPa = [0.0, 0.5]
+        loads = ["cap", "lumen"]
+        evaluators = ["analytic", "section"]
+        [parameters]
+        "tube.h" = { values = [0.0, 0.01] }
+        """,
+        name="spec2.toml",
+    )
+    out2 = tmp_path / "s2"
+    assert main(["sweep", str(spec2), "--out", str(out2), "--workers", "1", "--no-progress"]) == 0
+    html = write_report(out2)[0].read_text()
+    tiers = html[html.index("Formula, section model and 3-D FEM") :]
+    tiers = tiers[: tiers.index("</table>")]
+    assert "median section / formula" in tiers and "FEM" not in tiers.split("</h2>", 1)[-1]
+
+
+def test_the_lumen_formula_points_near_zero_are_explained(small_spec, tmp_path):
+    """The analytic lumen-load bend is a few % of the cap-load one: the caption says it is its answer."""
+    from softcath.studies.report.html_report import _lumen_formula_caption
+    from softcath.studies.sweep.results import read_results
+
+    out = tmp_path / "o"
+    assert main(["sweep", str(small_spec), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    df = read_results(out)
+    text = _lumen_formula_caption(df)
+    ok = df[(df.status == "ok") & (df.pressure_MPa > 0)]
+    cap = ok[ok.load == "cap"].curvature_analytic_per_mm.to_numpy(float)
+    lumen = ok[ok.load == "lumen"].curvature_analytic_per_mm.to_numpy(float)
+    assert f"bends {np.median(np.abs(lumen / cap)):.1%} of its cap-load bend" in text
+    assert "not missing data" in text
+    assert _lumen_formula_caption(df[df.load == "cap"]) == ""  # one load: nothing to explain

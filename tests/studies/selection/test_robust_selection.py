@@ -103,7 +103,12 @@ def test_select_cli_robust_writes_the_robust_block(sweep, tmp_path, capsys):
     doc = json.loads((tmp_path / "sel" / "selection.json").read_text())
     assert set(doc["robust"]) >= {"P", "samples", "ranges", "designs"}
     assert doc["robust"]["ranges"][0]["path"] == "materials.ecoflex_00_30.youngs_modulus"
-    assert "pass" in capsys.readouterr().out
+    stdout = capsys.readouterr().out
+    assert "pass" in stdout
+    for r in doc["ranked"]:  # the ranked values are the robust model's p50, and say so
+        assert (r["tier"], r["statistic"]) == (doc["robust"]["model"], "p50")
+    if doc["ranked"]:
+        assert f"[{doc['robust']['model']} p50, {doc['load']} load]" in stdout
     rc = main(["select", str(out), "--objective", OBJ, "--robust", "2", "--out", str(tmp_path / "s2")])
     assert rc == 2 and "--robust = 2" in capsys.readouterr().err
 

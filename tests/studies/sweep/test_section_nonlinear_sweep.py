@@ -108,3 +108,61 @@ def test_select_rechecks_a_large_bend_ranked_on_the_linear_model(sweep, tmp_path
     assert main([*argv, "--no-recheck", "--out", str(tmp_path / "c")]) == 0
     doc = json.loads((tmp_path / "c" / "selection.json").read_text())
     assert doc["model"] == "section" and "recheck" not in doc
+
+
+def test_a_rechecked_selection_agrees_across_summary_json_plot_and_report(sweep, tmp_path, capsys):
+    """After the finite-strain re-check: plot, summary, JSON and report show the same values."""
+    _, out, df = sweep
+    objectives = ["maximise bend_per_MPa_deg", "minimise elongation at p_max"]
+    argv = ["select", str(out), "--model", "section", "--constraint", "bend_angle_deg >= 30 at p_max"]
+    for o in objectives:
+        argv += ["--objective", o]
+    capsys.readouterr()
+    assert main(argv) == 0
+    stdout = capsys.readouterr().out
+    doc = json.loads((out / "selection.json").read_text())
+    assert doc["model"] == "section-nonlinear" and doc["recheck"]["n_passing"] == len(doc["ranked"])
+    # the Pareto plot's points are the re-checked designs on the finite-strain values they were ranked by
+    assert doc["points"] == [
+        [r["design_id"], int(r["pareto"]), *r["objectives"].values()] for r in doc["ranked"]
+    ]
+    assert len(doc["recheck"]["linear_points"]) >= len(doc["points"])
+    assert f"still pass; Pareto front on section-nonlinear: {len(doc['pareto_front'])} of them" in stdout
+    assert main(["report", str(out)]) == 0
+    html = (out / "report" / "index.html").read_text()
+    assert "re-checked designs that still pass" in html and "Pareto front on its values" in html
+    for r in doc["ranked"]:
+        assert r["tier"] == "section-nonlinear" and r["load"] == "lumen"
+        line = next(
+            ln for ln in stdout.splitlines() if ln.startswith(f"  #{r['rank']} design {r['design_id']}")
+        )
+        for text, value in r["objectives"].items():
+            shown = f"{value:.4g}"
+            assert f"{text.split(None, 1)[-1]} = {shown} [section-nonlinear, lumen load]" in line or (
+                f"{text.split(None, 1)[-1]} = {shown}," in line
+            )
+            assert f"<td>{shown}</td>" in html  # the report's table: the same value, same digits
+
+
+def test_the_explore_page_shows_the_selection_tiers_values(sweep, tmp_path, monkeypatch):
+    """Ranked on the linear section model, the explore page's parameters-and-results chart shows that
+    tier's values (the sweep's best estimates are the finite-strain model's), as the CLI and JSON do."""
+    from softcath.studies.report import explore
+    from softcath.studies.sweep.results import model_columns
+
+    _, out, df = sweep
+    argv = ["select", str(out), "--model", "section", "--no-recheck", "--objective", "minimise max_strain"]
+    assert main([*argv, "--out", str(tmp_path / "sel")]) == 0
+    sel = json.loads((tmp_path / "sel" / "selection.json").read_text())
+    assert explore._selection_tier(df, sel) == "section"
+    seen = {}
+    monkeypatch.setattr(explore.ia, "parallel", lambda cols, color: seen.update(cols) or {})
+    monkeypatch.setattr(explore.ia, "chart", lambda fig, name, caption: caption)
+    caption = explore._parallel(df, ["tube.h"], "lumen", "section")
+    assert "the section model's values" in caption
+    lin = model_columns(df, "section")
+    at = lin[(lin.status == "ok") & lin.at_p_max & (lin.load == "lumen")]
+    assert "tube.h [mm]" in seen  # axes carry units
+    np.testing.assert_array_equal(seen["max_strain [-]"], at.max_strain.to_numpy(float))
+    best = sel["ranked"][0]
+    assert best["objectives"]["minimise max_strain"] == pytest.approx(float(np.min(seen["max_strain [-]"])))
