@@ -41,7 +41,6 @@ DEFAULT_LOAD = {"linear": "cap", "nonlinear": "lumen"}
 DEFAULT_MESH_SIZE = {"linear": 0.16, "nonlinear": 0.15}
 DEFAULT_NONLINEAR_PRESSURE = 1.0
 DEFAULT_STEPS = 8
-DEFAULT_LAYERS = 4
 DEFAULT_CURVATURE_POINTS = 12
 
 
@@ -97,8 +96,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     nl.add_argument(
         "--layers",
         type=int,
-        default=DEFAULT_LAYERS,
-        help=f"element layers along the bending length (default {DEFAULT_LAYERS})",
+        default=None,
+        help="element layers along the bending length (default: from the bend the finite-strain "
+        "section model expects at the top pressure, <= 5 deg per layer, 8 to 16)",
     )
     nl.add_argument(
         "--curvature-points",
@@ -106,7 +106,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_CURVATURE_POINTS,
         help=f"mesh segments per full circle (default {DEFAULT_CURVATURE_POINTS})",
     )
-    nl.add_argument("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
+    nl.add_argument(
+        "--mixed",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="mixed u-p (P2-P0) formulation for the silicones (default: when their Poisson ratio >= 0.45)",
+    )
+    nl.add_argument(
+        "--convergence",
+        action="store_true",
+        help="three-mesh study (L/2, L, 2L layers): observed order, extrapolated curvature, "
+        "convergence.csv/.json/.png",
+    )
     nl.add_argument(
         "--compare-linear",
         action="store_true",
@@ -152,6 +163,7 @@ def nonlinear_settings(args: argparse.Namespace):
             curvature_points=args.curvature_points,
             mixed=args.mixed,
             compare_linear=args.compare_linear,
+            convergence=args.convergence,
         )
     except SettingError as exc:  # the settings own the bounds; the option's name is the command's
         raise DesignError("--" + exc.parameter.replace("_", "-"), exc.value, exc.bound) from None
