@@ -12,7 +12,10 @@ pressure_sweep.csv (per pressure: pressure_MPa, bend_angle_rad, bend_angle_deg,
 curvature_per_mm (theta/s of the whole tip), curvature_mid_per_mm and
 bend_rate_mid_per_mm (d theta/ds and d theta/dZ over the mid-span), elongation,
 tip_x_mm, tip_y_mm, newton_iterations, linear_fem_bend_angle_rad,
-analytic_bend_angle_rad), tip_series.pvd + vtu/, deformed_tip.png and bend_curve.png.
+analytic_bend_angle_rad, discretisation_error_estimate), tip_series.pvd + vtu/,
+deformed_tip.png and bend_curve.png. The element layers default to the expected
+bend and every run states its discretisation error from a half-layer solve;
+``--convergence`` adds convergence.csv/.json/.png (L/2, L, 2L layers).
 
 The two modes have their own documented defaults:
 
