@@ -12,7 +12,10 @@ pressure_sweep.csv (per pressure: pressure_MPa, bend_angle_rad, bend_angle_deg,
 curvature_per_mm (theta/s of the whole tip), curvature_mid_per_mm and
 bend_rate_mid_per_mm (d theta/ds and d theta/dZ over the mid-span), elongation,
 tip_x_mm, tip_y_mm, newton_iterations, linear_fem_bend_angle_rad,
-analytic_bend_angle_rad), tip_series.pvd + vtu/, deformed_tip.png and bend_curve.png.
+analytic_bend_angle_rad, discretisation_error_estimate), tip_series.pvd + vtu/,
+deformed_tip.png and bend_curve.png. The element layers default to the expected
+bend and every run states its discretisation error from a half-layer solve;
+``--convergence`` adds convergence.csv/.json/.png (L/2, L, 2L layers).
 
 The two modes have their own documented defaults:
 
@@ -41,7 +44,6 @@ DEFAULT_LOAD = {"linear": "cap", "nonlinear": "lumen"}
 DEFAULT_MESH_SIZE = {"linear": 0.16, "nonlinear": 0.15}
 DEFAULT_NONLINEAR_PRESSURE = 1.0
 DEFAULT_STEPS = 8
-DEFAULT_LAYERS = 4
 DEFAULT_CURVATURE_POINTS = 12
 
 
@@ -97,8 +99,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     nl.add_argument(
         "--layers",
         type=int,
-        default=DEFAULT_LAYERS,
-        help=f"element layers along the bending length (default {DEFAULT_LAYERS})",
+        default=None,
+        help="element layers along the bending length (default: from the bend the finite-strain "
+        "section model expects at the top pressure, <= 5 deg per layer, 8 to 16)",
     )
     nl.add_argument(
         "--curvature-points",
@@ -106,7 +109,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_CURVATURE_POINTS,
         help=f"mesh segments per full circle (default {DEFAULT_CURVATURE_POINTS})",
     )
-    nl.add_argument("--mixed", action="store_true", help="mixed u-p (P2-P0) formulation for the silicones")
+    nl.add_argument(
+        "--mixed",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="mixed u-p (P2-P0) formulation for the silicones (default: when their Poisson ratio >= 0.45)",
+    )
+    nl.add_argument(
+        "--convergence",
+        action="store_true",
+        help="three-mesh study (L/2, L, 2L layers): observed order, extrapolated curvature, "
+        "convergence.csv/.json/.png",
+    )
     nl.add_argument(
         "--compare-linear",
         action="store_true",
@@ -152,6 +166,7 @@ def nonlinear_settings(args: argparse.Namespace):
             curvature_points=args.curvature_points,
             mixed=args.mixed,
             compare_linear=args.compare_linear,
+            convergence=args.convergence,
         )
     except SettingError as exc:  # the settings own the bounds; the option's name is the command's
         raise DesignError("--" + exc.parameter.replace("_", "-"), exc.value, exc.bound) from None

@@ -20,6 +20,8 @@ __all__ = [
     "NonlinearError",
     "NonlinearSettings",
     "bend_curve",
+    "convergence_study",
+    "reference_curve",
     "run_check",
 ]
 
@@ -37,4 +39,12 @@ def __getattr__(name: str):  # lazy: the check's writers pull in pyvista and mat
         from softcath.fem.nonlinear import outputs
 
         return getattr(outputs, name)
+    if name == "reference_curve":  # the bend with its discretisation error stated
+        from softcath.fem.nonlinear.reference import reference_curve
+
+        return reference_curve
+    if name == "convergence_study":
+        from softcath.fem.nonlinear.study import convergence_study
+
+        return convergence_study
     raise AttributeError(name)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -37,11 +37,13 @@ from softcath.fem.nonlinear.post import (
     midspan_bend,
 )
 
-__all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "LOADS"]
+__all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "needs_mixed", "LOADS"]
 
 log = logging.getLogger(__name__)
 
 SILICONE_LABELS = (TUBE, FILLER)
+#: Poisson ratio from which ``bend_curve`` uses the mixed u–p formulation by default.
+MIXED_POISSON = 0.45
 
 
 @dataclass(frozen=True)
@@ -91,6 +93,13 @@ class BendCurve:
         each pressure (:func:`~fem.nonlinear.post.curvature_variation`).
     mesh_seconds
         Time spent meshing [s] (0 when a mesh was passed in).
+    layers
+        Element layers along the bending length (None when a mesh was passed in).
+    layer_choice
+        The :class:`~softcath.fem.nonlinear.convergence.LayerChoice` when ``layers`` was
+        chosen by default, else None.
+    mixed
+        Whether the mixed u–p formulation was used.
     result
         The full load path (every accepted step); not serialised.
     """
@@ -117,6 +126,9 @@ class BendCurve:
     mesh_seconds: float
     result: NonlinearResult = field(repr=False, compare=False)
     model: object = field(repr=False, compare=False, default=None)
+    layers: int | None = None
+    layer_choice: object = field(repr=False, compare=False, default=None)
+    mixed: bool = False
 
     def departure(self, threshold: float = 0.05) -> dict[str, float | None]:
         """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by
@@ -226,10 +238,10 @@ def bend_curve(
     load: str = "lumen",
     mesh: CatheterMesh | None = None,
     size: float = 0.15,
-    layers: int = 4,
+    layers: int | None = None,
     curvature_points: int = 12,
     midspan: tuple[float, float] = MIDSPAN,
-    mixed: bool = False,
+    mixed: bool | None = None,
     substeps: int = 1,
     max_iter: int = 20,
     progress: bool = False,
@@ -248,16 +260,21 @@ def bend_curve(
         A ready :class:`~fem.nonlinear.catheter.CatheterMesh` (or any object with the same
         attributes, e.g. built from another mesher); default: :func:`mesh_catheter`.
     size, layers, curvature_points
-        Mesh controls of :func:`mesh_catheter` [mm, count, segments per circle]. The
-        defaults (18k DOFs for the paper's design) finish a 4-pressure sweep in 1–6 min
-        here; 12 segments per circle under-fill the coil's area by ~2 % (it spans ~17
-        segments at size 0.15), the finer 24 costs twice the DOFs and Newton cutbacks.
+        Mesh controls of :func:`mesh_catheter` [mm, count, segments per circle].
+        ``layers=None`` (default) picks the element layers along the bending length from
+        the bend expected at the largest pressure
+        (:func:`~softcath.fem.nonlinear.convergence.default_layers`: at most 5° per layer,
+        8 to 16 layers); the layers, not the section size, set the mid-span curvature's
+        error (docs/nonlinear.md). 12 segments per circle under-fill the coil's area by
+        ~2 % (it spans ~17 segments at size 0.15), the finer 24 costs twice the DOFs and
+        Newton cutbacks.
     midspan
         Window of the mid-span curvature, (start, end) as fractions of the bending
         length (default [0.3, 0.7]: out of the clamp and cap zones; see
         :func:`~softcath.fem.nonlinear.post.midspan_bend`).
     mixed
-        Use the mixed u–p (P2–P0) formulation for the silicones.
+        Use the mixed u–p (P2–P0) formulation for the silicones; ``None`` (default): when a
+        silicone's Poisson ratio is at least :data:`MIXED_POISSON` (near-incompressible).
     substeps
         Equal load steps between consecutive requested pressures (≥ 1).
     max_iter
@@ -271,6 +288,15 @@ def bend_curve(
         Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
     """
     p, w = _check_inputs(pressures, load, midspan, substeps)
+    choice = None
+    if mesh is None and layers is None:
+        from softcath.fem.nonlinear.convergence import default_layers
+
+        choice = default_layers(design, float(p[-1]), load=load)
+        layers = choice.layers
+        log.info("bend curve: %d layers (%s)", layers, choice.to_json())
+    if mixed is None:
+        mixed = needs_mixed(design)
     t0 = time.perf_counter()
     cmesh = (
         mesh
@@ -288,7 +314,14 @@ def bend_curve(
         max_iter=max_iter,
         progress=progress,
     )
-    return _curve(design, p, w, load, cmesh, model, res, mesh_seconds)
+    curve = _curve(design, p, w, load, cmesh, model, res, mesh_seconds)
+    return replace(curve, layers=layers if mesh is None else None, layer_choice=choice, mixed=bool(mixed))
+
+
+def needs_mixed(design) -> bool:
+    """Whether the silicones of ``design`` are near-incompressible (ν ≥ :data:`MIXED_POISSON`)."""
+    silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
+    return max(float(m.poisson_ratio) for m in silicones) >= MIXED_POISSON
 
 
 def _check_inputs(pressures, load, midspan, substeps) -> tuple[np.ndarray, tuple[float, ...]]:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.fem.nonlinear.convergence import MIN_ESTIMATE_LAYERS
 from softcath.fem.nonlinear.errors import SettingError
 
 __all__ = ["NonlinearSettings", "run_check", "write_outputs"]
@@ -41,24 +42,30 @@ class NonlinearSettings:
         Lumen wall + sealed cap (the real load) or the cap force alone (the paper's formula).
     mesh_size : float
         Largest section triangle edge [mm].
-    layers : int
-        Element layers along the bending length.
+    layers : int or None
+        Element layers along the bending length; None: chosen from the expected bend
+        (:func:`~softcath.fem.nonlinear.convergence.default_layers`).
     curvature_points : int
         Mesh segments per full circle.
-    mixed : bool
-        Mixed u-p (P2-P0) formulation for the silicones.
+    mixed : bool or None
+        Mixed u-p (P2-P0) formulation for the silicones; None: when they are
+        near-incompressible (:func:`~softcath.fem.nonlinear.bend.needs_mixed`).
     compare_linear : bool
         Report where the linear FEM and the analytic model depart from it by 5 %.
+    convergence : bool
+        Run the three-mesh study (L/2, L, 2L layers; :mod:`softcath.fem.nonlinear.study`)
+        instead of the two-mesh error estimate.
     """
 
     pressure: float = 1.0
     steps: int = 8
     load: str = "lumen"
     mesh_size: float = 0.15
-    layers: int = 4
+    layers: int | None = None
     curvature_points: int = 12
-    mixed: bool = False
+    mixed: bool | None = None
     compare_linear: bool = False
+    convergence: bool = False
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.pressure) and self.pressure > 0):
@@ -69,8 +76,12 @@ class NonlinearSettings:
             raise SettingError("load", self.load, "must be 'lumen' or 'cap'")
         if not (math.isfinite(self.mesh_size) and self.mesh_size > 0):
             raise SettingError("mesh_size", self.mesh_size, "must be > 0 mm")
-        if self.layers < 1:
-            raise SettingError("layers", self.layers, "must be >= 1")
+        if self.layers is not None and not (isinstance(self.layers, int) and self.layers >= 1):
+            raise SettingError("layers", self.layers, "must be an integer >= 1")
+        if self.convergence and self.layers is not None and self.layers < MIN_ESTIMATE_LAYERS:
+            raise SettingError(
+                "layers", self.layers, f"must be >= {MIN_ESTIMATE_LAYERS} for a convergence study"
+            )
         if self.curvature_points < 6:
             raise SettingError("curvature_points", self.curvature_points, "must be >= 6")
 
@@ -85,24 +96,13 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
 
     Returns the ``fem.json`` document and the human summary, line by line.
     """
-    from softcath.fem.nonlinear.bend import bend_curve
-
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     s = settings
     t_start = time.perf_counter()
-    curve = bend_curve(
-        design,
-        s.pressures,
-        load=s.load,
-        size=s.mesh_size,
-        layers=s.layers,
-        curvature_points=s.curvature_points,
-        mixed=s.mixed,
-        progress=True,
-    )
+    curve, error, study_lines = _solve_with_error(design, s, out)
     seconds = time.perf_counter() - t_start
-    summary = write_outputs(curve, out, design_name=design.name, compare_linear=s.compare_linear)
+    summary = write_outputs(curve, out, design_name=design.name, compare_linear=s.compare_linear, error=error)
     add_linear_check_keys(out / "fem.json", curve, design, seconds)
     lines = [
         f"softcath fem --nonlinear: {design.name}, {curve.load} load, {curve.ndofs} DOFs, "
@@ -121,8 +121,46 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
         )
     for k, v in summary.get("departure_5pct_deg", {}).items():
         lines.append(f"  {k} departs by 5 %: " + ("not within the sweep" if v is None else f"at {v:.1f} deg"))
+    if error is not None and np.isfinite(error.relative[-1]):
+        lines.append(
+            f"  {curve.layers} layers: estimated discretisation error of the mid-span curvature "
+            f"{100 * error.relative[-1]:.2g} % (vs {error.coarse_layers} layers, order "
+            f"{error.order:.2g} {error.order_source})"
+        )
+    lines.extend(study_lines)
     lines.append(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
     return summary, lines
+
+
+def _solve_with_error(design, s: NonlinearSettings, out: Path):
+    """The sweep's curve, its error estimate (None below 4 layers) and the study's summary lines."""
+    from softcath.fem.nonlinear.bend import bend_curve
+    from softcath.fem.nonlinear.convergence import coarse_layers
+    from softcath.fem.nonlinear.reference import estimate_error
+    from softcath.fem.nonlinear.study import convergence_study, write_study
+
+    opts = {
+        "load": s.load,
+        "size": s.mesh_size,
+        "curvature_points": s.curvature_points,
+        "mixed": s.mixed,
+        "progress": True,
+    }
+    if s.convergence:
+        study = convergence_study(design, s.pressures, layers=s.layers, **opts)
+        names = write_study(study, out)
+        q, k = study.order[-1], study.extrapolated[-1]
+        line = (
+            f"  convergence ({'/'.join(map(str, study.layers))} layers): observed order {q:.3g}, "
+            f"extrapolated mid-span curvature {k:.4g} 1/mm; wrote {', '.join(names)}"
+        )
+        return study.curves[1], study.error_estimate(), [line]
+    curve = bend_curve(design, s.pressures, layers=s.layers, **opts)
+    if curve.layers < MIN_ESTIMATE_LAYERS:
+        log.info("%d layers: no half-layer mesh, no error estimate", curve.layers)
+        return curve, None, []
+    coarse = bend_curve(design, s.pressures, layers=coarse_layers(curve.layers), **opts)
+    return curve, estimate_error(curve, coarse), []
 
 
 def _finite_or_none(x) -> float | None:
@@ -157,7 +195,9 @@ def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
     path.write_text(json.dumps(doc, indent=2), encoding="utf-8")
 
 
-def write_outputs(curve, out: Path, *, design_name: str = "design", compare_linear: bool = False) -> dict:
+def write_outputs(
+    curve, out: Path, *, design_name: str = "design", compare_linear: bool = False, error=None
+) -> dict:
     """Write fem.json, pressure_sweep.csv, the VTU series and the PNGs of ``curve`` into ``out``.
 
     Parameters
@@ -170,6 +210,9 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
         Name written into ``fem.json``.
     compare_linear : bool
         Add the bend angles where the linear FEM and the analytic model depart by 5 %.
+    error : softcath.fem.nonlinear.reference.ErrorEstimate or None
+        The discretisation error estimate: ``discretisation_error_estimate`` in fem.json
+        (per pressure, with its method) and a column of pressure_sweep.csv (NaN/null without).
 
     Returns
     -------
@@ -183,8 +226,9 @@ def write_outputs(curve, out: Path, *, design_name: str = "design", compare_line
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     summary = _summary(curve, design_name, compare_linear)
+    summary.update(_error_keys(curve, error))
     (out / "fem.json").write_text(json.dumps(summary, indent=2))
-    _write_sweep_csv(curve, out / "pressure_sweep.csv")
+    _write_sweep_csv(curve, out / "pressure_sweep.csv", error)
     if curve.model is not None:
         write_vtu_series(curve, out)
         plot_deformed(curve, out / "deformed_tip.png")
@@ -240,8 +284,29 @@ def _summary(curve, design_name: str, compare_linear: bool) -> dict:
     return summary
 
 
-def _write_sweep_csv(curve, path: Path) -> None:
+def _error_keys(curve, error) -> dict:
+    """fem.json's ``layers``, ``mixed`` and ``discretisation_error_estimate`` (relative, final pressure)
+    with ``discretisation_error`` (per pressure and how it was estimated)."""
+    choice = getattr(curve, "layer_choice", None)
+    keys = {
+        "layers": getattr(curve, "layers", None),
+        "layer_choice": None if choice is None else choice.to_json(),
+        "mixed": bool(getattr(curve, "mixed", False)),
+    }
+    if error is None:
+        keys["discretisation_error_estimate"] = None
+        keys["discretisation_error"] = {
+            "method": f"not estimated: fewer than {MIN_ESTIMATE_LAYERS} layers (no half-layer mesh)"
+        }
+        return keys
+    keys["discretisation_error_estimate"] = _finite_or_none(error.relative[-1])
+    keys["discretisation_error"] = {"pressure_MPa": [float(x) for x in curve.pressure], **error.to_json()}
+    return keys
+
+
+def _write_sweep_csv(curve, path: Path, error=None) -> None:
     """One row per pressure of the sweep."""
+    rel = np.full(curve.pressure.size, np.nan) if error is None else np.asarray(error.relative, float)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
@@ -258,6 +323,7 @@ def _write_sweep_csv(curve, path: Path) -> None:
                 "newton_iterations",
                 "linear_fem_bend_angle_rad",
                 "analytic_bend_angle_rad",
+                "discretisation_error_estimate",
             ]
         )
         for i in range(curve.pressure.size):
@@ -275,6 +341,7 @@ def _write_sweep_csv(curve, path: Path) -> None:
                     int(curve.newton_iterations[i]),
                     f"{curve.linear_bend_angle[i]:.9g}",
                     f"{curve.analytic_bend_angle[i]:.9g}",
+                    f"{rel[i]:.3g}",
                 ]
             )
 

@@ -38,7 +38,6 @@ def _documented(doc: str, option: str) -> str:
         ("--mesh-size", "mesh_size"),
         ("--pressure", "pressure"),
         ("--steps", "steps"),
-        ("--layers", "layers"),
         ("--curvature-points", "curvature_points"),
     ],
 )
@@ -53,6 +52,19 @@ def test_linear_default_is_the_documented_one(option, field):
     applied = getattr(fem_cmd.linear_settings(_args("--pressure", "0.1")), field)
     documented = _documented(LINEAR_DOC, option)
     assert str(applied) == documented or float(applied) == pytest.approx(float(documented))
+
+
+def test_nonlinear_layers_and_formulation_default_to_the_documented_rules():
+    s = fem_cmd.nonlinear_settings(_args("--nonlinear"))
+    assert s.layers is None and s.mixed is None and not s.convergence  # chosen per design by bend_curve
+    assert "`--layers N` (element layers along the bending length; default: from the expected bend" in (
+        " ".join(NONLINEAR_DOC.split())
+    )
+    assert "`--mixed` / `--no-mixed` (mixed u–p formulation; default: when a silicone's ν ≥ 0.45)" in (
+        " ".join(NONLINEAR_DOC.split())
+    )
+    given = fem_cmd.nonlinear_settings(_args("--nonlinear", "--layers", "6", "--no-mixed", "--convergence"))
+    assert (given.layers, given.mixed, given.convergence) == (6, False, True)
 
 
 def test_the_modes_differ_where_documented():
@@ -85,7 +97,8 @@ def test_the_linear_check_needs_a_pressure():
     [
         (("--pressure", "-1"), r"--pressure = -1(\.0)?: must be > 0 MPa"),
         (("--steps", "0"), r"--steps = 0: must be an integer in \[1, 1000\]"),
-        (("--layers", "0"), r"--layers = 0: must be >= 1"),
+        (("--layers", "0"), r"--layers = 0: must be an integer >= 1"),
+        (("--layers", "5", "--convergence"), r"--layers = 5: must be >= 6 for a convergence study"),
     ],
 )
 def test_bad_nonlinear_options_are_refused_by_name(extra, message):
