@@ -31,6 +31,7 @@ option              linear      ``--nonlinear``
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from dataclasses import dataclass
 
@@ -235,7 +236,8 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"{result.design_name}: {s.load} load at {s.pressure:g} MPa -> "
         f"curvature {c.curvature_per_mm:.4g} 1/mm (analytic {c.analytic['curvature_per_mm']:.4g}, "
-        f"ratio {ratio:.3g}), elongation {c.elongation:.3g}, bend {c.bend_angle_rad:.3g} rad, "
+        f"ratio {ratio:.3g}), elongation {c.elongation:.3g}, "
+        f"bend {math.degrees(c.bend_angle_rad):.3g} deg ({c.bend_angle_rad:.3g} rad), "
         f"max silicone strain {c.max_strain:.3g}"
     )
     print(
