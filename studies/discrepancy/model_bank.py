@@ -152,15 +152,16 @@ class ModelBank:
         for n in MODEL_PARAMETERS:
             if n in ingredients:
                 corners = [{**c, n: g} for c in corners for g in self.grid_of(n)]
-        return [
-            Variant(
-                tube_modulus=c.get("tube_modulus", self.nominal_modulus),
-                filler_none=filler_none,
-                silicone_poisson=nu,
-                coil_spring_rate=c.get("coil_spring_rate"),
-            )
-            for c in corners
-        ]
+        return [self._variant(c, filler_none, nu) for c in corners]
+
+    def _variant(self, corner: dict[str, float], filler_none: bool, nu) -> Variant:
+        """The variant at a grid ``corner`` of the continuous model parameters (absent: the design's)."""
+        return Variant(
+            tube_modulus=corner.get("tube_modulus", self.nominal_modulus),
+            filler_none=filler_none,
+            silicone_poisson=nu,
+            coil_spring_rate=corner.get("coil_spring_rate"),
+        )
 
     def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(curvature, elongation) of ``v`` at ``pressure`` (0 below 0, NaN past the solved curve)."""
@@ -204,13 +205,7 @@ class ModelBank:
         for weight, corner in corners:
             if weight == 0.0:
                 continue
-            v = Variant(
-                tube_modulus=corner.get("tube_modulus", self.nominal_modulus),
-                filler_none=filler_none,
-                silicone_poisson=nu,
-                coil_spring_rate=corner.get("coil_spring_rate"),
-            )
-            kc, ec = self.at(v, pressure)
+            kc, ec = self.at(self._variant(corner, filler_none, nu), pressure)
             k = k + weight * kc
             e = e + weight * ec
         return k, e

@@ -79,8 +79,14 @@ class Measured:
         return self.pressure.size * (1 if self.elongation is None else 2)
 
     def nrmse(self, predicted: np.ndarray) -> float:
-        r = np.nan_to_num(predicted - self.curvature, nan=float(np.ptp(self.curvature)))
-        return float(np.sqrt(np.mean(r**2)) / (np.ptp(self.curvature) or 1.0))
+        return nrmse(predicted, self.curvature)
+
+
+def nrmse(predicted: np.ndarray, measured: np.ndarray) -> float:
+    """RMS of ``predicted - measured`` over the measured range (a missing prediction counts the range)."""
+    span = float(np.ptp(measured))
+    r = np.nan_to_num(predicted - measured, nan=span)
+    return float(np.sqrt(np.mean(r**2)) / (span or 1.0))
 
 
 def _parameters(ingredients: Sequence[str]) -> list[str]:

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from softcath.studies.discrepancy.model_bank import ModelBank
-from softcath.studies.discrepancy.physical import predict
+from softcath.studies.discrepancy.physical import nrmse, predict
 from softcath.studies.discrepancy.prototype import explain_prototype
 
 __all__ = ["TERM_CAUSES", "quasi_static_curve", "physical_step"]
@@ -96,8 +96,7 @@ def physical_step(
         h = by_name[tuple(ingredients)]
         values = {n: v["value"] for n, v in h["parameters"].items()}
         k, _ = predict(bank, ingredients, values, test["pressure_MPa"], tip_factor)
-        r = np.nan_to_num(k - test["curvature_per_mm"], nan=np.ptp(test["curvature_per_mm"]))
-        return float(np.sqrt(np.mean(r**2)) / (np.ptp(test["curvature_per_mm"]) or 1.0))
+        return nrmse(k, test["curvature_per_mm"])
 
     causes = {t: [c for c in TERM_CAUSES.get(t, ()) if c in chosen] for t in result.named}
     return {
