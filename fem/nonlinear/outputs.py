@@ -133,10 +133,9 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
 
 
 def _solve_with_error(design, s: NonlinearSettings, out: Path):
-    """The sweep's curve, its error estimate (None below 4 layers) and the study's summary lines."""
-    from softcath.fem.nonlinear.bend import bend_curve
-    from softcath.fem.nonlinear.convergence import coarse_layers
-    from softcath.fem.nonlinear.reference import estimate_error
+    """The sweep's curve, its error estimate (None below ``MIN_ESTIMATE_LAYERS`` layers) and the study's
+    summary lines."""
+    from softcath.fem.nonlinear.reference import reference_curve
     from softcath.fem.nonlinear.study import convergence_study, write_study
 
     opts = {
@@ -155,12 +154,8 @@ def _solve_with_error(design, s: NonlinearSettings, out: Path):
             f"extrapolated mid-span curvature {k:.4g} 1/mm; wrote {', '.join(names)}"
         )
         return study.curves[1], study.error_estimate(), [line]
-    curve = bend_curve(design, s.pressures, layers=s.layers, **opts)
-    if curve.layers < MIN_ESTIMATE_LAYERS:
-        log.info("%d layers: no half-layer mesh, no error estimate", curve.layers)
-        return curve, None, []
-    coarse = bend_curve(design, s.pressures, layers=coarse_layers(curve.layers), **opts)
-    return curve, estimate_error(curve, coarse), []
+    ref = reference_curve(design, s.pressures, layers=s.layers, **opts)
+    return ref.curve, ref.error, []
 
 
 def _finite_or_none(x) -> float | None:

@@ -9,11 +9,19 @@ or, from a three-mesh study (:mod:`softcath.fem.nonlinear.study`), observed.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcath.fem.nonlinear.convergence import ASSUMED_ORDER, coarse_layers, richardson_error
+from softcath.fem.nonlinear.convergence import (
+    ASSUMED_ORDER,
+    MIN_ESTIMATE_LAYERS,
+    coarse_layers,
+    richardson_error,
+)
+
+log = logging.getLogger(__name__)
 
 __all__ = ["ErrorEstimate", "ReferenceCurve", "estimate_error", "reference_curve", "QUANTITY"]
 
@@ -74,11 +82,12 @@ class ErrorEstimate:
 
 @dataclass(frozen=True)
 class ReferenceCurve:
-    """A 3-D bend curve, its half-layer companion and the error estimate from the two."""
+    """A 3-D bend curve, its half-layer companion and the error estimate from the two (both None
+    below :data:`~softcath.fem.nonlinear.convergence.MIN_ESTIMATE_LAYERS` layers: no half-layer mesh)."""
 
     curve: object
-    coarse: object = field(repr=False)
-    error: ErrorEstimate
+    coarse: object | None = field(repr=False)
+    error: ErrorEstimate | None
 
 
 def _none(x) -> float | None:
@@ -128,5 +137,8 @@ def reference_curve(design, pressures, *, layers: int | None = None, **options) 
     from softcath.fem.nonlinear.bend import bend_curve
 
     curve = bend_curve(design, pressures, layers=layers, **options)
+    if curve.layers < MIN_ESTIMATE_LAYERS:
+        log.info("%d layers: no half-layer mesh, no error estimate", curve.layers)
+        return ReferenceCurve(curve=curve, coarse=None, error=None)
     coarse = bend_curve(design, pressures, layers=coarse_layers(curve.layers), **options)
     return ReferenceCurve(curve=curve, coarse=coarse, error=estimate_error(curve, coarse))
