@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 
 from softcath.cli.options import add_design
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 HELP = "the interactive design app in the browser (local web server; Ctrl-C stops it)"
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 
 from softcath.cli.options import add_design, add_out, add_seed
+from softcath.core.plotting import pyplot
 
 HELP = "virtual bench: simulated devices and camera recorded through the real pipeline"
 
@@ -57,7 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
     """``"lag:tau_s=0.2"`` -> ``("lag", {"tau_s": 0.2})``."""
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     name, _, rest = text.partition(":")
     params: dict[str, float | int] = {}
@@ -74,10 +75,7 @@ def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
 
 
 def _plot(out, truth_csv, run_csv) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from softcath.design.measurement import read_recording
 
@@ -106,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from softcath import design
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
     from softcath.virtualbench.bench import BenchConfig, run_bench
 
     try:
@@ -130,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
     from softcath.virtualbench.bench import make_plant
 
     make_plant(d, effects=effects, load=args.load)  # bad effect names or parameters fail here, first
-    from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
+    from softcath.core.atomic import prepare_out_dir, staged_dir, unstage
 
     out = prepare_out_dir(args.out)
     print(

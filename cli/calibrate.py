@@ -62,7 +62,7 @@ def _grid_max(n_free: int) -> int:
 def run(args: argparse.Namespace) -> int:
     from softcath import analytic, design
     from softcath.analytic.calibration import calibrate
-    from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
+    from softcath.core.atomic import Outputs, check_finite_json, prepare_out_dir
     from softcath.studies.plots import calibration_plot
 
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())

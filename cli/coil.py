@@ -85,8 +85,8 @@ def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     from softcath import design
+    from softcath.core.atomic import Outputs, prepare_out_dir
     from softcath.fem.coil.helix import helix_mesh
-    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     with as_options({"elements_per_turn": "--elements-per-turn"}):  # checked before any work
         helix_mesh(radius=1.0, pitch=1.0, turns=1, elements_per_turn=args.elements_per_turn)

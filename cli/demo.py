@@ -23,7 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
     from softcath.studies.demo import SECTIONS, run_demo
 
     keys = [k for k, _, _ in SECTIONS]
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
     from softcath import design
-    from softcath.studies.atomic import prepare_out_dir
+    from softcath.core.atomic import prepare_out_dir
 
     out = prepare_out_dir(args.out)
     design.resolve(args.design)  # a bad design is refused before any section runs
@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"demo: {res.index_html} ({res.seconds:.0f} s)")
     failed = [s["key"] for s in res.sections if s["status"] == "failed"]
     if failed:
-        from softcath.design.errors import DataError
+        from softcath.core.errors import DataError
 
         raise DataError(
             f"{len(failed)} section(s) failed: {', '.join(failed)} (reasons in {res.index_html}; "

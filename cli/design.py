@@ -38,8 +38,8 @@ def run(args: argparse.Namespace) -> int:
     if args.action == "export":
         if not (args.step or args.stl or args.out):
             raise design.DesignError("export", None, "give --out DIR, --step PATH and/or --stl PATH")
+        from softcath.core.atomic import atomic_path, check_outputs, check_parent, prepare_out_dir
         from softcath.design import cad  # CadQuery: lazily, only for export
-        from softcath.studies.atomic import atomic_path, check_outputs, check_parent, prepare_out_dir
 
         step, stl = args.step, args.stl
         if args.out and not (step or stl):
@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     out = None
     if args.out:
-        from softcath.studies.atomic import prepare_out_dir
+        from softcath.core.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
     cs = composite_section(d)
@@ -86,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
     )
     print(f"gains (cap load): {kc:.4g} 1/(mm MPa), {ec:.4g} 1/MPa;  (lumen load): {kl:.4g}, {el:.4g}")
     if out is not None:
-        from softcath.studies.atomic import Outputs
+        from softcath.core.atomic import Outputs
         from softcath.studies.plots import section_plot
 
         doc = {

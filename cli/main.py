@@ -28,8 +28,8 @@ import warnings
 from softcath import __version__
 from softcath.cli.help_text import PlainFormatter
 from softcath.cli.options import check_option_effects, in_command_terms, option_terms
-from softcath.design.errors import SoftcathError
-from softcath.interrupts import clear_stop, request_stop
+from softcath.core.errors import SoftcathError
+from softcath.core.interrupts import clear_stop, request_stop
 
 #: (subcommand, module): every module is imported when the parser is built; one that fails
 #: to import fails the command line (a broken install must not lose a subcommand silently).
@@ -281,8 +281,8 @@ def main(argv: list[str] | None = None) -> int:
             old_term = old_int = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
     _printable_streams()
-    from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
-    from softcath.studies.output_ledger import forget_inputs, protect_inputs
+    from softcath.core.atomic import forget_created_dirs, remove_created_dirs
+    from softcath.core.output_ledger import forget_inputs, protect_inputs
 
     forget_created_dirs()
     forget_inputs()

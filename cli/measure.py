@@ -74,7 +74,7 @@ def add_chessboard_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _scale_from_args(args: argparse.Namespace) -> float:
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     board = getattr(args, "chessboard", None)
     if board is None:
@@ -103,7 +103,7 @@ def calibration_from_args(args: argparse.Namespace):
     --base-angle."""
     import math
 
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
     from softcath.hardware.vision import Calibration
 
     scale = _scale_from_args(args)  # the scale, base angle and diameter are checked by Calibration
@@ -138,8 +138,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"scale from the chessboard: {cal.px_per_mm:.3f} px/mm")
     # per-frame misses are counted and summarised below rather than logged one by one
     logging.getLogger("softcath.hardware.measure_video").setLevel(logging.ERROR)
-    from softcath.design.errors import DataError, DesignError
-    from softcath.studies.atomic import staged_dir, unstage
+    from softcath.core.atomic import staged_dir, unstage
+    from softcath.core.errors import DataError, DesignError
 
     if args.fps is not None and not (math.isfinite(args.fps) and args.fps > 0):
         raise DesignError("--fps", args.fps, "must be a finite frame rate > 0 Hz")

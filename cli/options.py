@@ -98,7 +98,7 @@ def parse_pressures(text: str, *, param: str = "--pressure", increasing: bool = 
     """
     import numpy as np
 
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
     from softcath.studies.model_validity import check_pressure
 
     items = [item for item in text.split(",") if item.strip()]  # "0.1,0.3," : an empty item is nothing
@@ -147,7 +147,7 @@ def as_options(names: dict[str, str]) -> Iterator[None]:
     The library names its own parameters (``samples``, ``seed``); a command renames the
     ones it passes through from an option, keeping the value and the bound.
     """
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     try:
         yield
@@ -266,7 +266,7 @@ def in_command_terms(exc: Exception, terms: dict[str, str]) -> Exception:
     is said with the option; a dotted or spaced tail is kept (``vary.tube.h`` ->
     ``--vary tube.h``). Anything else is returned unchanged.
     """
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     if not isinstance(exc, DesignError) or not isinstance(exc.parameter, str):
         return exc
@@ -326,7 +326,7 @@ def check_option_effects(args: argparse.Namespace, command: str, defaults: dict)
     DesignError
         Naming the option, its value and the option it needs.
     """
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     terms = getattr(args, "_terms", {})
     for dests, active, why in _ACTS_ONLY_WITH.get(command, ()):

@@ -81,7 +81,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _refuse_an_earlier_recording(out) -> None:
     """A recording streams into DIR/measurements.csv from its first row (so a kill keeps it): an
     earlier recording there would be truncated before the new one knows it has data. Refused."""
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     for name in ("measurements.csv", "record.json"):
         if (out / name).exists():
@@ -96,10 +96,10 @@ def run(args: argparse.Namespace) -> int:
     """Run ``softcath record``."""
 
     from softcath.cli.measure import calibration_from_args
-    from softcath.design.errors import DataError
+    from softcath.core.atomic import prepare_out_dir, write_text
+    from softcath.core.errors import DataError
     from softcath.hardware.recorder import Recorder, RecorderConfig
     from softcath.hardware.sensors import SerialSensor
-    from softcath.studies.atomic import prepare_out_dir, write_text
 
     _check_args(args)
     out = prepare_out_dir(args.out)
@@ -162,7 +162,7 @@ def _check_args(args: argparse.Namespace) -> None:
     """Refuse a bad duration, scale or device rate."""
     import math
 
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
         raise DesignError("--duration", args.duration, "must be a finite time > 0 s")

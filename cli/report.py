@@ -19,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
     import re
     from pathlib import Path
 
-    from softcath.design.errors import DataError
+    from softcath.core.errors import DataError
     from softcath.studies.report import write_report
 
     if not Path(args.dir).is_dir():
@@ -27,7 +27,7 @@ def run(args: argparse.Namespace) -> int:
 
     out = None
     if args.out is not None:
-        from softcath.studies.atomic import prepare_out_dir
+        from softcath.core.atomic import prepare_out_dir
 
         out = prepare_out_dir(args.out)
     path, _ = write_report(args.dir, out=out)

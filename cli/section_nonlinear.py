@@ -15,7 +15,8 @@ import csv
 import math
 from pathlib import Path
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
+from softcath.core.plotting import pyplot
 
 #: Options of the linear section model that the finite-strain model does not take.
 LINEAR_ONLY = ("coil_model", "coil_bound", "initial_tension", "coil_modulus", "coil_bending")
@@ -55,10 +56,10 @@ def check_cost(d, n_pressures: int, args: argparse.Namespace) -> float:
 
 def run_nonlinear(args: argparse.Namespace) -> int:
     from softcath.cli.options import parse_pressure_range, resolve_design
+    from softcath.core.atomic import Outputs, prepare_out_dir
+    from softcath.core.output_ledger import check_replace
     from softcath.fem.section_model.finite_strain.curve import CSV_COLUMNS
-    from softcath.studies.atomic import Outputs, prepare_out_dir
     from softcath.studies.model_validity import check_measured_pressures, warn_self_contact
-    from softcath.studies.output_ledger import check_replace
     from softcath.studies.sweep.section_nonlinear_eval import curve_with_rest
 
     check_options(args)
@@ -146,10 +147,7 @@ def _self_contact_from(c) -> float:
 
 def curve_picture(c, path: Path, *, measured=None) -> None:
     """Curvature and bend angle against pressure: finite-strain, linear and measured."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     import numpy as np
 
     p = np.linspace(0.0, float(c.pressure.max()), 50)

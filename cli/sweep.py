@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import folder_lock, prepare_out_dir
+    from softcath.core.atomic import folder_lock, prepare_out_dir
     from softcath.studies.sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)

@@ -116,7 +116,7 @@ def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = 
     """
     import cadquery as cq
 
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     if coil not in ("annulus", "helix"):
         raise DesignError("coil", coil, "must be 'annulus' or 'helix'")

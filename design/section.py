@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = [
     "AssembledSection",

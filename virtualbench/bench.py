@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.design.measurement import read_recording
 from softcath.hardware.frames import VideoWriter
 from softcath.hardware.recorder import Recorder, RecorderConfig, RecordSummary

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.virtualbench.hidden_protocols import (
     Protocol,
     default_protocol,

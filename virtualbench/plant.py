@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from softcath.analytic.pose import tip_pose
-from softcath.design.errors import DataError, DesignError
+from softcath.core.errors import DataError, DesignError
 from softcath.virtualbench.truth_effects import TruthEffect, check_range
 
 __all__ = ["Plant", "PlantResponse"]

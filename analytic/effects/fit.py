@@ -100,7 +100,7 @@ def _ordered(effects: Sequence[str]) -> tuple[str, ...]:
     for e in effects:
         get(e)  # raises on an unknown name
     if len(set(effects)) != len(effects):
-        from softcath.design.errors import DesignError
+        from softcath.core.errors import DesignError
 
         raise DesignError("effects", list(effects), "each effect at most once")
     return tuple(sorted(effects, key=STAGE_ORDER.index))

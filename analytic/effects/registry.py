@@ -33,7 +33,7 @@ FEM_CANDIDATES: tuple[str, ...] = ("lumen_wall", "nonlinear_gain", "offset", "de
 
 def register(candidate: Candidate) -> None:
     """Add a candidate to the registry (its ``name`` must be in ``STAGE_ORDER``)."""
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     if candidate.name not in STAGE_ORDER:
         raise DesignError("effect", candidate.name, f"must be one of {STAGE_ORDER}")
@@ -57,7 +57,7 @@ def get(name: str) -> Candidate:
     DesignError
         If no candidate has that name.
     """
-    from softcath.design.errors import DesignError
+    from softcath.core.errors import DesignError
 
     try:
         return _REGISTRY[name]

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from softcath import analytic
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.studies.tiers import TIERS
 
 __all__ = [

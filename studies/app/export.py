@@ -16,6 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from softcath import design as design_pkg
+from softcath.core.plotting import pyplot
 from softcath.studies.app.curves import TierCurve
 
 __all__ = ["CSV_COLUMNS", "curves_csv", "design_toml", "view_png"]
@@ -86,10 +87,7 @@ def view_png(
     measured=None,
 ) -> bytes:
     """A PNG of the app's view: the section, κ and θ against pressure, the tip at ``pressure``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from softcath.studies.app.shapes import bent_tip, section_shapes
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from softcath.design.errors import SoftcathError
+from softcath.core.errors import SoftcathError
 from softcath.studies.app.curves import TierCurve, finite_strain_curve, formula_curve, linear_section_curve
 from softcath.studies.app.fem_check import FemCheck
 from softcath.studies.app.jobs import LatestJob

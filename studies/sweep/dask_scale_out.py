@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import uuid
 
-from softcath.design.errors import DesignError
-from softcath.interrupts import raise_pending_stop
+from softcath.core.errors import DesignError
+from softcath.core.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
 from softcath.studies.sweep.runner import _outcome
 

@@ -23,8 +23,8 @@ import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
-from softcath.design.errors import DesignError
-from softcath.interrupts import raise_pending_stop
+from softcath.core.errors import DesignError
+from softcath.core.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
 from softcath.studies.sweep.sampling import expand
 from softcath.studies.sweep.spec import SweepSpec

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from softcath.interrupts import raise_pending_stop
+from softcath.core.interrupts import raise_pending_stop
 
 __all__ = [
     "SECTION_KEYS",

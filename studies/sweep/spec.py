@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.design.load_cases import LOADS
 from softcath.studies.tiers import TIERS, tier_name
 

@@ -18,7 +18,7 @@ import time
 import uuid
 from pathlib import Path
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 
 __all__ = ["SweepStore", "arrow_table", "design_counts"]
 

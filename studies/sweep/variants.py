@@ -22,7 +22,7 @@ import copy
 from collections.abc import Mapping
 from typing import Any
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = ["check_path", "set_path", "variant_table", "build_variant", "VariantBuilder"]
 
