@@ -34,14 +34,16 @@ from pathlib import Path
 import numpy as np
 
 from softcath.core.errors import DesignError
-from softcath.design.measurement import read_recording
+from softcath.design.measurement import CsvSink, read_recording
 from softcath.hardware.frames import VideoWriter
 from softcath.hardware.recorder import Recorder, RecorderConfig, RecordSummary
 from softcath.hardware.sensors import SerialSensor
 from softcath.hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
 from softcath.hardware.vision import Calibration, measure
 from softcath.virtualbench.devices import VirtualClock, VirtualLineDevice, VirtualStage
+from softcath.virtualbench.plant import Plant
 from softcath.virtualbench.render import Scene, render_frame
+from softcath.virtualbench.truth_effects import make_effect
 
 __all__ = ["WAVEFORMS", "BenchConfig", "BenchResult", "make_plant", "run_bench"]
 
@@ -150,9 +152,6 @@ def make_plant(design, *, effects=(), load: str = "cap"):
     ``effects`` is a sequence of ``(name, params_dict)`` for
     :func:`~softcath.virtualbench.truth_effects.make_effect`.
     """
-    from softcath.virtualbench.plant import Plant
-    from softcath.virtualbench.truth_effects import make_effect
-
     built = tuple(make_effect(name, **params) for name, params in effects)
     return Plant.from_design(design, effects=built, load=load)
 
@@ -460,8 +459,6 @@ def _json_default(o):
 
 
 def _write_truth_csv(path: Path, t, p_true, x_mm, resp) -> None:
-    from softcath.design.measurement import CsvSink
-
     cols = ("time_s", "pressure_MPa", "stage_mm", "curvature_per_mm", "arc_length_mm")
     sink = CsvSink(path, cols)
     for i in range(len(t)):

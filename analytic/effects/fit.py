@@ -27,6 +27,7 @@ from scipy.optimize import least_squares
 
 from softcath.analytic.effects import get
 from softcath.analytic.effects.base import STAGE_ORDER, Scales
+from softcath.core.errors import DesignError
 
 __all__ = ["Segment", "ChainFit", "fit_chain", "predict_chain", "simulate_columns"]
 
@@ -100,8 +101,6 @@ def _ordered(effects: Sequence[str]) -> tuple[str, ...]:
     for e in effects:
         get(e)  # raises on an unknown name
     if len(set(effects)) != len(effects):
-        from softcath.core.errors import DesignError
-
         raise DesignError("effects", list(effects), "each effect at most once")
     return tuple(sorted(effects, key=STAGE_ORDER.index))
 

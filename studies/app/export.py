@@ -18,6 +18,7 @@ import numpy as np
 from softcath import design as design_pkg
 from softcath.core.plotting import pyplot
 from softcath.studies.app.curves import TierCurve
+from softcath.studies.app.shapes import bent_tip, section_shapes
 
 __all__ = ["CSV_COLUMNS", "curves_csv", "design_toml", "view_png"]
 
@@ -88,8 +89,6 @@ def view_png(
 ) -> bytes:
     """A PNG of the app's view: the section, κ and θ against pressure, the tip at ``pressure``."""
     plt = pyplot()
-
-    from softcath.studies.app.shapes import bent_tip, section_shapes
 
     fig, axes = plt.subplots(1, 4, figsize=(17, 4.2), constrained_layout=True)
     ax = axes[0]

@@ -15,7 +15,7 @@ import uuid
 from softcath.core.errors import DesignError
 from softcath.core.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
-from softcath.studies.sweep.runner import _outcome
+from softcath.studies.sweep.task_outcome import outcome
 
 __all__ = ["connect", "run_on_dask"]
 
@@ -74,4 +74,4 @@ def run_on_dask(tasks, client):
             yield task, fut.result()
         except Exception as exc:
             raise_pending_stop()
-            yield _outcome(task, exc)
+            yield outcome(task, exc)
