@@ -7,6 +7,7 @@ and reports paths relative to the checkout (the rooms' real locations).
 from __future__ import annotations
 
 import ast
+import functools
 import os
 from collections.abc import Iterator
 from pathlib import Path
@@ -15,8 +16,24 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "src" / "softcath"
 
 
-def modules() -> Iterator[tuple[str, Path]]:
+@functools.cache
+def modules() -> tuple[tuple[str, Path], ...]:
     """``(dotted name, real path)`` of every module of the package, ``__init__`` as its package."""
+    return tuple(_walk())
+
+
+@functools.cache
+def _module_names() -> frozenset[str]:
+    return frozenset(name for name, _ in modules())
+
+
+@functools.cache
+def parsed(path: Path) -> ast.Module:
+    """The syntax tree of the module at ``path`` (parsed once per test session)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
+
+
+def _walk() -> Iterator[tuple[str, Path]]:
     for folder, dirs, files in sorted(os.walk(PACKAGE, followlinks=True)):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
         for file in sorted(f for f in files if f.endswith(".py")):
@@ -50,10 +67,9 @@ def softcath_imports(module: str, path: Path) -> Iterator[tuple[ast.stmt, list[s
     ``from a import b`` names ``a.b`` when that is a module, else ``a``. Imports under
     ``if TYPE_CHECKING:`` are not run and are left out.
     """
-    known = {name for name, _ in modules()} if not _KNOWN else _KNOWN
-    _KNOWN.update(known)
+    known = _module_names()
     is_package = path.name == "__init__.py"
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    tree = parsed(path)
 
     def names(node) -> list[str]:
         if isinstance(node, ast.Import):
@@ -79,9 +95,6 @@ def softcath_imports(module: str, path: Path) -> Iterator[tuple[ast.stmt, list[s
             yield from walk(child, scope)
 
     yield from walk(tree, False)
-
-
-_KNOWN: set[str] = set()
 
 
 def _is_type_checking(test: ast.expr) -> bool:

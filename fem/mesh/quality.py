@@ -18,7 +18,7 @@ from softcath.fem.mesh.model import MeshQuality, TipMesh, curved_volumes, skfem_
 VOLUME_TOL = 0.01
 
 
-def checked_mesh(geometry, arrays, mesher, mesh_size, seconds, key, cached=False):
+def checked_mesh(geometry, arrays, mesher, mesh_size, seconds, key, *, cached=False):
     points, tets, labels = arrays["points"], arrays["tets"], arrays["labels"]
     vol = tet_volumes(points, tets)
     if (vol <= 0).any():

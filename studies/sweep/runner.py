@@ -96,7 +96,7 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
                 "variants": chunk,
                 "param_paths": paths,
                 "base_table": spec.base_table,
-                "pressures_MPa": list(spec.pressures_MPa),
+                "pressures_MPa": list(spec.pressures),
                 "loads": list(spec.loads),
                 "evaluators": list(spec.evaluators),
                 "mesh_size": spec.mesh_size,

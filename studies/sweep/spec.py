@@ -41,8 +41,10 @@ is combined with the whole sample.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
+import logging
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -65,6 +67,8 @@ from softcath.studies.sweep.parameters import (
 from softcath.studies.tiers import TIERS, tier_name
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
+
+log = logging.getLogger(__name__)
 
 EVALUATORS = tuple(TIERS)
 #: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
@@ -110,8 +114,9 @@ class SweepSpec:
         The base design's TOML table structure (validated).
     parameters
         The swept parameters, in file order.
-    pressures_MPa
-        Pressures at which every design is evaluated [MPa], ascending.
+    pressures
+        Pressures at which every design is evaluated [MPa], ascending (the keyword
+        ``pressures_MPa`` still reads, with a deprecation message in the log).
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
@@ -136,7 +141,7 @@ class SweepSpec:
     base: str
     base_table: dict
     parameters: tuple[Parameter, ...]
-    pressures_MPa: tuple[float, ...]
+    pressures: tuple[float, ...]
     loads: tuple[str, ...]
     evaluators: tuple[str, ...]
     n_samples: int = 0
@@ -148,6 +153,11 @@ class SweepSpec:
     section_coil_bending: str | None = None
     section_mesher: str | None = None
     source: str = field(default="<string>", compare=False)
+
+    @property
+    def pressures_MPa(self) -> tuple[float, ...]:
+        """:attr:`pressures` under the spelling of the spec file's key and the results' JSON."""
+        return self.pressures
 
     @property
     def uses_fem(self) -> bool:
@@ -169,14 +179,14 @@ class SweepSpec:
 
     @property
     def p_max(self) -> float:
-        return max(self.pressures_MPa)
+        return max(self.pressures)
 
     def fingerprint(self) -> str:
         """A hash of everything that decides the designs and their results (not the run options)."""
         payload = {
             "base_table": self.base_table,
             "parameters": [(p.path, p.kind, list(p.values), p.bounds) for p in self.parameters],
-            "pressures_MPa": self.pressures_MPa,
+            "pressures_MPa": self.pressures,
             "loads": self.loads,
             "evaluators": tuple(_FINGERPRINT_NAMES.get(e, e) for e in self.evaluators),
             "n_samples": self.n_samples,
@@ -217,7 +227,7 @@ class SweepSpec:
                 {"path": p.path, "kind": p.kind, "values": list(p.values), "bounds": p.bounds}
                 for p in self.parameters
             ],
-            "pressures_MPa": list(self.pressures_MPa),
+            "pressures_MPa": list(self.pressures),
             "loads": list(self.loads),
             "evaluators": list(self.evaluators),
             "n_samples": self.n_samples,
@@ -252,6 +262,21 @@ def _base_table(base: str, spec_dir: Path) -> dict:
     return table
 
 
+_dataclass_init = SweepSpec.__init__
+
+
+@functools.wraps(_dataclass_init)
+def _init(self, *args, pressures_MPa=None, **kwargs) -> None:
+    # The keyword's older spelling: read as before, with a deprecation message in the log.
+    if pressures_MPa is not None:
+        log.warning("SweepSpec keyword 'pressures_MPa' is deprecated: use 'pressures' (the same values)")
+        kwargs.setdefault("pressures", pressures_MPa)
+    _dataclass_init(self, *args, **kwargs)
+
+
+SweepSpec.__init__ = _init
+
+
 def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string>") -> SweepSpec:
     """Check a sweep specification's tables and build a :class:`SweepSpec`."""
     sweep = _sweep_table(data)
@@ -273,7 +298,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         base=base,
         base_table=base_table,
         parameters=params,
-        pressures_MPa=ps,
+        pressures=ps,
         loads=loads,
         evaluators=evals,
         n_samples=n_samples,
