@@ -90,7 +90,7 @@ def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
 
 
 def scaled_jacobian(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
-    """Min over the corners of det[e1 e2 e3] / (|e1| |e2| |e3|), scaled: regular tet = 1."""
+    """Min over the corners of ``det[e1 e2 e3] / (|e1| |e2| |e3|)``, scaled: regular tet = 1."""
     p = points[tets]
     out = np.full(tets.shape[0], np.inf)
     corners = ((0, 1, 2, 3), (1, 2, 0, 3), (2, 0, 1, 3), (3, 0, 2, 1))
