@@ -15,11 +15,11 @@ from softcath import analytic, design
 from softcath.analytic.calibration import calibrate
 from softcath.cli.options import add_design, add_out, model_name
 from softcath.core.atomic import Outputs, check_finite_json, prepare_out_dir
+from softcath.core.limits import check_pressure
 from softcath.design.measurement import Measurement, read_measurement_csv
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.calibration import calibrate_section
 from softcath.hardware.filtering import filtfilt
-from softcath.studies.model_validity import check_pressure
 from softcath.studies.plots import calibration_plot
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"

@@ -82,17 +82,17 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 def _a_cycle(graph: dict[str, set[str]], component: set[str]) -> list[str]:
     """A shortest cycle through the component's first module (breadth-first)."""
     start = min(component)
-    parent = {start: None}
+    parent: dict[str, str] = {}
     queue = [start]
     while queue:
         v = queue.pop(0)
         for w in sorted(graph.get(v, ())):
             if w == start:
                 path = [v]
-                while parent[path[-1]] is not None:
+                while path[-1] in parent:
                     path.append(parent[path[-1]])
                 return [*reversed(path), start]
-            if w in component and w not in parent:
+            if w in component and w != start and w not in parent:
                 parent[w] = v
                 queue.append(w)
     raise AssertionError(f"no cycle through {start}")  # a component of one has no cycle

@@ -21,12 +21,12 @@ from typing import Any
 import numpy as np
 
 from softcath.core.errors import SoftcathError
+from softcath.core.limits import check_pressure
 from softcath.studies.app.curves import TierCurve, finite_strain_curve, formula_curve, linear_section_curve
 from softcath.studies.app.fem_check import FemCheck
 from softcath.studies.app.jobs import LatestJob
 from softcath.studies.app.measured import MeasuredCurve, read_upload
 from softcath.studies.app.state import AppState, apply_value, initial_state
-from softcath.studies.model_validity import check_pressure
 
 __all__ = ["POLL_MS", "Session"]
 
