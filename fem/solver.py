@@ -16,6 +16,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from softcath.fem import pardiso
 from softcath.fem.errors import SolverError
 
 __all__ = ["Factorized", "DEFAULT_TOL", "available_methods", "backward_error"]
@@ -33,9 +34,7 @@ DEFAULT_TOL = 1e-10
 
 def available_methods() -> tuple[str, ...]:
     """Solver back-ends usable here, preferred first."""
-    from softcath.fem.pardiso import available
-
-    return ("pardiso", "superlu") if available() else ("superlu",)
+    return ("pardiso", "superlu") if pardiso.available() else ("superlu",)
 
 
 class Factorized:
@@ -62,16 +61,14 @@ class Factorized:
         self.matrix = sp.csr_matrix(matrix)
         self._knorm = float(abs(self.matrix).sum(axis=1).max())  # infinity norm
         if method == "pardiso":
-            from softcath.fem.pardiso import PardisoError, PardisoHandle
-
             self._upper = sp.triu(self.matrix, format="csr")
             self._upper.sort_indices()
             # freed when this object is garbage-collected or on close(): a dropped pypardiso
             # solver kept its factors (~0.5 GB per design in a sweep process)
-            self._solver = PardisoHandle(self._upper.indptr, self._upper.indices, mtype=2)  # real SPD
+            self._solver = pardiso.PardisoHandle(self._upper.indptr, self._upper.indices, mtype=2)  # real SPD
             try:
                 self._solver.factorise(self._upper.data)
-            except PardisoError as exc:
+            except pardiso.PardisoError as exc:
                 raise SolverError(f"PARDISO factorisation failed: {exc}") from None
         else:
             import scipy.sparse.linalg as spla
