@@ -18,6 +18,7 @@ import scipy.sparse as sp
 
 from softcath.fem import pardiso
 from softcath.fem.errors import SolverError
+from softcath.fem.pardiso import PardisoError, PardisoHandle
 
 __all__ = ["Factorized", "DEFAULT_TOL", "available_methods", "backward_error"]
 
@@ -34,6 +35,7 @@ DEFAULT_TOL = 1e-10
 
 def available_methods() -> tuple[str, ...]:
     """Solver back-ends usable here, preferred first."""
+    # through the module, so that a test can make PARDISO unavailable
     return ("pardiso", "superlu") if pardiso.available() else ("superlu",)
 
 
@@ -65,10 +67,10 @@ class Factorized:
             self._upper.sort_indices()
             # freed when this object is garbage-collected or on close(): a dropped pypardiso
             # solver kept its factors (~0.5 GB per design in a sweep process)
-            self._solver = pardiso.PardisoHandle(self._upper.indptr, self._upper.indices, mtype=2)  # real SPD
+            self._solver = PardisoHandle(self._upper.indptr, self._upper.indices, mtype=2)  # real SPD
             try:
                 self._solver.factorise(self._upper.data)
-            except pardiso.PardisoError as exc:
+            except PardisoError as exc:
                 raise SolverError(f"PARDISO factorisation failed: {exc}") from None
         else:
             import scipy.sparse.linalg as spla
