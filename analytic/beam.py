@@ -30,6 +30,7 @@ import numpy as np
 from softcath.analytic.pose import tip_pose
 from softcath.analytic.section import design_inputs, section_arrays
 from softcath.core.errors import DesignError
+from softcath.core.limits import MAX_PRESSURE_MPA, check_pressure
 from softcath.design import TipDesign
 from softcath.design.load_cases import LOADS
 
@@ -42,9 +43,6 @@ __all__ = [
     "response_arrays",
     "response_from_gains",
 ]
-
-MAX_PRESSURE_MPA = 1e6  # far beyond any hydraulic catheter; keeps products of design numbers finite
-
 
 def _check_load(load: str) -> None:
     if load not in LOADS:
@@ -97,13 +95,12 @@ class BeamResponse:
 
 
 def _checked_pressure(pressure) -> np.ndarray:
+    """``pressure`` as a float array of its own shape, within :func:`softcath.core.limits.check_pressure`."""
     p = np.asarray(pressure, dtype=float)
-    if not np.all(np.isfinite(p)):
-        raise DesignError("pressure", p[~np.isfinite(p)].ravel()[0], "must be finite")
-    if p.size and np.max(np.abs(p)) > MAX_PRESSURE_MPA:
-        raise DesignError(
-            "pressure", float(np.max(np.abs(p))), f"magnitude must be <= {MAX_PRESSURE_MPA:g} MPa"
-        )
+    # One vectorised test first: check_pressure walks the values one by one, and a batch may
+    # hold a million pressures; only a refusal takes the walk (for its message).
+    if not (np.all(np.isfinite(p)) and np.all(np.abs(p) <= MAX_PRESSURE_MPA)):
+        check_pressure(p)
     return p
 
 

@@ -10,11 +10,15 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
+from softcath import analytic
+from softcath import design as design_pkg
 from softcath.analytic.pose import tip_pose
+from softcath.core.limits import check_pressure
+from softcath.design.assembly import INTERFACES
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import fem_laws_from_design, geometry_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
@@ -90,8 +94,6 @@ class FemResult:
 
     def to_json(self, load: str, pressure_MPa: float) -> dict:
         """The ``fem.json`` document for one case: every field of the case and of the run."""
-        from dataclasses import fields
-
         c = asdict(self.case(load, pressure_MPa))
         run = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("cases", "solution")}
         return _finite_or_none({**c, **run})
@@ -125,7 +127,7 @@ def check(
     design
         A :class:`design.TipDesign`, a preset name or a TOML path.
     pressures
-        Pressures in MPa (finite).
+        Pressures in MPa (finite, magnitudes at most :data:`softcath.core.limits.MAX_PRESSURE_MPA`).
     loads
         Subset of ``("cap", "lumen")``: ``cap`` loads only the cap's inner face
         (the paper's model), ``lumen`` the lumen wall and the cap (the real load).
@@ -147,8 +149,6 @@ def check(
     progress
         Optional ``progress(stage)`` callable.
     """
-    from softcath import design as design_pkg
-
     d = design_pkg.resolve(design)
     p = _checked_pressures(pressures)
     check_fem_budget(d, mesh_size=mesh_size, axial_ratio=axial_ratio, param="mesh_size")
@@ -171,7 +171,16 @@ def check(
     cases = []
     for ld in loads:
         cases.extend(_load_cases(d, sol, ld, p, geometry.length))
-    return _fem_result(d, sol, geometry, tuple(cases), loads[0], mesh_size, coil_modulus, silicones)
+    return _fem_result(
+        d,
+        sol,
+        geometry,
+        tuple(cases),
+        first_load=loads[0],
+        mesh_size=mesh_size,
+        coil_modulus=coil_modulus,
+        silicones=silicones,
+    )
 
 
 def _fem_result(
@@ -179,6 +188,7 @@ def _fem_result(
     sol: TipSolution,
     geometry,
     cases: tuple[FemCase, ...],
+    *,
     first_load: str,
     mesh_size,
     coil_modulus,
@@ -210,11 +220,12 @@ def _fem_result(
 
 
 def _checked_pressures(pressures: Sequence[float]) -> np.ndarray:
-    """``pressures`` as a flat float array; :class:`DesignError` unless one or more finite numbers."""
+    """``pressures`` as a flat float array; :class:`DesignError` unless one or more finite numbers
+    within the pressure bound (:data:`softcath.core.limits.MAX_PRESSURE_MPA`)."""
     p = np.asarray(list(pressures), dtype=float).ravel()
     if p.size == 0 or not np.all(np.isfinite(p)):
         raise DesignError("pressure", list(p), "must be one or more finite numbers (MPa)")
-    return p
+    return check_pressure(p, param="pressures")
 
 
 def _warn_capped_poisson(silicones: dict) -> None:
@@ -233,8 +244,6 @@ def _warn_capped_poisson(silicones: dict) -> None:
 
 def _load_cases(d, sol: TipSolution, ld: str, p: np.ndarray, length: float) -> list[FemCase]:
     """The :class:`FemCase` of each pressure under load ``ld``, with the analytic model alongside."""
-    from softcath import analytic
-
     fit = sol.fits[ld]
     ref = analytic.response(d, p, load=ld)
     kappa = fit.curvature_per_mm * p
@@ -269,8 +278,6 @@ def check_assembly(assembly) -> None:
     """Refuse what the finite-strain 3-D FEM does not model: it meshes the filler as built
     (full, coat, none) but fuses every interface and clamps the whole base (the linear
     check honours them all, ``softcath.fem.interfaces3d``)."""
-    from softcath.design.assembly import INTERFACES
-
     for key, _, _ in INTERFACES:
         if getattr(assembly, key) != "bonded":
             raise DesignError(

@@ -30,11 +30,14 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from softcath.design.assembly import Assembly
+from softcath.design.cad import land_half_widths
 from softcath.design.errors import DesignError
 
 __all__ = [
     "TipGeometry",
     "REGIONS",
+    "interface_kind",
     "COIL",
     "TUBE",
     "CHANNEL",
@@ -52,8 +55,6 @@ def _land_half_widths(*args: float) -> tuple[float, ...]:
     ~0.2 ms (6001 samples) and a morph asks twice for one geometry (its curves, then its
     region check). A tuple, so no caller can change what the cache holds.
     """
-    from softcath.design.cad import land_half_widths
-
     names = ("coil_inner_radius", "channel_outer_radius", "channel_y", "tube_a", "tube_b", "tube_y")
     names += ("land_gap",)
     lands = land_half_widths(**dict(zip(names, args, strict=True)))
@@ -63,6 +64,16 @@ def _land_half_widths(*args: float) -> tuple[float, ...]:
 # Region labels (per tetrahedron). VOID marks empty space (lumens, unfilled coil).
 COIL, TUBE, CHANNEL, FILLER, VOID = 1, 2, 3, 4, 0
 REGIONS = {COIL: "coil", TUBE: "tube", CHANNEL: "channel", FILLER: "filler"}
+
+
+def interface_kind(assembly: Assembly, a: int, b: int) -> str:
+    """Kind of the boundary between region labels ``a`` and ``b`` as ``assembly`` builds it."""
+    pair = {a, b}
+    if pair == {TUBE, FILLER}:
+        return assembly.tube_channel if assembly.filler == "coat" else "bonded"
+    if pair == {CHANNEL, FILLER}:
+        return "bonded"
+    return assembly.interface(REGIONS[a], REGIONS[b])
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.fem.export import cut_deformed, strain_clim, to_grid
+
 __all__ = ["SurfaceView", "surface_of_grid", "tip_view_fragment", "write_tip_html", "write_view_html"]
 
 log = logging.getLogger(__name__)
@@ -82,8 +84,6 @@ def surface_of_grid(
         the lumen, filler and channel and the strain inside show.
     """
     from scipy.spatial import cKDTree
-
-    from softcath.fem.export import cut_deformed, strain_clim
 
     clim = strain_clim(grid.cell_data[scalars])
     pts = cut_deformed(grid, displacement) if cut else grid.warp_by_vector(displacement, factor=1.0)
@@ -246,8 +246,6 @@ def write_tip_html(solution, load: str, pressure_MPa: float, path: str | Path, *
 
     ``kwargs`` go to :func:`surface_of_grid` (e.g. ``max_triangles``).
     """
-    from softcath.fem.export import to_grid
-
     view = surface_of_grid(to_grid(solution, load, pressure_MPa), **kwargs)
     return write_view_html(
         view,

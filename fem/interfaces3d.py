@@ -30,7 +30,15 @@ import numpy as np
 from scipy import sparse
 
 from softcath.design.errors import DesignError
+from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
+from softcath.fem.elasticity import ElasticProblem, Solution
+from softcath.fem.geometry import TUBE, interface_kind
 from softcath.fem.lumen_load import pressure_facets
+from softcath.fem.mesh import mesh_tip
+from softcath.fem.neutral_axis import neutral_axis_y
+from softcath.fem.post import bending_fit
+from softcath.fem.solver import Factorized
+from softcath.fem.tags import tag_facets
 
 __all__ = ["run_tip_as_built"]
 
@@ -67,8 +75,6 @@ def _split(mesh):
 
 def _projection(sk, basis, labels, assembly, length: float, cap: float):
     """T (3N x n_hat) and the interface pairs; base nodes (z = 0) are left untied."""
-    from softcath.fem.section_model.as_built import interface_kind
-
     N = basis.N
     node_label = np.zeros(N, dtype=np.int64)
     node_label[basis.element_dofs.ravel()] = np.repeat(
@@ -162,15 +168,6 @@ def run_tip_as_built(
     Returns ``{load: (curvature_per_mm_per_MPa, elongation_per_MPa)}`` read as
     the linear check reads them (mid-span fit, ``softcath.fem.post.bending_fit``).
     """
-    from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
-    from softcath.fem.elasticity import ElasticProblem
-    from softcath.fem.geometry import TUBE
-    from softcath.fem.mesh import mesh_tip
-    from softcath.fem.pipeline import _neutral_axis
-    from softcath.fem.post import bending_fit
-    from softcath.fem.solver import Factorized
-    from softcath.fem.tags import tag_facets
-
     g = geometry_from_design(design)
     laws = fem_laws_from_design(design, coil_modulus=coil_modulus)
     mesh = _split(mesh_tip(g, mesh_size=mesh_size))
@@ -190,7 +187,7 @@ def run_tip_as_built(
     clamped = col[np.flatnonzero(problem.fixed_mask)]
     free = np.setdiff1d(np.arange(K.shape[0]), clamped)
     fac = Factorized(K[free][:, free].tocsc())
-    ybar = _neutral_axis(mesh, laws)
+    ybar = neutral_axis_y(mesh, laws)
     out = {}
     for ld in loads:
         f = T.T @ problem.pressure_load(pressure_facets(tags, ld))
@@ -220,10 +217,6 @@ def tied_problem(sk, labels, laws, tags, assembly, geometry, *, method=None):
     Same interface as the plain problem (``nodes``, ``pressure_load``, ``solve``,
     ``basis``), so the linear check's post-processing runs unchanged.
     """
-    from softcath.fem.elasticity import ElasticProblem, Solution
-    from softcath.fem.geometry import TUBE
-    from softcath.fem.solver import Factorized
-
     labels = np.asarray(labels).astype(np.int64)
     base = tags["base"]
     tube_base = labels[sk.f2t[0, base]] == TUBE

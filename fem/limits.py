@@ -22,6 +22,7 @@ import math
 import os
 
 from softcath.design.errors import DesignError
+from softcath.fem.section_mesh_size import MESH_SIZE, SEGMENTS, check_size
 
 __all__ = [
     "MIN_FEATURE_MM",
@@ -213,8 +214,6 @@ def finite_strain_curve_seconds(design, pressures: int, *, mesh_size: float | No
     DesignError
         Naming ``param``: a mesh size outside the mesher's range or a section too large to solve.
     """
-    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
-
     h = MESH_SIZE if mesh_size is None else mesh_size
     try:
         check_size(h, SEGMENTS)

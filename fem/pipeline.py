@@ -18,9 +18,11 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.design.load_cases import LOADS
 from softcath.fem.elasticity import ElasticProblem
-from softcath.fem.geometry import FILLER, REGIONS, TUBE, TipGeometry
+from softcath.fem.geometry import FILLER, TUBE, TipGeometry
+from softcath.fem.interfaces3d import split_mesh, tied_problem
 from softcath.fem.lumen_load import pressure_facets
 from softcath.fem.mesh import TipMesh, mesh_tip
+from softcath.fem.neutral_axis import axial_modulus, neutral_axis_y
 from softcath.fem.post import BendingFit, bending_fit, principal_strain_max
 from softcath.fem.tags import tag_facets
 
@@ -76,11 +78,6 @@ class TipSolution:
         """Largest principal strain in the silicone at ``pressure_MPa`` (linear)."""
         lo, hi = self.strain_range[load]
         return float(pressure_MPa * (hi if pressure_MPa >= 0 else lo))
-
-
-def axial_modulus(law) -> float:
-    """Axial (z) Young's modulus of a law (MPa)."""
-    return float(getattr(law, "axial_modulus", getattr(law, "youngs_modulus", np.nan)))
 
 
 def run_tip(
@@ -139,7 +136,7 @@ def run_tip(
     say("post-processing")
     if margin is None:
         margin = 2.0 * geometry.coil_outer_radius
-    fits, srange, estrain = _fit_loads(problem, mesh, laws, geometry, unit, loads, margin)
+    fits, srange, estrain = _fit_loads(problem, mesh, laws, geometry, unit, loads=loads, margin=margin)
     log.info(
         "fem: %d dofs, mesh %.1f s, assemble %.1f s, solve %.1f s, backward error %.1e",
         problem.ndofs,
@@ -182,8 +179,6 @@ def _tip_mesh(
     )
     mesh_seconds = 0.0 if mesh.cached else time.perf_counter() - t0
     if as_built:
-        from softcath.fem.interfaces3d import split_mesh
-
         mesh = split_mesh(mesh)
     return mesh, mesh_seconds
 
@@ -204,8 +199,6 @@ def _assemble_problem(
         raise DesignError("mesh", mesh.key, "no cap or base facets found; the geometry is broken")
     present = {k: v for k, v in laws.items() if (mesh.labels == k).any()}
     if assembly is not None:
-        from softcath.fem.interfaces3d import tied_problem
-
         problem = tied_problem(sk, mesh.labels, laws, tags, assembly, geometry, method=method)
     else:
         problem = ElasticProblem(sk, mesh.labels, present, [(tags["base"], (0, 1, 2))], method=method)
@@ -232,11 +225,12 @@ def _fit_loads(
     laws: Mapping[int, object],
     g: TipGeometry,
     unit: dict,
+    *,
     loads: tuple[str, ...],
     margin: float,
 ) -> tuple[dict, dict, dict]:
     """Per load: the bending fit, the silicone strain range and the element strains."""
-    ybar = _neutral_axis(mesh, laws)
+    ybar = neutral_axis_y(mesh, laws)
     fits, srange, estrain = {}, {}, {}
     for ld in loads:
         fits[ld] = bending_fit(
@@ -249,18 +243,6 @@ def _fit_loads(
         )
         srange[ld], estrain[ld] = _silicone_strain(problem, mesh, unit[ld], margin)
     return fits, srange, estrain
-
-
-def _neutral_axis(mesh: TipMesh, laws: Mapping[int, object]) -> float:
-    """Axial-stiffness-weighted centroid y of the lumen part (paper eq. 5 on the mesh)."""
-    from softcath.fem.mesh import tet_volumes
-
-    c = mesh.points[mesh.tets].mean(axis=1)
-    body = c[:, 2] < mesh.geometry.length - mesh.geometry.cap_thickness
-    v = tet_volumes(mesh.points, mesh.tets)
-    e = np.array([axial_modulus(laws[k]) if k in laws else 0.0 for k in range(max(REGIONS) + 1)])
-    w = e[mesh.labels] * v * body
-    return float((w * c[:, 1]).sum() / w.sum())
 
 
 def _silicone_strain(problem: ElasticProblem, mesh: TipMesh, u: np.ndarray, margin: float):

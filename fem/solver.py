@@ -16,7 +16,9 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from softcath.fem import pardiso
 from softcath.fem.errors import SolverError
+from softcath.fem.pardiso import PardisoError, PardisoHandle
 
 __all__ = ["Factorized", "DEFAULT_TOL", "available_methods", "backward_error"]
 
@@ -33,9 +35,8 @@ DEFAULT_TOL = 1e-10
 
 def available_methods() -> tuple[str, ...]:
     """Solver back-ends usable here, preferred first."""
-    from softcath.fem.pardiso import available
-
-    return ("pardiso", "superlu") if available() else ("superlu",)
+    # through the module, so that a test can make PARDISO unavailable
+    return ("pardiso", "superlu") if pardiso.available() else ("superlu",)
 
 
 class Factorized:
@@ -62,8 +63,6 @@ class Factorized:
         self.matrix = sp.csr_matrix(matrix)
         self._knorm = float(abs(self.matrix).sum(axis=1).max())  # infinity norm
         if method == "pardiso":
-            from softcath.fem.pardiso import PardisoError, PardisoHandle
-
             self._upper = sp.triu(self.matrix, format="csr")
             self._upper.sort_indices()
             # freed when this object is garbage-collected or on close(): a dropped pypardiso

@@ -6,19 +6,15 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.analytic import composite_section
+from softcath.core.plotting import pyplot
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+_pyplot = pyplot  # the name studies.demo.prototype imports
 
 
 def analytic_plot(path: Path, response, *, title: str) -> Path:
     """Curvature, elongation and bend angle vs pressure, and the tip path in the bending plane."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(13, 4), constrained_layout=True)
     p = response.pressure
     axes[0].plot(p, response.curvature, label="curvature κ [1/mm]")
@@ -42,9 +38,7 @@ def analytic_plot(path: Path, response, *, title: str) -> Path:
 
 def section_plot(path: Path, design, *, title: str = "") -> Path:
     """The as-assembled cross-section with neutral axis and pressure centre."""
-    from softcath.analytic import composite_section
-
-    plt = _pyplot()
+    plt = pyplot()
     s = design.section
     cs = composite_section(design)
     th = np.linspace(0, 2 * np.pi, 400)
@@ -81,7 +75,7 @@ def section_plot(path: Path, design, *, title: str = "") -> Path:
 
 def calibration_plot(path: Path, measurement, *, nominal, optimized, title: str) -> Path:
     """Data vs nominal vs optimised curvature over time and as curvature–pressure loops."""
-    plt = _pyplot()
+    plt = pyplot()
     t, p, k = measurement.time_s, measurement.pressure_MPa, measurement.curvature_per_mm
     fig, axes = plt.subplots(1, 2, figsize=(12, 4), constrained_layout=True)
     axes[0].plot(t, k, ".", ms=1.5, color="0.6", label="data")

@@ -15,7 +15,7 @@ from tests.codebase_scan import modules, relative, softcath_imports
 #: Target: at most 5 % of the package's ``softcath`` imports inside functions, each for a heavy
 #: optional dependency path and saying so. Until then this ceiling is the count reached so far:
 #: it may only go down (lower it when a room is cleaned, never raise it).
-LOCAL_IMPORTS_CEILING = 342
+LOCAL_IMPORTS_CEILING = 300
 TARGET_SHARE = 0.05
 
 

@@ -16,13 +16,11 @@ MAX_POSITIONAL = 6
 #: dataclass), then drop the function from here.
 OVER = {
     "cli/section.py::_solve_and_write": 8,
-    "fem/api.py::_fem_result": 8,
     "fem/nonlinear/bend.py::_curve": 8,
     "fem/nonlinear/newton.py::_newton": 10,
     "fem/nonlinear/newton.py::_set_up": 8,
     "fem/pardiso.py::_call": 10,
     "fem/pardiso.py::_release": 9,
-    "fem/pipeline.py::_fit_loads": 7,
     "fem/section_model/batch.py::_condense": 7,
     "fem/section_model/batch.py::_result": 14,
     "fem/section_model/element.py::_add_projected_volumetric": 9,
@@ -32,7 +30,6 @@ OVER = {
     "fem/section_model/element_kernel.py::_strain_extremes": 9,
     "fem/section_model/finite_strain/curve.py::_curve": 7,
     "fem/section_model/finite_strain/residual.py::_volumetric": 10,
-    "fem/section_model/mesh.py::_finish": 8,
     "studies/discrepancy/naming.py::_clearing": 7,
     "studies/discrepancy/naming.py::_joint_steps": 10,
     "studies/discrepancy/naming.py::_score_round": 8,

@@ -6,7 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
 from softcath.design.components import Coil
+from softcath.fem.coil.stiffness import REFERENCE_CURVATURE, assemble_coil
 
 __all__ = ["bent_coil_picture"]
 
@@ -21,8 +23,6 @@ def _bent(coil: Coil, turns: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, f
     and the rotation per turn. Turn j adds the increment: u(k + j m) = u(k) +
     j Δc + Δθ × (j x_k + j(j − 1)/2 · p e_z), θ(k + j m) = θ(k) + j Δθ.
     """
-    from softcath.fem.coil.stiffness import REFERENCE_CURVATURE, assemble_coil
-
     model, base, mode = assemble_coil(coil, elements_per_turn=PICTURE_ELEMENTS_PER_TURN)
     free = model.solve(np.array([0, 0, 0, 1.0, 0, 0]), mode="free")
     moment = coil.pitch / model.per_turn(free)[1][0] * REFERENCE_CURVATURE
@@ -47,11 +47,8 @@ def bent_coil_picture(path: str | Path, coils: dict[str, Coil]) -> Path:
     about 0.4 rad; the wire is coloured by the contact force of its pairs per
     unit wire length [N/mm] — the pivot line on the concave side.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+    plt = pyplot()
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection  # heavy: matplotlib loads on the first picture
 
     path = Path(path)
     fig = plt.figure(figsize=(5.0 * len(coils), 5.5))

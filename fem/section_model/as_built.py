@@ -55,20 +55,12 @@ from scipy.sparse.linalg import splu
 
 from softcath.design.assembly import Assembly
 from softcath.design.errors import DesignError
-from softcath.fem.geometry import CHANNEL, COIL, FILLER, REGIONS, TUBE
+from softcath.fem.geometry import COIL, TUBE, interface_kind
+from softcath.fem.section_model.element import assemble
+from softcath.fem.section_model.interfaces import split_interfaces, tie_projection
 from softcath.fem.section_model.solve import LOADS, LoadSolution
 
 __all__ = ["AxialPlan", "axial_plan", "interface_kind", "AsBuiltSolution", "solve_as_built"]
-
-
-def interface_kind(assembly: Assembly, a: int, b: int) -> str:
-    """Kind of the boundary between region labels ``a`` and ``b``."""
-    pair = {a, b}
-    if pair == {TUBE, FILLER}:
-        return assembly.tube_channel if assembly.filler == "coat" else "bonded"
-    if pair == {CHANNEL, FILLER}:
-        return "bonded"
-    return assembly.interface(REGIONS[a], REGIONS[b])
 
 
 class _Union:
@@ -227,8 +219,6 @@ def bodies_and_ties(section, assembly: Assembly):
     Returns ``(split, tie)``: the :class:`~.interfaces.InterfaceSplit` (one body
     per region label) and per interface edge True where only the normal is tied.
     """
-    from softcath.fem.section_model.interfaces import split_interfaces
-
     split = split_interfaces(section, section.labels.astype(np.int64))
     kinds = [interface_kind(assembly, int(a), int(b)) for a, b in split.edge_bodies]
     return split, np.array([k != "bonded" for k in kinds], bool)
@@ -251,9 +241,6 @@ def as_built_operator(
     ``slip_modulus`` None takes 1e-9 of the softest region's axial modulus per mm
     (only to remove free spins; see the module docstring).
     """
-    from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.interfaces import tie_projection
-
     split, tie = bodies_and_ties(section, assembly)
     plan = axial_plan(assembly, np.unique(section.labels))
     groups = np.array([plan.group[int(k)] for k in section.labels])

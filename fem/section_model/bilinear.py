@@ -34,10 +34,17 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from softcath import design as design_pkg
+from softcath.design import coil_stiffness
 from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design
 from softcath.fem.geometry import CHANNEL, COIL
+from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
+from softcath.fem.section_model.element import assemble
 from softcath.fem.section_model.fibres import Fibres, ring_fibres, solve_fibres
-from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from softcath.fem.section_model.laws import section_laws_from_design
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+from softcath.fem.section_model.solve import solve
 
 __all__ = ["BendCurve", "bend_curve", "annulus_fibres", "PLACEMENTS"]
 
@@ -127,8 +134,6 @@ def annulus_fibres(
 
 def _coil_sources(d, initial_tension, compression_modulus):
     """The coils, their F0 and E_c (None: an open coil, linear: its turns do not touch at small strains)."""
-    from softcath.design import coil_stiffness
-
     coils = ((d.coil, COIL, "coil"), (d.channel, CHANNEL, "channel"))
     f0 = tuple(c.initial_tension for c, _, _ in coils) if initial_tension is None else tuple(initial_tension)
     if len(f0) != 2 or any(not (np.isfinite(v) and v >= 0) for v in f0):
@@ -155,14 +160,6 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
     Returns (K_rest, fibres, owner index per fibre, coil names, condensed load of
     1 MPa, the linear model's E_z-weighted centroid y).
     """
-    from softcath.design import coil_stiffness
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.coil_models import coil_terms, helix_stiffness
-    from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import section_laws_from_design
-    from softcath.fem.section_model.mesh import catheter_section_mesh
-    from softcath.fem.section_model.solve import solve
-
     mesh_opts = {k: options.pop(k) for k in ("mesh_size", "segments")}
     laws = section_laws_from_design(d, coil_modulus="tension", **options)
     laws, extra = coil_terms(d, "resolved" if coil_model == "resolved" else "annulus", laws)
@@ -236,8 +233,6 @@ def bend_curve(
     mesh_size, segments, silicone_poisson, poisson_cap
         As in :func:`softcath.fem.section_model.section_model`.
     """
-    from softcath import design as design_pkg
-
     p = _checked_inputs(coil_model, pressures)
     t0 = time.perf_counter()
     d = design_pkg.resolve(design)

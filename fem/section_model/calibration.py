@@ -27,7 +27,10 @@ from typing import Any
 
 import numpy as np
 
+from softcath import analytic
+from softcath.analytic.calibration import calibrate, nrmse
 from softcath.design.errors import DesignError
+from softcath.fem.section_model import section_model
 
 __all__ = ["SectionCalibration", "calibrate_section"]
 
@@ -178,8 +181,6 @@ def calibrate_section(
     section_options
         Passed to :func:`softcath.fem.section_model.section_model` (e.g. ``mesh_size``).
     """
-    from softcath.analytic.calibration import nrmse
-
     _check_options(load, max_iterations, tol)
     x_nom = dict(design.tube_shape)
     gains_nominal, used = _evaluate(design, dict(x_nom), load, section_options)
@@ -235,9 +236,6 @@ def _check_options(load, max_iterations, tol) -> None:
 
 def _evaluate(design, shape: dict, load, section_options) -> tuple[tuple[float, float], tuple[float, float]]:
     """Section gains and their factors over the formula's (cap load) at ``shape``."""
-    from softcath import analytic
-    from softcath.fem.section_model import section_model
-
     d = design.with_tube_shape(**shape)
     g = section_model(d, loads=(load,), **section_options).gains(load)
     k_f, e_f = analytic.gains(d, "cap")
@@ -261,8 +259,6 @@ def _iterate(
     measurement, design, x, used, *, free, load, grid, tol, max_iterations, use_elongation, section_options
 ) -> _Iteration:
     """Alternate inner calibrations and section-model evaluations until x and the factors settle."""
-    from softcath.analytic.calibration import calibrate
-
     history, inner, converged, previous = [], None, False, None
     step = mismatch = np.inf
     gains = None

@@ -30,10 +30,16 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from softcath import design as design_pkg
 from softcath.design import coil_stiffness
 from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design
+from softcath.fem.coil.closed_forms import helix_axial_energy, helix_bending_energy
+from softcath.fem.coil.stiffness import coil_wire
 from softcath.fem.geometry import CHANNEL, COIL
-from softcath.fem.section_model.laws import SectionLaw
+from softcath.fem.section_model.element import assemble
+from softcath.fem.section_model.laws import SectionLaw, section_laws_from_design
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
 __all__ = [
     "COIL_MODELS",
@@ -63,9 +69,6 @@ def model_options(coil_model: str) -> dict[str, str]:
 
 def helix_stiffness(coil) -> tuple[float, float]:
     """(EA [N], EI [N mm^2]) per unit length of the open coil from the exact helix energies."""
-    from softcath.fem.coil.closed_forms import helix_axial_energy, helix_bending_energy
-    from softcath.fem.coil.stiffness import coil_wire
-
     wire = coil_wire(coil)
     r, p = coil.mean_radius, coil.pitch
     return helix_axial_energy(wire, radius=r, pitch=p), helix_bending_energy(wire, radius=r, pitch=p)
@@ -110,12 +113,6 @@ def coil_section_stiffness(
     E_z-weighted centre y plus the model's couple: the coil's share of the
     section stiffness (its axial modulus enters nowhere else, module docstring).
     """
-    from softcath import design as design_pkg
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.laws import section_laws_from_design
-    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
-
     d = design_pkg.resolve(design)
     opts = model_options(coil_model)
     laws, extra = coil_terms(

@@ -36,7 +36,7 @@ from scipy import sparse
 
 from softcath.design.errors import DesignError
 from softcath.fem.section_model.laws import SectionLaw
-from softcath.fem.section_model.mesh import SectionMesh
+from softcath.fem.section_model.triangles import SectionMesh
 
 __all__ = ["SectionOperator", "assemble"]
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from softcath.fem.section_model.mesh import SectionMesh
+from softcath.fem.section_model.triangles import SectionMesh
 
 __all__ = ["InterfaceSplit", "Ties", "split_interfaces", "tie_projection"]
 

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
+
 __all__ = ["axial_stress", "section_picture"]
 
 
@@ -31,11 +33,8 @@ def section_picture(result, path: Path, *, load: str = "lumen", pressure: float 
     in-plane deformation is magnified so the largest displacement shows as 5 %
     of the section's width; the factor is printed in the title.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
+    plt = pyplot()
+    from matplotlib.tri import Triangulation  # heavy: matplotlib loads on the first picture
 
     if result.fields is None:
         raise ValueError("section_picture needs section_model(..., keep_fields=True)")

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.design.errors import DesignError
 from softcath.fem.geometry import FILLER, TUBE
 
 __all__ = ["principal_strain_range", "silicone_strain_range"]
@@ -30,8 +31,6 @@ def silicone_strain_range(result, load: str) -> tuple[float, float]:
     load
         A load the result holds.
     """
-    from softcath.design.errors import DesignError
-
     if result.fields is None:
         raise DesignError("result.fields", None, "needs section_model(..., keep_fields=True)")
     result._check(load)

@@ -59,8 +59,8 @@ from softcath.fem.section_model.conics import (
     _quality,
     _residual,
 )
-from softcath.fem.section_model.mesh import SectionMesh, _catheter_cached
 from softcath.fem.section_model.reference_section import TEMPLATE_STEP, reference_geometry
+from softcath.fem.section_model.triangles import SectionMesh, _catheter_cached
 
 __all__ = [
     "QUALITY_RATIO",
