@@ -114,12 +114,16 @@ class SpdFactor:
         else:
             self.qdldl.update(upper, upper=True)
 
-    def solve(self, rhs: np.ndarray) -> tuple[np.ndarray, float]:
-        """Solutions of (n, k) right-hand sides with the current factors, and their backward error."""
+    def solve(self, rhs: np.ndarray, *, check: bool = True) -> tuple[np.ndarray, float]:
+        """Solutions of (n, k) right-hand sides with the current factors, and their backward error
+        (NaN when ``check`` is False: a caller that verifies the solution itself, like Newton's
+        method its residual, skips the extra pass over the matrix)."""
         if self.handle is not None:
             sol = self.handle.solve(rhs).reshape(rhs.shape)
         elif self.qdldl is None:
             raise RuntimeError("solve before factorise")
         else:
             sol = np.column_stack([self.qdldl.solve(rhs[:, c]) for c in range(rhs.shape[1])])
+        if not check:
+            return sol, float("nan")
         return sol, backward_error(self.indptr, self.indices, self.values, sol, rhs)
