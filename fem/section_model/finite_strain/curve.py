@@ -28,7 +28,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -139,7 +139,8 @@ class SectionCurve:
 
     def to_json(self) -> dict:
         """Plain-JSON summary (``section.json`` with ``"nonlinear": true``)."""
-        d = {k: v for k, v in asdict(self).items() if k != "state"}
+        d = asdict(replace(self, state=None))
+        del d["state"]
         for k, v in d.items():
             if isinstance(v, np.ndarray):
                 d[k] = v.tolist()

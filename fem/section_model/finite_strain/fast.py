@@ -76,11 +76,12 @@ class FastTemplate:
         self._spd = None
 
     def spd(self):
-        """The retained block's repeated Cholesky (analysis kept)."""
+        """The retained block's repeated Cholesky (analysis kept, one MKL thread: a 3k-unknown
+        block gains little from more, and its answer is then the same in every process)."""
         if self._spd is None:
             from softcath.fem.section_model.spd_factor import SpdFactor
 
-            self._spd = SpdFactor(self.k.indptr, self.k.indices)
+            self._spd = SpdFactor(self.k.indptr, self.k.indices, threads=1)  # same bits in every process
         return self._spd
 
 

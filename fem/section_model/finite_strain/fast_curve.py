@@ -80,10 +80,13 @@ def template_curve(
     p_top = float(positive[-1]) if positive.size else 1.0
     error = None
     with tpl.lock:
-        gain = linear_rate(prob, load, p_top) / p_top if linear_gain else None
+        rate, rest_tangent = linear_rate(prob, load, p_top)
+        gain = float(rate[prob.n_u + 2]) / p_top if linear_gain else None
         try:
             states, converged = (
-                walk(prob, p_top, load, positive / p_top, on_state=on_state) if positive.size else ([], [])
+                walk(prob, p_top, load, positive / p_top, on_state=on_state, rest=rest_tangent)
+                if positive.size
+                else ([], [])
             )
         except SectionConvergenceError as exc:
             error = exc
@@ -109,4 +112,4 @@ def template_curve(
         t0=t0,
         mesh_seconds=float(mesh.seconds),
     )
-    return curve_from_rows(d, load, p, rows, facts, (prob, states)), error
+    return curve_from_rows(d, load, p, rows, facts, (None, states)), error  # no per-process caches in a curve

@@ -282,11 +282,14 @@ def rest_state(prob: FastProblem) -> np.ndarray:
     return q
 
 
-def linear_rate(prob: FastProblem, load: str, p_top: float) -> float:
-    """dk_2/dfactor at rest (``curve._linear_gain``): one solve with the rest-state tangent."""
+def linear_rate(prob: FastProblem, load: str, p_top: float) -> tuple[np.ndarray, tuple]:
+    """dq/dfactor at rest, the linear solution under ``p_top`` (its k_2 is ``curve._linear_gain``),
+    and the rest state's (assembly, factor, rate) for :func:`walk`'s first predictor."""
     q = rest_state(prob)
     a = assemble(prob, q, 0.0, load, None)
-    return float(_rate(prob, _Factor(prob, a), a, load, p_top)[prob.n_u + 2])
+    lu = _Factor(prob, a)
+    rate = _rate(prob, lu, a, load, p_top)
+    return rate, (a, lu, rate)
 
 
 def walk(
@@ -299,16 +302,21 @@ def walk(
     max_iter: int = 25,
     min_step: float = 1e-4,
     on_state: Callable[[State], None] | None = None,
+    rest: tuple | None = None,
 ) -> tuple[list[State], list[Assembly]]:
     """Converged states at each load factor of the pressure ``p_top`` (``newton.walk``), with the
-    assembly of each converged state (its lumen volume)."""
+    assembly of each converged state (its lumen volume).
+
+    The first predictor is the linear solution (``rest``, from :func:`linear_rate`, or made here).
+    """
     q = rest_state(prob)
     f = np.asarray(factors, float)
     if f.ndim != 1 or f.size == 0 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
         raise DesignError("load factors", f.tolist(), "must be positive and strictly increasing")
     states: list[State] = []
     converged: list[Assembly] = []
-    done, rate, lu, tan, previous = 0.0, None, None, None, None
+    done, previous = 0.0, None
+    tan, lu, rate = linear_rate(prob, load, p_top)[1] if rest is None else rest
     step = float(f[0])
     for target in f:
         spent = 0
