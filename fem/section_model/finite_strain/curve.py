@@ -277,6 +277,7 @@ def section_curve(
     if mesher == "template":
         from softcath.fem.section_model.finite_strain.fast import Unsupported
         from softcath.fem.section_model.finite_strain.fast_curve import template_curve
+        from softcath.fem.section_model.finite_strain.rows import progress_callback
         from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 
         law_map = (
@@ -285,7 +286,7 @@ def section_curve(
             else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
         )
         total = int(np.count_nonzero(p > 0))
-        on_state, close = _progress(total, progress, on_pressure)
+        on_state, close = progress_callback(total, progress, on_pressure)
         try:
             curve, error = template_curve(
                 d,
@@ -333,29 +334,6 @@ def _finish(curve: SectionCurve, error) -> SectionCurve:
         error.curve = curve
         raise error
     return curve
-
-
-def _progress(total: int, progress: bool, on_pressure: Callable[[int, int], None] | None):
-    """``(on_state or None, close)``: the progress bar and the caller's callback over ``total`` pressures."""
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=total, desc="finite-strain section", unit="pressure")
-    done = [0]
-
-    def on_state(_state) -> None:
-        done[0] += 1
-        if bar is not None:
-            bar.update(1)
-        if on_pressure is not None:
-            on_pressure(done[0], total)
-
-    def close() -> None:
-        if bar is not None:
-            bar.close()
-
-    return (on_state if (bar is not None or on_pressure is not None) else None), close
 
 
 def _check_inputs(design, pressures, load):
@@ -443,8 +421,9 @@ def _set_up(
 def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None] | None = None):
     """Newton walk through the positive pressures; returns (states, convergence error or None)."""
     from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, walk
+    from softcath.fem.section_model.finite_strain.rows import progress_callback
 
-    on_state, close = _progress(int(setup.positive.size), progress, on_pressure)
+    on_state, close = progress_callback(int(setup.positive.size), progress, on_pressure)
     error = None
     try:
         states = walk(setup.problem, setup.loading, setup.positive / setup.p_top, on_state=on_state)

@@ -2,17 +2,19 @@
 
 Both Newton paths (the reference discretisation and the template path) give, per
 converged state, the unknowns, the deformed section's stiffness centroid and the
-lumen's volume; the curve's rows and columns are made here, once.
+lumen's volume; the curve's rows and columns are made here, once, and the
+progress display over the pressures is set up for both.
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CurveFacts", "curve_from_rows", "rest_row", "state_row"]
+__all__ = ["CurveFacts", "curve_from_rows", "progress_callback", "rest_row", "state_row"]
 
 
 @dataclass(frozen=True)
@@ -109,3 +111,26 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
         mesh_seconds=float(facts.mesh_seconds),
         state=state,
     )
+
+
+def progress_callback(total: int, progress: bool, on_pressure: Callable[[int, int], None] | None):
+    """``(on_state or None, close)``: the progress bar and the caller's callback over ``total`` pressures."""
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=total, desc="finite-strain section", unit="pressure")
+    done = [0]
+
+    def on_state(_state) -> None:
+        done[0] += 1
+        if bar is not None:
+            bar.update(1)
+        if on_pressure is not None:
+            on_pressure(done[0], total)
+
+    def close() -> None:
+        if bar is not None:
+            bar.close()
+
+    return (on_state if (bar is not None or on_pressure is not None) else None), close
