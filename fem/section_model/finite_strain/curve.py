@@ -243,7 +243,9 @@ def section_curve(
         or ``"cap"`` (the cap force on the deformed lumen alone; the paper's load).
     mesh_size, segments, mesher
         Section mesh controls (default: the linear section model's; ``mesher`` ``template``
-        morphs one mesh per section topology, ``gmsh`` meshes afresh).
+        morphs one mesh per section topology and solves on the compiled template path,
+        ``gmsh`` meshes afresh and solves on the reference path; the same answers to the
+        Newton tolerance on one mesh).
     silicone_poisson, hoop_cap
         Material options of :func:`section_laws`.
     laws
