@@ -4,8 +4,9 @@ In one run, on the same designs (the paper design and ``--designs - 1``
 random valid designs):
 
 1. the whole bend curve 0-0.6 MPa (7 pressures, lumen load) of the
-   finite-strain section model, section mesh included (its cache cleared, as
-   for a new design in a sweep), warm imports; target <= 2 s per design;
+   finite-strain section model, section mesh included (the design's template
+   mesh morphed to it; the template itself made once per process, as in a
+   sweep), warm imports; target <= 2 s per design;
 2. the same pressures through the 3-D finite-strain FEM, what
    ``softcath fem --nonlinear --pressure 0.6 --steps 6`` runs (default mesh,
    mesh included), on the paper design (``--fem-designs`` for more);
@@ -43,7 +44,7 @@ def section_time(d) -> tuple[float, object]:
     from softcath.fem.section_model.finite_strain import section_curve
     from softcath.fem.section_model.mesh import _catheter_cached
 
-    _catheter_cached.cache_clear()  # the section mesh is part of the model's cost
+    _catheter_cached.cache_clear()  # a fresh gmsh mesh, for a design the template refuses
     t0 = time.perf_counter()
     curve = section_curve(d, PRESSURES, linear_gain=False)  # the curve alone
     return time.perf_counter() - t0, curve

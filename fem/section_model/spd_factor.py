@@ -61,6 +61,26 @@ def backward_error(indptr, indices, values, x, b) -> float:
     return float(_backward_error(indptr, indices, np.ascontiguousarray(values, dtype=float), x, b))
 
 
+_SET_LOCAL_THREADS = []
+
+
+def _set_local_threads(n: int) -> int:
+    """MKL's thread count for the calling thread (0: the process's); returns the previous one."""
+    if not _SET_LOCAL_THREADS:
+        import ctypes
+        import sys
+        from pathlib import Path
+
+        found = sorted(Path(sys.prefix, "lib").glob("libmkl_rt.so*"))
+        fn = getattr(ctypes.CDLL(str(found[0])), "MKL_Set_Num_Threads_Local", None) if found else None
+        if fn is not None:
+            fn.restype = ctypes.c_int
+            fn.argtypes = [ctypes.c_int]
+        _SET_LOCAL_THREADS.append(fn)
+    fn = _SET_LOCAL_THREADS[0]
+    return 0 if fn is None else int(fn(n))
+
+
 class SpdFactor:
     """Repeated numeric factorisations of one SPD pattern: PARDISO when available, else QDLDL.
 
@@ -68,6 +88,10 @@ class SpdFactor:
     ----------
     indptr, indices
         The full symmetric pattern in CSR (both triangles, sorted columns per row).
+    threads
+        MKL threads of this factor's PARDISO calls (None: the process's setting). One thread
+        makes the factors, to the last bit, independent of the process they are computed in
+        (MKL's parallel factorisation sums in another order).
 
     Measured on the sweep's sections (2.9k unknowns; 200 designs over 69 templates, one
     thread, 2026-11-26): PARDISO with its analysis kept 2.5-2.65 ms a factorisation and
@@ -79,8 +103,10 @@ class SpdFactor:
     #: (every solve's backward error is checked by the caller), two-level factorisation.
     IPARM = {0: 1, 1: 2, 7: 0, 23: 1}
 
-    def __init__(self, indptr: np.ndarray, indices: np.ndarray) -> None:
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray, *, threads: int | None = None) -> None:
         from softcath.fem import pardiso
+
+        self.threads = threads
 
         n = indptr.size - 1
         row_of = np.repeat(np.arange(n), np.diff(indptr))
@@ -104,7 +130,7 @@ class SpdFactor:
         """Numeric factorisation of the matrix with these values (in the full pattern's order)."""
         self.values = data.take(self.at)
         if self.handle is not None:
-            self.handle.factorise(self.values)
+            self._pardiso(self.handle.factorise, self.values)
             return
         import qdldl
 
@@ -114,12 +140,25 @@ class SpdFactor:
         else:
             self.qdldl.update(upper, upper=True)
 
-    def solve(self, rhs: np.ndarray) -> tuple[np.ndarray, float]:
-        """Solutions of (n, k) right-hand sides with the current factors, and their backward error."""
+    def solve(self, rhs: np.ndarray, *, check: bool = True) -> tuple[np.ndarray, float]:
+        """Solutions of (n, k) right-hand sides with the current factors, and their backward error
+        (NaN when ``check`` is False: a caller that verifies the solution itself, like Newton's
+        method its residual, skips the extra pass over the matrix)."""
         if self.handle is not None:
-            sol = self.handle.solve(rhs).reshape(rhs.shape)
+            sol = self._pardiso(self.handle.solve, rhs).reshape(rhs.shape)
         elif self.qdldl is None:
             raise RuntimeError("solve before factorise")
         else:
             sol = np.column_stack([self.qdldl.solve(rhs[:, c]) for c in range(rhs.shape[1])])
+        if not check:
+            return sol, float("nan")
         return sol, backward_error(self.indptr, self.indices, self.values, sol, rhs)
+
+    def _pardiso(self, call, arg):
+        if self.threads is None:
+            return call(arg)
+        before = _set_local_threads(self.threads)
+        try:
+            return call(arg)
+        finally:
+            _set_local_threads(before)

@@ -28,7 +28,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -139,7 +139,8 @@ class SectionCurve:
 
     def to_json(self) -> dict:
         """Plain-JSON summary (``section.json`` with ``"nonlinear": true``)."""
-        d = {k: v for k, v in asdict(self).items() if k != "state"}
+        d = asdict(replace(self, state=None))
+        del d["state"]
         for k, v in d.items():
             if isinstance(v, np.ndarray):
                 d[k] = v.tolist()
@@ -242,7 +243,9 @@ def section_curve(
         or ``"cap"`` (the cap force on the deformed lumen alone; the paper's load).
     mesh_size, segments, mesher
         Section mesh controls (default: the linear section model's; ``mesher`` ``template``
-        morphs one mesh per section topology, ``gmsh`` meshes afresh).
+        morphs one mesh per section topology and solves on the compiled template path,
+        ``gmsh`` meshes afresh and solves on the reference path; the same answers to the
+        Newton tolerance on one mesh).
     silicone_poisson, hoop_cap
         Material options of :func:`section_laws`.
     laws
@@ -273,6 +276,38 @@ def section_curve(
     """
     d, p = _check_inputs(design, pressures, load)
     t0 = time.perf_counter()
+    if mesher == "template":
+        from softcath.fem.section_model.finite_strain.fast import Unsupported
+        from softcath.fem.section_model.finite_strain.fast_curve import template_curve
+        from softcath.fem.section_model.finite_strain.rows import progress_callback
+        from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+
+        law_map = (
+            dict(laws)
+            if laws is not None
+            else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
+        )
+        total = int(np.count_nonzero(p > 0))
+        on_state, close = progress_callback(total, progress, on_pressure)
+        try:
+            curve, error = template_curve(
+                d,
+                p,
+                load,
+                mesh_size=MESH_SIZE if mesh_size is None else mesh_size,
+                segments=SEGMENTS if segments is None else segments,
+                law_map=law_map,
+                hoop_cap=hoop_cap,
+                linear_gain=linear_gain,
+                on_state=on_state,
+                t0=t0,
+            )
+            return _finish(curve, error)
+        except Unsupported as exc:
+            log.info("finite-strain section: %s; solved on the reference path", exc)
+            mesher = exc.mesher
+        finally:
+            close()
     setup = _set_up(
         d,
         p,
@@ -286,12 +321,16 @@ def section_curve(
         linear_gain=linear_gain,
     )
     states, error = _walk(setup, progress, on_pressure)
-    curve = _curve(d, load, p, setup, states, hoop_cap, t0)
+    return _finish(_curve(d, load, p, setup, states, hoop_cap, t0), error)
+
+
+def _finish(curve: SectionCurve, error) -> SectionCurve:
+    """Log the curve's cost; raise the walk's convergence error (carrying the curve) if any."""
     log.info(
         "finite-strain section: %d pressures in %.3g s (%d DOFs)",
         curve.pressure.size,
         curve.seconds,
-        setup.disc.ndofs,
+        curve.dofs,
     )
     if error is not None:
         error.curve = curve
@@ -384,88 +423,46 @@ def _set_up(
 def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None] | None = None):
     """Newton walk through the positive pressures; returns (states, convergence error or None)."""
     from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, walk
+    from softcath.fem.section_model.finite_strain.rows import progress_callback
 
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=setup.positive.size, desc="finite-strain section", unit="pressure")
-    states = []
+    on_state, close = progress_callback(int(setup.positive.size), progress, on_pressure)
     error = None
-    total = int(setup.positive.size)
-    done = [0]
-
-    def on_state(_state) -> None:
-        done[0] += 1
-        if bar is not None:
-            bar.update(1)
-        if on_pressure is not None:
-            on_pressure(done[0], total)
-
     try:
-        states = walk(
-            setup.problem,
-            setup.loading,
-            setup.positive / setup.p_top,
-            on_state=on_state if (bar is not None or on_pressure is not None) else None,
-        )
+        states = walk(setup.problem, setup.loading, setup.positive / setup.p_top, on_state=on_state)
     except SectionConvergenceError as exc:
         error = exc
         states = list(exc.states)
     finally:
-        if bar is not None:
-            bar.close()
+        close()
     return states, error
 
 
 def _curve(d, load, p, setup: _Setup, states, hoop_cap, t0) -> SectionCurve:
     """The :class:`SectionCurve` of the rest rows and the converged states."""
-    from softcath.analytic.pose import tip_pose
     from softcath.fem.geometry import TUBE
+    from softcath.fem.section_model.finite_strain.lumen import lumen_volume
+    from softcath.fem.section_model.finite_strain.rows import CurveFacts, curve_from_rows, rest_row, state_row
 
     disc, wall, rest = setup.disc, setup.wall, setup.rest
     n_zero = p.size - setup.positive.size
-    rows = [_rest_row(rest)] * n_zero + [_row(disc, wall, s) for s in states]
-    cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
-    k_c = cols.get("curvature", np.zeros(0))
-    length = float(d.tip.bending_length)
-    stretched = length * (1.0 + cols.get("elongation", np.zeros(0)))
-    tip_x, tip_y, _ = tip_pose(k_c, stretched)
-    gain = setup.gain
-    return SectionCurve(
-        design_name=d.name,
-        load=load,
-        pressure=p[: len(rows)],
-        curvature_per_mm=k_c,
-        lateral_curvature_per_mm=cols.get("lateral", np.zeros(0)),
-        bend_rate_per_mm=cols.get("rate", np.zeros(0)),
-        elongation=cols.get("elongation", np.zeros(0)),
-        bend_angle_rad=cols.get("rate", np.zeros(0)) * length,
-        tip_x_mm=np.asarray(tip_x, float),
-        tip_y_mm=np.asarray(tip_y, float),
-        lumen_area_mm2=cols.get("area", np.zeros(0)),
-        lumen_volume_change_mm3=(cols.get("volume", np.zeros(0)) - rest.volume) * length,
-        max_strain=cols.get("max_strain", np.zeros(0)),
-        newton_iterations=cols.get("iterations", np.zeros(0, int)).astype(int),
-        residual=cols.get("residual", np.zeros(0)),
-        linear_curvature_per_mm_per_MPa=None if gain is None else float(gain),
-        length_mm=length,
-        lumen_area_rest_mm2=float(rest.area),
+    rows = [rest_row(rest.area, rest.volume)] * n_zero
+    for s in states:
+        u, g = s.q[: disc.n_u], s.q[disc.n_u :]
+        lv = lumen_volume(wall, u, g)
+        rows.append(state_row(s, _centroid(disc, u), lv.volume, lv.area, disc.n_u))
+    facts = CurveFacts(
+        rest_area=float(rest.area),
+        rest_volume=float(rest.volume),
+        gain=setup.gain,
         dofs=int(disc.ndofs),
         n_triangles=int(setup.section.triangles.shape[0]),
-        mesh_size_mm=float(setup.mesh_size),
-        poisson_ratio_silicone=_poisson(setup.law_map[TUBE]),
+        mesh_size=float(setup.mesh_size),
+        tube_law=setup.law_map[TUBE],
         hoop_cap=hoop_cap,
-        seconds=float(time.perf_counter() - t0),
+        t0=t0,
         mesh_seconds=float(setup.section.seconds),
-        state=(disc, states),
     )
-
-
-def _poisson(law) -> float:
-    c = law.small_strain_tensor()
-    lam, mu = c[0, 0, 1, 1], c[0, 1, 0, 1]
-    return float(lam / (2 * (lam + mu)))
+    return curve_from_rows(d, load, p, rows, facts, (disc, states))
 
 
 def _centroid(disc, u) -> np.ndarray:
@@ -473,41 +470,6 @@ def _centroid(disc, u) -> np.ndarray:
     _, x = disc.element_fields(u)
     w = disc.weights * disc.axial_modulus[:, None]
     return np.einsum("cq,cqa->a", w, x) / w.sum()
-
-
-def _row(disc, wall, state) -> dict:
-    from softcath.fem.section_model.finite_strain.lumen import lumen_volume
-
-    u, g = state.q[: disc.n_u], state.q[disc.n_u :]
-    lam, k1, k2 = (float(v) for v in g)
-    xc = _centroid(disc, u)
-    stretch = 1.0 + k1 * xc[0] + k2 * xc[1]
-    lv = lumen_volume(wall, u, g)
-    return {
-        "curvature": k2 / stretch,
-        "lateral": k1 / stretch,
-        "rate": lam * k2,
-        "elongation": lam * stretch - 1.0,
-        "area": lv.area,
-        "volume": lv.volume,
-        "max_strain": state.max_strain,
-        "iterations": state.iterations,
-        "residual": state.residual,
-    }
-
-
-def _rest_row(rest) -> dict:
-    return {
-        "curvature": 0.0,
-        "lateral": 0.0,
-        "rate": 0.0,
-        "elongation": 0.0,
-        "area": rest.area,
-        "volume": rest.volume,
-        "max_strain": 0.0,
-        "iterations": 0,
-        "residual": 0.0,
-    }
 
 
 def _linear_gain(problem, q_rest, loading) -> float:
