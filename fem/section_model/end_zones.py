@@ -62,7 +62,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 
-__all__ = ["C_SAINT_VENANT", "EndZones", "end_zones", "tip_angle", "tip_pose"]
+__all__ = ["C_SAINT_VENANT", "EndZones", "end_zones", "tip_angle", "tip_pose", "tip_pose_arrays"]
 
 #: Net deficit of the Saint-Venant zones (clamp and cap) over the coil's outer diameter [-]
 #: (measured, paper design; see the module docstring).
@@ -170,10 +170,29 @@ def tip_pose(curvature, elongation, zones: EndZones) -> tuple[np.ndarray, np.nda
         Tip position [mm] (base at the origin, the tip along +y, bending toward +x) and
         the end section's angle θ = κ (1 + ε)(L − δ) [rad].
     """
+    return tip_pose_arrays(
+        curvature,
+        elongation,
+        length=zones.length_mm,
+        plug=zones.plug_mm,
+        saint_venant=zones.saint_venant_mm,
+    )
+
+
+def tip_pose_arrays(
+    curvature, elongation, *, length, plug, saint_venant
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`tip_pose` with the zones as arrays broadcast against the curvature (many designs at once).
+
+    ``length``, ``plug`` and ``saint_venant`` are the :class:`EndZones` fields [mm] (not checked here:
+    build them from checked :class:`EndZones`).
+    """
     from softcath.analytic.pose import tip_pose as arc_pose
 
     kappa = np.asarray(curvature, float)
     stretch = 1.0 + np.asarray(elongation, float)
-    x, y, theta = arc_pose(kappa, zones.effective_length_mm * stretch)
-    tail = zones.saint_venant_mm * stretch + zones.plug_mm
+    plug = np.asarray(plug, float)
+    saint_venant = np.asarray(saint_venant, float)
+    x, y, theta = arc_pose(kappa, (np.asarray(length, float) - plug - saint_venant) * stretch)
+    tail = saint_venant * stretch + plug
     return x + tail * np.sin(theta), y + tail * np.cos(theta), theta

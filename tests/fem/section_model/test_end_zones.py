@@ -12,7 +12,14 @@ from scipy.integrate import quad
 from softcath import analytic, design
 from softcath.design.errors import DesignError
 from softcath.fem.section_model import section_model
-from softcath.fem.section_model.end_zones import C_SAINT_VENANT, EndZones, end_zones, tip_angle, tip_pose
+from softcath.fem.section_model.end_zones import (
+    C_SAINT_VENANT,
+    EndZones,
+    end_zones,
+    tip_angle,
+    tip_pose,
+    tip_pose_arrays,
+)
 
 
 def test_zero_length_end_zones_give_the_uniform_arc_of_eq9():
@@ -95,3 +102,15 @@ def test_section_response_reports_the_tips_angle_and_keeps_the_mid_span_curvatur
     np.testing.assert_allclose(uniform.bend_angle, k * p * 5.0 * (1 + e * p))
     assert out.bend_angle[-1] == pytest.approx(uniform.bend_angle[-1] * r.end_zones.factor, rel=1e-12)
     assert r.to_json()["end_zones"]["deficit_mm"] == pytest.approx(r.end_zones.deficit_mm)
+
+
+def test_the_array_form_is_the_scalar_form_design_by_design():
+    zs = [EndZones(length_mm=5.0, plug_mm=0.3, saint_venant_mm=0.02), EndZones(length_mm=7.0, plug_mm=0.2)]
+    k = np.array([[0.1, 0.2], [0.05, 0.3]])
+    e = np.array([[0.01, 0.02], [0.0, 0.03]])
+    col = {f: np.array([[getattr(z, f)] for z in zs]) for f in ("length_mm", "plug_mm", "saint_venant_mm")}
+    got = tip_pose_arrays(
+        k, e, length=col["length_mm"], plug=col["plug_mm"], saint_venant=col["saint_venant_mm"]
+    )
+    for i, z in enumerate(zs):
+        np.testing.assert_allclose([g[i] for g in got], tip_pose(k[i], e[i], z), rtol=1e-15)
