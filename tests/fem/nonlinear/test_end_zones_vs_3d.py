@@ -6,7 +6,7 @@ layers (first order: the end zones), so the reference is ``reference_curve`` on 
 8-layer companion, the tip extrapolated by ``estimate_tip`` (bend rate order 3, end-zone deficit
 order 1). Measured on this design (docs/validation.md): the 16-layer tip 1.1 % below the extrapolated
 one; the closed form on the 3-D's own bend rate within 0.4 %; the finite-strain section model with the
-correction 1.022-1.025 × the 3-D tip on the 3-D's materials (1.029-1.035 on its own, uncapped coil hoop
+correction 1.023-1.026 × the 3-D tip on the 3-D's materials (1.030-1.036 on its own, uncapped coil hoop
 modulus) — its mid-span bend rate's own offset — and 1.08 × without the correction.
 """
 
