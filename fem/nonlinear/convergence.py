@@ -111,21 +111,26 @@ def default_layers(design, pressure: float, *, load: str = "lumen") -> LayerChoi
     """Element layers for the 3-D bend of ``design`` up to ``pressure`` [MPa].
 
     The bend at ``pressure`` comes from the finite-strain section model (its
-    uniform-arc angle, a fraction of a second; it exceeds the clamped 3-D tip's
-    end rotation by the end zones, so the rule errs on the fine side); when that
-    model does not converge, from the linear section model.
+    uniform-arc angle, the mid-span bend rate times the bending length, a fraction of
+    a second; it exceeds the clamped 3-D tip's end rotation by the end zones, so the
+    rule errs on the fine side); when that model does not converge, from the linear
+    section model (its curvature times the stretched length).
     """
+    from softcath import design as design_pkg
     from softcath.design.errors import DesignError
     from softcath.fem.section_model.finite_strain import section_curve
 
+    length = float(design_pkg.resolve(design).tip.bending_length)
     try:
-        angle = float(section_curve(design, [pressure], load=load, linear_gain=False).bend_angle_rad[-1])
+        curve = section_curve(design, [pressure], load=load, linear_gain=False)
+        angle = float(curve.bend_rate_per_mm[-1]) * length
         source = "finite-strain section model"
     except DesignError as exc:  # the section Newton failed: the linear model still bounds the order
         from softcath.fem.section_model.api import section_response
 
         log.info("layer choice: finite-strain section model failed (%s); linear section model", exc)
-        angle = float(section_response(design, pressure, load=load).bend_angle)
+        r = section_response(design, pressure, load=load)
+        angle = float(r.curvature) * float(r.arc_length)
         source = "linear section model"
     n = layers_for_angle(angle)
     return LayerChoice(

@@ -100,10 +100,11 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
     out.mkdir(parents=True, exist_ok=True)
     s = settings
     t_start = time.perf_counter()
-    curve, error, study_lines = _solve_with_error(design, s, out)
+    curve, error, study_lines, tip = _solve_with_error(design, s, out)
     seconds = time.perf_counter() - t_start
     summary = write_outputs(curve, out, design_name=design.name, compare_linear=s.compare_linear, error=error)
     add_linear_check_keys(out / "fem.json", curve, design, seconds)
+    _add_tip_estimate(out / "fem.json", tip)
     lines = [
         f"softcath fem --nonlinear: {design.name}, {curve.load} load, {curve.ndofs} DOFs, "
         f"{len(curve.result.steps)} steps, {curve.result.newton_iterations} Newton iterations",
@@ -127,14 +128,19 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
             f"{100 * error.relative[-1]:.2g} % (vs {error.coarse_layers} layers, order "
             f"{error.order:.2g} {error.order_source})"
         )
+    if tip is not None and np.isfinite(tip.relative[-1]):
+        lines.append(
+            f"  tip angle: estimated discretisation error {100 * tip.relative[-1]:.2g} %, extrapolated "
+            f"{np.degrees(tip.extrapolated[-1]):.2f} deg (end-zone deficit {tip.deficit[-1]:.3g} mm)"
+        )
     lines.extend(study_lines)
     lines.append(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
     return summary, lines
 
 
 def _solve_with_error(design, s: NonlinearSettings, out: Path):
-    """The sweep's curve, its error estimate (None below ``MIN_ESTIMATE_LAYERS`` layers) and the study's
-    summary lines."""
+    """The sweep's curve, its error estimate (None below ``MIN_ESTIMATE_LAYERS`` layers), the study's
+    summary lines and the tip angle's estimate (None from a three-mesh study or without a companion)."""
     from softcath.fem.nonlinear.reference import reference_curve
     from softcath.fem.nonlinear.study import convergence_study, write_study
 
@@ -153,9 +159,18 @@ def _solve_with_error(design, s: NonlinearSettings, out: Path):
             f"  convergence ({'/'.join(map(str, study.layers))} layers): observed order {q:.3g}, "
             f"extrapolated mid-span curvature {k:.4g} 1/mm; wrote {', '.join(names)}"
         )
-        return study.curves[1], study.error_estimate(), [line]
+        return study.curves[1], study.error_estimate(), [line], None
     ref = reference_curve(design, s.pressures, layers=s.layers, **opts)
-    return ref.curve, ref.error, []
+    return ref.curve, ref.error, [], ref.tip
+
+
+def _add_tip_estimate(path: Path, tip) -> None:
+    """fem.json's ``tip_angle_error_estimate`` (relative, final pressure) and ``tip_angle_discretisation``
+    (per pressure: the extrapolated tip angle, the end-zone deficit and the method), null without one."""
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    doc["tip_angle_error_estimate"] = None if tip is None else _finite_or_none(tip.relative[-1])
+    doc["tip_angle_discretisation"] = None if tip is None else tip.to_json()
+    path.write_text(json.dumps(doc, indent=2), encoding="utf-8")
 
 
 def _finite_or_none(x) -> float | None:

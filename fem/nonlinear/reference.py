@@ -4,7 +4,9 @@ A solve on ``layers`` element layers and a second on half as many give, per
 pressure, the Richardson estimate of the fine solve's relative error in the
 mid-span curvature (:func:`~softcath.fem.nonlinear.convergence.richardson_error`),
 with the order of convergence assumed (:data:`~softcath.fem.nonlinear.convergence.ASSUMED_ORDER`)
-or, from a three-mesh study (:mod:`softcath.fem.nonlinear.study`), observed.
+or, from a three-mesh study (:mod:`softcath.fem.nonlinear.study`), observed; and
+the tip's angle extrapolated from the same two solves (:func:`estimate_tip`:
+the bend rate and the end-zone deficit each with its own order).
 """
 
 from __future__ import annotations
@@ -23,7 +25,16 @@ from softcath.fem.nonlinear.convergence import (
 
 log = logging.getLogger(__name__)
 
-__all__ = ["ErrorEstimate", "ReferenceCurve", "estimate_error", "reference_curve", "QUANTITY"]
+__all__ = [
+    "ErrorEstimate",
+    "TipEstimate",
+    "ReferenceCurve",
+    "estimate_error",
+    "estimate_tip",
+    "reference_curve",
+    "QUANTITY",
+    "DEFICIT_ORDER",
+]
 
 #: The quantity whose error is estimated (a ``BendCurve`` attribute and its output name).
 QUANTITY = ("curvature_mid", "curvature_mid_per_mm")
@@ -80,14 +91,74 @@ class ErrorEstimate:
         }
 
 
+#: Order in 1/layers of the end-zone deficit L − θ_tip / (dθ/dZ)_mid. Observed on the paper's design,
+#: lumen load, 8/12/16 layers: 0.75, 0.84, 0.93, 0.96 at 0.1-0.4 MPa (docs/nonlinear.md).
+DEFICIT_ORDER = 1.0
+
+
+@dataclass(frozen=True)
+class TipEstimate:
+    """The tip's angle (end-section rotation) extrapolated in the layers, and the fine solve's error.
+
+    The tip angle is the mid-span bend rate times L − δ, δ the end-zone deficit. The two converge
+    differently in the layers: the bend rate with the mid-span curvature's order
+    (:data:`~softcath.fem.nonlinear.convergence.ASSUMED_ORDER`), the deficit at first order
+    (:data:`DEFICIT_ORDER`; the plug's and the clamp's corners). Each is extrapolated with its own
+    order and the tip angle rebuilt from the two.
+
+    Attributes
+    ----------
+    angle
+        The fine solve's tip angle per pressure [rad].
+    extrapolated
+        The extrapolated tip angle per pressure [rad].
+    relative
+        |angle − extrapolated| / |extrapolated| per pressure [-].
+    deficit
+        The extrapolated end-zone deficit δ per pressure [mm].
+    layers, coarse_layers
+        Element layers of the two solves.
+    """
+
+    angle: np.ndarray
+    extrapolated: np.ndarray
+    relative: np.ndarray
+    deficit: np.ndarray
+    layers: int
+    coarse_layers: int
+
+    @property
+    def method(self) -> str:
+        """One line saying how the estimate was made."""
+        return (
+            f"tip angle = bend rate x (L - deficit) from {self.layers} and {self.coarse_layers} layers: "
+            f"the mid-span bend rate extrapolated with order {ASSUMED_ORDER:g} (assumed), the end-zone "
+            f"deficit L - angle / bend rate with order {DEFICIT_ORDER:g} (observed ~1)"
+        )
+
+    def to_json(self) -> dict:
+        """A JSON-ready dict (NaN as null)."""
+        return {
+            "bend_angle_rad": [_none(x) for x in self.angle],
+            "extrapolated_rad": [_none(x) for x in self.extrapolated],
+            "relative": [_none(x) for x in self.relative],
+            "deficit_mm": [_none(x) for x in self.deficit],
+            "layers": self.layers,
+            "coarse_layers": self.coarse_layers,
+            "method": self.method,
+        }
+
+
 @dataclass(frozen=True)
 class ReferenceCurve:
-    """A 3-D bend curve, its half-layer companion and the error estimate from the two (both None
-    below :data:`~softcath.fem.nonlinear.convergence.MIN_ESTIMATE_LAYERS` layers: no half-layer mesh)."""
+    """A 3-D bend curve, its half-layer companion and the error estimates from the two (None below
+    :data:`~softcath.fem.nonlinear.convergence.MIN_ESTIMATE_LAYERS` layers: no half-layer mesh):
+    ``error`` of the mid-span curvature, ``tip`` of the tip's angle."""
 
     curve: object
     coarse: object | None = field(repr=False)
     error: ErrorEstimate | None
+    tip: TipEstimate | None = None
 
 
 def _none(x) -> float | None:
@@ -121,6 +192,34 @@ def estimate_error(
     )
 
 
+def estimate_tip(curve, coarse, *, length: float) -> TipEstimate:
+    """The :class:`TipEstimate` of ``curve`` from ``coarse`` (both with ``layers`` set, same pressures),
+    for a bending length ``length`` [mm]."""
+    from softcath.fem.nonlinear.errors import SettingError
+
+    if curve.layers is None or coarse.layers is None or not coarse.layers < curve.layers:
+        raise SettingError("layers", (curve.layers, coarse.layers), "must be known, coarse < fine")
+    if not np.array_equal(curve.pressure, coarse.pressure):
+        raise SettingError("pressure", coarse.pressure.tolist(), f"must equal {curve.pressure.tolist()}")
+    r = curve.layers / coarse.layers
+    rate_f, rate_c = np.asarray(curve.bend_rate_mid, float), np.asarray(coarse.bend_rate_mid, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        deficit_f = length - np.asarray(curve.bend_angle, float) / rate_f
+        deficit_c = length - np.asarray(coarse.bend_angle, float) / rate_c
+        rate = rate_f + (rate_f - rate_c) / (r**ASSUMED_ORDER - 1.0)
+        deficit = deficit_f + (deficit_f - deficit_c) / (r**DEFICIT_ORDER - 1.0)
+        tip = rate * (length - deficit)
+        rel = np.abs(np.asarray(curve.bend_angle, float) - tip) / np.abs(tip)
+    return TipEstimate(
+        angle=np.asarray(curve.bend_angle, float),
+        extrapolated=tip,
+        relative=np.where(np.isfinite(rel), rel, np.nan),
+        deficit=deficit,
+        layers=int(curve.layers),
+        coarse_layers=int(coarse.layers),
+    )
+
+
 def reference_curve(design, pressures, *, layers: int | None = None, **options) -> ReferenceCurve:
     """The 3-D bend of ``design`` (:func:`~softcath.fem.nonlinear.bend.bend_curve`) with its error stated.
 
@@ -141,4 +240,5 @@ def reference_curve(design, pressures, *, layers: int | None = None, **options) 
         log.info("%d layers: no half-layer mesh, no error estimate", curve.layers)
         return ReferenceCurve(curve=curve, coarse=None, error=None)
     coarse = bend_curve(design, pressures, layers=coarse_layers(curve.layers), **options)
-    return ReferenceCurve(curve=curve, coarse=coarse, error=estimate_error(curve, coarse))
+    tip = estimate_tip(curve, coarse, length=float(design.tip.bending_length))
+    return ReferenceCurve(curve=curve, coarse=coarse, error=estimate_error(curve, coarse), tip=tip)

@@ -19,6 +19,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import TUBE
+from softcath.fem.section_model.end_zones import EndZones, end_zones
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.solve import LOADS
 
@@ -56,6 +57,10 @@ class SectionResult:
         freely, the bending stiffness of the tip under a pure moment).
     assembly, axial_groups
         The as-built options used and the number of axial groups (1 when bonded).
+    end_zones
+        The tip's :class:`~softcath.fem.section_model.end_zones.EndZones` (clamp and cap),
+        which :meth:`response` turns the mid-span bend into the tip's angle and pose with;
+        None: the uniform arc over the whole length.
     """
 
     design_name: str
@@ -87,6 +92,7 @@ class SectionResult:
     fields: object = field(default=None, repr=False, compare=False)
     assembly: dict | None = None
     axial_groups: int = 1
+    end_zones: EndZones | None = None
 
     def gains(self, load: str) -> tuple[float, float]:
         """(kappa/p [1/(mm MPa)], eps/p [1/MPa]) for ``load``."""
@@ -94,16 +100,30 @@ class SectionResult:
         return self.curvature_per_mm_per_MPa[load], self.elongation_per_MPa[load]
 
     def response(self, pressure, load: str = "lumen"):
-        """Curvature, elongation and tip pose (eq. 9) at ``pressure`` [MPa]: an ``analytic.BeamResponse``."""
+        """Curvature, elongation and the tip's pose at ``pressure`` [MPa]: an ``analytic.BeamResponse``.
+
+        ``curvature`` and ``elongation`` are the uniform mid-span bend's; ``bend_angle``,
+        ``tip_x`` and ``tip_y`` are the tip's, the mid-span arc with the clamp and cap end
+        zones (:func:`~softcath.fem.section_model.end_zones.tip_pose`; eq. 9's uniform arc
+        when ``end_zones`` is None).
+        """
+        from dataclasses import replace
+
         from softcath.analytic import response_from_gains
+        from softcath.fem.section_model.end_zones import tip_pose
 
         k, e = self.gains(load)
-        return response_from_gains(k, e, self.length_mm, pressure)
+        r = response_from_gains(k, e, self.length_mm, pressure)
+        if self.end_zones is None:
+            return r
+        x, y, theta = tip_pose(r.curvature, r.elongation, self.end_zones)
+        return replace(r, bend_angle=theta, tip_x=x, tip_y=y)
 
     def to_json(self) -> dict:
         """Plain-JSON summary (``section.json`` keys; no fields)."""
         d = {k: v for k, v in asdict(self).items() if k != "fields"}
         d["stiffness"] = [list(r) for r in self.stiffness]
+        d["end_zones"] = None if self.end_zones is None else self.end_zones.to_json()
         return d
 
     def _check(self, load: str) -> None:
@@ -288,6 +308,7 @@ def _section_result(
         fields=(mesh, op, sol) if keep_fields else None,
         assembly=d.assembly.to_dict(),
         axial_groups=1 if d.assembly.is_default else sol.plan.n_groups,
+        end_zones=end_zones(d),
     )
 
 
