@@ -1,0 +1,70 @@
+"""The ``section`` tier: the linear 2-D generalised-plane-strain section model, batched over designs.
+
+With the template mesher (the default) the designs go through the batched section models
+(one kernel per template, factorisations reused: the sweep's path,
+:func:`softcath.studies.sweep.section_eval.section_blocks_many`); with ``mesher = "gmsh"``
+each design is solved alone. The response is linear in pressure; the tip pose is the
+uniform arc of the section's gains.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from softcath.models.tier import Tier
+from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
+
+__all__ = ["SECTION", "SectionTier", "SECTION_FIELDS"]
+
+#: Sweep column of the section evaluator -> response field.
+SECTION_FIELDS = {
+    "curvature_section_per_mm": "curvature_per_mm",
+    "elongation_section": "elongation",
+    "bend_angle_section_rad": "bend_angle_rad",
+    "tip_x_section_mm": "tip_x_mm",
+    "tip_y_section_mm": "tip_y_mm",
+    "max_strain_section": "max_strain",
+}
+
+
+class SectionTier(Tier):
+    """The linear section model; extras ``section_formula_ratio`` (its curvature over eq. 7's, cap load)."""
+
+    def _solve(self, designs, pressures, loads, options):
+        # the batched path lives with the sweep, which loads this registry: loaded on first use
+        from softcath.studies.sweep.section_eval import section_blocks_many
+
+        cols, errors = section_blocks_many(designs, pressures, loads, options)
+        params = tuple(self.parameters(d, options) for d in designs)
+        out = {}
+        for load in loads:
+            block = cols[load]
+            values = {field: block[col] for col, field in SECTION_FIELDS.items()}
+            out[load] = self._batch(
+                designs,
+                pressures,
+                load,
+                values,
+                seconds=np.asarray(block["section_seconds"], float)[:, 0]
+                if pressures.size
+                else np.full(len(designs), np.nan),
+                parameters=params,
+                extras={"section_formula_ratio": block["section_formula_ratio"]},
+                errors=errors,
+            )
+        return out
+
+
+#: The linear section model.
+SECTION = SectionTier(
+    "section",
+    "the section model",
+    "section model (2-D GPS)",
+    "linear 2-D generalised-plane-strain section model: 3-D-FEM-grade curvature, ~0.2 s a design",
+    "section",
+    options={"mesh_size": 0.08, "mesher": "template", "coil_modulus": "tension", "coil_bending": "annulus"},
+    valid_to_deg=LINEAR_BEND_LIMIT_DEG,
+    as_built=True,
+    dof_seconds=1.05e-5,
+    batched=True,
+)
