@@ -85,4 +85,5 @@ FEM_NONLINEAR = FemNonlinearTier(
     "3-D finite-strain FEM, hyperelastic silicone: the slowest tier",
     "nonlinear",
     options={"size": 0.15, "layers": None, "curvature_points": 12, "substeps": 1, "max_iter": 20},
+    seconds_per_design=600.0,
 )

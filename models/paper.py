@@ -62,4 +62,5 @@ PAPER = PaperTier(
     valid_to_deg=LINEAR_BEND_LIMIT_DEG,
     load_notes={"lumen": "paper tier, lumen load: the formula's cap gain times (1 - 2 nu)"},
     batched=True,
+    seconds_per_design=1e-4,
 )

@@ -65,6 +65,9 @@ SECTION = SectionTier(
     options={"mesh_size": 0.08, "mesher": "template", "coil_modulus": "tension", "coil_bending": "annulus"},
     valid_to_deg=LINEAR_BEND_LIMIT_DEG,
     as_built=True,
+    # 29.5 ms of worker CPU on the sweep's batched path for the paper section (docs/section.md),
+    # whose estimated DOFs are 2.8k
     dof_seconds=1.05e-5,
     batched=True,
+    seconds_per_design=0.2,
 )

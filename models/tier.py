@@ -22,10 +22,12 @@ from softcath.design.errors import DesignError
 from softcath.models.response import ResponseBatch, TipResponse
 from softcath.models.validity import response_warnings
 
-__all__ = ["LOADS", "Tier"]
+__all__ = ["LOADS", "SLOW_SECONDS", "Tier"]
 
 #: The loads a tier can be asked about: the end-cap force alone, or the lumen pressure on wall and cap.
 LOADS = ("cap", "lumen")
+#: Seconds a design above which a tier is slow: minutes a design, not a search's thousands of runs.
+SLOW_SECONDS = 10.0
 
 
 @dataclass(frozen=True)
@@ -66,6 +68,10 @@ class Tier:
         FEM's cap on Poisson ratios).
     dof_seconds
         Estimated seconds of one run per section degree of freedom; 0 for a closed form.
+    seconds_per_design
+        Rough wall time of one design at a few pressures and both loads [s]; a tier above
+        :data:`SLOW_SECONDS` is slow (the searches and robust samples do not offer it, and a
+        prediction band counts its own sample size for it).
     batched
         Whether :meth:`responses` shares work between designs (then a sweep gives it many
         designs a task) rather than solving them one by one.
@@ -84,7 +90,13 @@ class Tier:
     load_notes: Mapping[str, str] = field(default_factory=dict, compare=False)
     range_notes: Mapping[str, str] = field(default_factory=dict, compare=False)
     dof_seconds: float = 0.0
+    seconds_per_design: float = math.inf
     batched: bool = False
+
+    @property
+    def slow(self) -> bool:
+        """Whether one design takes longer than :data:`SLOW_SECONDS` (the 3-D FEM tiers)."""
+        return self.seconds_per_design > SLOW_SECONDS
 
     @property
     def linear(self) -> bool:

@@ -61,6 +61,10 @@ class DesignCase:
     formula_gain: float
 
 
+#: The tiers a design sweep's formula is compared with -> the sweep column of their curvature.
+_REFERENCE_COLUMNS = {"fem": "curvature_fem_per_mm"}
+
+
 def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[DesignCase]:
     """The (design, load) cases of a finished sweep with a finite reference curvature.
 
@@ -75,11 +79,11 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     from softcath.studies.sweep.results import read_results
     from softcath.studies.sweep.variants import build_variant
 
-    if reference != "fem":
+    ref_col = _REFERENCE_COLUMNS.get(reference)
+    if ref_col is None:
         raise DataError(f"reference = {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
     root = Path(sweep_dir)
     df = read_results(root)
-    ref_col = "curvature_fem_per_mm"
     if ref_col not in df or df[ref_col].notna().sum() == 0:
         raise DataError(
             f"{root}: the sweep has no 3-D FEM curvature ({ref_col}); run it with evaluators = "
