@@ -372,9 +372,13 @@ def _discrepancy_result(
     )
 
 
+#: What a time-series model is compared with: the measurement, or the 3-D FEM tier's curve.
+REFERENCES = ("measured", "fem")
+
+
 def _check_rule(reference: str, margin: float | None, min_share: float, max_effects: int) -> None:
     """Refuse an unknown reference or a decision rule out of range."""
-    if reference not in ("measured", "fem"):
+    if reference not in REFERENCES:
         raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
     if margin is not None and not 0 < margin < 1:
         raise DesignError("margin", margin, "must be in (0, 1)")

@@ -315,6 +315,10 @@ def has_model(df, model: str) -> bool:
     return col in df.columns and bool(np.isfinite(df[col].to_numpy(float)).any())
 
 
+#: The ``source`` of a tier's rows where it is not the tier's name (a file format kept from before).
+_SOURCE = {"paper": "analytic"}
+
+
 def model_columns(df, model: str):
     """A copy of ``df`` whose best-estimate columns come from one model.
 
@@ -338,7 +342,7 @@ def model_columns(df, model: str):
             df[col] = np.degrees(df["bend_angle_section_rad"].to_numpy(float))
         df[best] = df[col].to_numpy(float) if col in df.columns else np.nan
     _bend_per_mpa(df)
-    df["source"] = "analytic" if model == "paper" else model
+    df["source"] = _SOURCE.get(model, model)
     return df
 
 
