@@ -123,8 +123,12 @@ def fem_check_function():
 
 
 class FemTier(Tier):
-    """The 3-D linear FEM; extras: ``curvature_variation``, ``residual``, ``n_elements``, ``dofs``,
-    ``mesh_seconds``, ``solve_seconds`` (the sweep's ``fem_*`` columns)."""
+    """The 3-D linear FEM.
+
+    Its tip-level curvature is the end section's rotation over L (the FEM's own second
+    estimate); extras: ``curvature_variation``, ``residual``, ``n_elements``, ``dofs``,
+    ``mesh_seconds``, ``solve_seconds`` (the sweep's ``fem_*`` columns).
+    """
 
     def available(self) -> bool:
         return fem_check_function() is not None
@@ -135,6 +139,7 @@ class FemTier(Tier):
         check = fem_check_function()
         n, n_p = len(designs), pressures.size
         rows = {ld: {k: np.full((n, n_p), np.nan) for k in FEM_KEYS} for ld in loads}
+        tip = {ld: np.full((n, n_p), np.nan) for ld in loads}
         seconds = np.full(n, np.nan)
         errors: dict[int, Exception] = {}
         for i, d in enumerate(designs):
@@ -142,7 +147,13 @@ class FemTier(Tier):
             try:
                 if check is None:
                     raise ImportError("softcath.fem.check is unavailable")
-                records = fem_records(check(d, pressures=list(pressures), loads=tuple(loads), **options))
+                result = check(d, pressures=list(pressures), loads=tuple(loads), **options)
+                records = fem_records(result)
+                rotation = {  # the end section's rotation over L: the FEM's own tip-level curvature
+                    (c.load, round(float(c.pressure_MPa), 12)): c.curvature_rotation_per_mm
+                    for c in getattr(result, "cases", ())
+                    if hasattr(c, "curvature_rotation_per_mm")
+                }
                 for ld in loads:
                     for j, p in enumerate(pressures):
                         row = records.get((ld, round(float(p), 12)))
@@ -150,10 +161,12 @@ class FemTier(Tier):
                             raise LookupError(f"fem returned no result for load {ld} at {p:g} MPa")
                         for k in FEM_KEYS:
                             rows[ld][k][i, j] = row[k]
+                        tip[ld][i, j] = rotation.get((ld, round(float(p), 12)), np.nan)
             except Exception as exc:  # a FEM failure is this design's error, never the batch's
                 raise_pending_stop()
                 errors[i] = exc
                 for ld in loads:
+                    tip[ld][i] = np.nan
                     for k in FEM_KEYS:
                         rows[ld][k][i] = np.nan
             seconds[i] = time.perf_counter() - t0
@@ -163,7 +176,7 @@ class FemTier(Tier):
                 designs,
                 pressures,
                 ld,
-                {f: rows[ld][k] for k, f in _FIELDS.items()},
+                {**{f: rows[ld][k] for k, f in _FIELDS.items()}, "tip_curvature_per_mm": tip[ld]},
                 seconds=seconds,
                 parameters=params,
                 extras={k: v for k, v in rows[ld].items() if k not in _FIELDS},

@@ -27,6 +27,30 @@ SECTION_FIELDS = {
 }
 
 
+#: The options the batched section models take (the others go design by design).
+_BATCHED_OPTIONS = frozenset({"mesh_size", "mesher", "segments", "coil_modulus", "coil_bending"})
+
+
+def _one_by_one(designs, pressures, loads, options) -> tuple[dict, dict]:
+    """The sweep's section columns of each design alone (``softcath.fem.section_model.section_model``)."""
+    from softcath.interrupts import raise_pending_stop
+    from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
+
+    cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}
+    errors: dict[int, Exception] = {}
+    for j, d in enumerate(designs):
+        try:
+            values = section_columns(d, pressures, loads, options)
+        except Exception as exc:  # this design's error, never the batch's
+            raise_pending_stop()
+            errors[j] = exc
+            continue
+        for ld in loads:
+            for k, v in values[ld].items():
+                cols[ld][k][j] = v
+    return cols, errors
+
+
 class SectionTier(Tier):
     """The linear section model; extras ``section_formula_ratio`` (its curvature over eq. 7's, cap load)."""
 
@@ -34,7 +58,10 @@ class SectionTier(Tier):
         # the batched path lives with the sweep, which loads this registry: loaded on first use
         from softcath.studies.sweep.section_eval import section_blocks_many
 
-        cols, errors = section_blocks_many(designs, pressures, loads, options)
+        if set(options) <= _BATCHED_OPTIONS:
+            cols, errors = section_blocks_many(designs, pressures, loads, options)
+        else:  # an option only the single-design model takes (e.g. poisson_cap): one design at a time
+            cols, errors = _one_by_one(designs, pressures, loads, options)
         params = tuple(self.parameters(d, options) for d in designs)
         out = {}
         for load in loads:
@@ -62,7 +89,16 @@ SECTION = SectionTier(
     "section model (2-D GPS)",
     "linear 2-D generalised-plane-strain section model: 3-D-FEM-grade curvature, ~0.2 s a design",
     "section",
-    options={"mesh_size": 0.08, "mesher": "template", "coil_modulus": "tension", "coil_bending": "annulus"},
+    options={
+        "mesh_size": 0.08,
+        "segments": 20,
+        "mesher": "template",
+        "coil_modulus": "tension",
+        "coil_bending": "annulus",
+        "poisson_cap": None,
+        "silicone_poisson": None,
+        "poisson": True,
+    },
     valid_to_deg=LINEAR_BEND_LIMIT_DEG,
     as_built=True,
     # 29.5 ms of worker CPU on the sweep's batched path for the paper section (docs/section.md),

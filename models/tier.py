@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.models.response import ResponseBatch, TipResponse
+from softcath.models.response import OBSERVABLES, ResponseBatch, TipResponse, tip_curvature
 from softcath.models.validity import response_warnings
 
 __all__ = ["LOADS", "SLOW_SECONDS", "Tier"]
@@ -227,16 +227,16 @@ class Tier:
 
     def _batch(self, designs: list, pressures: np.ndarray, load: str, values: dict, **rest) -> ResponseBatch:
         """A :class:`ResponseBatch` from ``values`` (observable -> (n, n_p) array; missing ones NaN)."""
-        from softcath.models.response import OBSERVABLES, tip_curvature
-
         shape = (len(designs), pressures.size)
         cols = {
             k: np.asarray(values[k], float) if k in values else np.full(shape, np.nan) for k in OBSERVABLES
         }
-        if "tip_curvature_per_mm" not in values:
+        tip = cols["tip_curvature_per_mm"]
+        if np.isnan(tip).any():  # the tier's own where it gives one, else bend angle over deformed length
             lengths = np.array(
                 [[d.tip.bending_length] if d is not None else [np.nan] for d in designs], float
             )
-            cols["tip_curvature_per_mm"] = tip_curvature(cols["bend_angle_rad"], cols["elongation"], lengths)
+            arc = tip_curvature(cols["bend_angle_rad"], cols["elongation"], lengths)
+            cols["tip_curvature_per_mm"] = np.where(np.isnan(tip), arc, tip)
         rest.setdefault("seconds", np.full(len(designs), np.nan))
         return ResponseBatch(tier=self.name, load=load, pressures=pressures, **cols, **rest)

@@ -40,6 +40,8 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DataError
+from softcath.models import LOADS
+from softcath.models import responses as tier_responses
 
 __all__ = ["INGREDIENTS", "DesignCase", "DesignWorkflowResult", "load_sweep_cases", "run_design_workflow"]
 
@@ -132,11 +134,10 @@ class _Models:
             coil = "annulus" if "coil_homogenisation" in physics else "wahl"
             key = (case.design_id, poisson, coil)
             if key not in self._cache:
-                from softcath.fem.section_model import section_model
-
-                self._cache[key] = section_model(
-                    case.design, poisson=poisson, coil_bending=coil, poisson_cap=FEM_POISSON_CAP
-                ).curvature_per_mm_per_MPa
+                options = {"poisson": poisson, "coil_bending": coil, "poisson_cap": FEM_POISSON_CAP}
+                # linear in pressure: the response at 1 MPa is the gain
+                batches = tier_responses([case.design], [1.0], tier="section", loads=LOADS, options=options)
+                self._cache[key] = {ld: float(b[0].curvature_per_mm[0]) for ld, b in batches.items()}
                 if self._progress is not None:
                     self._progress.update(1)
             g = self._cache[key]["lumen" if lumen else "cap"]
