@@ -7,6 +7,13 @@ Each is a :class:`Tier` in the registry, with its capabilities (loads, options, 
 is valid to, whether it models an as-built assembly) and two methods, ``response`` for one
 design and ``responses`` for many (vectorised or batched where the tier can be).
 
+The consumers (sweeps, selection, optimisation, prediction bands, the discrepancy
+workflows) ask the registry for a tier and read its capabilities; none compares a tier's
+name. A new option of a tier is one entry of its ``options`` (name -> default), which its
+``_solve`` passes on; a new tier is one :class:`Tier` subclass implementing ``_solve`` (one
+module) and one :func:`register` call, plus its sweep columns if sweeps are to store it
+(:data:`softcath.studies.sweep.results.TIER_COLUMNS`).
+
 >>> from softcath import design, models
 >>> r = models.response(design.preset("paper"), [0.1], tier="paper", load="cap")
 >>> r.tier, r.load, r.curvature_per_mm.shape

@@ -146,15 +146,14 @@ class TipResponse:
 
         See the module docstring for the format; :meth:`read` reads it back.
         """
-        from softcath.studies.atomic import atomic_path, write_json
+        import json
 
         out = Path(folder)
         out.mkdir(parents=True, exist_ok=True)
-        csv = out / f"{stem}.csv"
-        with atomic_path(csv) as tmp:
-            self.to_table().to_csv(tmp, index=False, float_format="%.17g")
+        csv = _atomic_write(out / f"{stem}.csv", self.to_table().to_csv(index=False, float_format="%.17g"))
         doc = {**self.to_json(), "table": csv.name}
-        return csv, write_json(out / f"{stem}.json", doc)
+        text = json.dumps(doc, indent=2, allow_nan=False) + "\n"  # strict JSON: NaN is already null
+        return csv, _atomic_write(out / f"{stem}.json", text)
 
     @classmethod
     def read(cls, path: str | Path) -> TipResponse:
@@ -245,6 +244,24 @@ class ResponseBatch:
             extras={k: np.asarray(v)[i].copy() for k, v in self.extras.items()},
             **values,
         )
+
+
+def _atomic_write(path: Path, text: str) -> Path:
+    """Write ``text`` under a temporary name in the same folder, then rename it over ``path``.
+
+    The rename is atomic on one file system: a reader sees the old file or the whole new one.
+    (The studies' outputs use :mod:`softcath.studies.atomic`, a floor above the models.)
+    """
+    import os
+    import uuid
+
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
 
 
 def _unit_of(name: str) -> str:

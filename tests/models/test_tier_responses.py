@@ -108,6 +108,8 @@ def test_fem_response_is_fem_check():
     assert r.curvature_per_mm[0] == pytest.approx(case.curvature_per_mm, rel=1e-12)
     assert r.bend_angle_rad[0] == pytest.approx(case.bend_angle_rad, rel=1e-12)
     assert r.max_strain[0] == pytest.approx(case.max_strain, rel=1e-12)
+    # its tip-level curvature is its own second estimate: the end section's rotation over L
+    assert r.tip_curvature_per_mm[0] == pytest.approx(case.curvature_rotation_per_mm, rel=1e-12)
     assert r.parameters["mesh_size"] == 0.25 and r.extras["dofs"][0] > 0
 
 
