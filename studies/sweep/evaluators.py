@@ -117,7 +117,7 @@ def evaluate_task(task: dict) -> pd.DataFrame:
     for name in TIER_COLUMNS:
         enabled = name in (ALWAYS, *task["evaluators"])
         blocks.append(
-            _tier_blocks(models.get(name), designs, ok, ids, pressures, loads, task, enabled, tier_reason)
+            _tier_blocks(models.get(name), designs, ok, task=task, enabled=enabled, tier_reason=tier_reason)
         )
         if len(blocks) == 1:  # the paper's formula, first in TIER_COLUMNS
             analytic_seconds = (time.perf_counter() - t0) / max(n_d, 1)
@@ -183,12 +183,14 @@ def _tier_options(tier, task: dict) -> dict:
 
 
 def _tier_blocks(
-    tier, designs, ok, ids, pressures, loads, task, enabled: bool, tier_reason: list[str]
+    tier, designs: list, ok: list[int], *, task: dict, enabled: bool, tier_reason: list[str]
 ) -> dict:
     """``{load: {column: (n_designs, n_pressures) block}}`` of one tier (NaN where it did not run).
 
     A design the tier fails on gets the failure appended to ``tier_reason`` (never ends the sweep).
     """
+    pressures = np.asarray(task["pressures_MPa"], dtype=float)
+    loads, ids = tuple(task["loads"]), list(task["design_ids"])
     n_d, n_p = len(designs), len(pressures)
     columns = TIER_COLUMNS[tier.name]
     cols = {load: {c: np.full((n_d, n_p), np.nan) for c in columns} for load in loads}
