@@ -30,6 +30,7 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/basedpyright
+	$(PY) -m pytest -q tests/test_codebase_imports.py tests/test_codebase_size.py tests/test_codebase_api.py tests/test_codebase_signatures.py tests/test_codebase_cli.py
 
 $(DOCS_STAMP): $(STAMP) pyproject.toml
 	$(PY) -m pip install --quiet -e '.[dev,docs]'

@@ -29,8 +29,8 @@ import numpy as np
 
 from softcath.analytic.pose import tip_pose
 from softcath.analytic.section import design_inputs, section_arrays
+from softcath.core.errors import DesignError
 from softcath.design import TipDesign
-from softcath.design.errors import DesignError
 from softcath.design.load_cases import LOADS
 
 __all__ = [

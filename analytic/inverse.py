@@ -6,8 +6,8 @@ import numpy as np
 from scipy import optimize
 
 from softcath.analytic.beam import gains, response
+from softcath.core.errors import DesignError
 from softcath.design import TipDesign
-from softcath.design.errors import DesignError
 
 __all__ = ["pressure_for_bend_angle", "pressure_for_tip"]
 

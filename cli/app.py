@@ -14,7 +14,8 @@ from __future__ import annotations
 import argparse
 
 from softcath.cli.options import add_design
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
+from softcath.studies.app import make_server
 
 HELP = "the interactive design app in the browser (local web server; Ctrl-C stops it)"
 
@@ -38,7 +39,6 @@ def run(args: argparse.Namespace) -> int:
     import logging
 
     # The app's library imports Panel (Bokeh, Tornado) lazily: `softcath --help` stays fast.
-    from softcath.studies.app import make_server
 
     for noisy in ("panel", "tornado.access"):  # a line per poll and per request would drown --verbose
         logging.getLogger(noisy).setLevel(logging.WARNING)

@@ -13,7 +13,13 @@ from __future__ import annotations
 
 import argparse
 
+from softcath import design
 from softcath.cli.options import add_design, add_out, add_seed
+from softcath.core.atomic import prepare_out_dir, staged_dir, unstage
+from softcath.core.errors import DesignError
+from softcath.core.plotting import pyplot
+from softcath.design.measurement import read_recording
+from softcath.virtualbench.bench import BenchConfig, make_plant, run_bench
 
 HELP = "virtual bench: simulated devices and camera recorded through the real pipeline"
 
@@ -57,8 +63,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
     """``"lag:tau_s=0.2"`` -> ``("lag", {"tau_s": 0.2})``."""
-    from softcath.design.errors import DesignError
-
     name, _, rest = text.partition(":")
     params: dict[str, float | int] = {}
     for item in filter(None, rest.split(",")):
@@ -74,12 +78,7 @@ def parse_effect(text: str) -> tuple[str, dict[str, float | int]]:
 
 
 def _plot(out, truth_csv, run_csv) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from softcath.design.measurement import read_recording
+    plt = pyplot()
 
     d = read_recording(run_csv)
     tr = read_recording(truth_csv)
@@ -105,10 +104,6 @@ def run(args: argparse.Namespace) -> int:
     """Run ``softcath bench``."""
     from pathlib import Path
 
-    from softcath import design
-    from softcath.design.errors import DesignError
-    from softcath.virtualbench.bench import BenchConfig, run_bench
-
     try:
         freqs = tuple(float(f) for f in args.freq.split(",") if f.strip())
     except ValueError as exc:
@@ -127,10 +122,8 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
     )
     effects = [parse_effect(e) for e in args.effect]
-    from softcath.virtualbench.bench import make_plant
 
     make_plant(d, effects=effects, load=args.load)  # bad effect names or parameters fail here, first
-    from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
 
     out = prepare_out_dir(args.out)
     print(

@@ -11,7 +11,16 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath import analytic, design
+from softcath.analytic.calibration import calibrate
 from softcath.cli.options import add_design, add_out, model_name
+from softcath.core.atomic import Outputs, check_finite_json, prepare_out_dir
+from softcath.core.limits import check_pressure
+from softcath.design.measurement import Measurement, read_measurement_csv
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.calibration import calibrate_section
+from softcath.hardware.filtering import filtfilt
+from softcath.studies.plots import calibration_plot
 
 HELP = "the paper's ellipse shape optimisation against a measurement CSV"
 
@@ -60,11 +69,6 @@ def _grid_max(n_free: int) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath import analytic, design
-    from softcath.analytic.calibration import calibrate
-    from softcath.studies.atomic import Outputs, check_finite_json, prepare_out_dir
-    from softcath.studies.plots import calibration_plot
-
     free = tuple(s.strip() for s in args.free.split(",") if s.strip())
     _check_grid(args.grid, free)
     d = design.resolve(args.design)
@@ -72,9 +76,6 @@ def run(args: argparse.Namespace) -> int:
     out = prepare_out_dir(args.out)  # after every input is read and checked
     load = args.load or ("lumen" if args.model == "section" else "cap")
     if args.model == "section":
-        from softcath.fem.section_model import section_model
-        from softcath.fem.section_model.calibration import calibrate_section
-
         res = calibrate_section(m, d, free=free, load=load, grid=args.grid)
 
         def model(dd):
@@ -136,8 +137,6 @@ def run(args: argparse.Namespace) -> int:
 
 def _check_grid(grid: int, free: tuple[str, ...]) -> None:
     """Refuse a ``--grid`` beyond the multistart budget of ``free``."""
-    from softcath import design
-
     grid_max = _grid_max(len(free))
     if not 1 <= grid <= grid_max:  # one bound, stated once: grid^len(free) IPOPT starts
         raise design.DesignError(
@@ -150,14 +149,9 @@ def _check_grid(grid: int, free: tuple[str, ...]) -> None:
 
 def _read_measurement(path: Path, low_pass: bool):
     """Read and check the measurement CSV; with ``low_pass`` filter every series."""
-    from softcath.design.measurement import Measurement, read_measurement_csv
-    from softcath.studies.model_validity import check_pressure
-
     m = read_measurement_csv(path)
     check_pressure(m.pressure_MPa, param=f"{path}: pressure_MPa")
     if low_pass:
-        from softcath.hardware.filtering import filtfilt
-
         opt = {k: filtfilt(v) for k, v in m.optional.items()}
         m = Measurement.from_arrays(
             time_s=m.time_s,

@@ -12,7 +12,14 @@ from __future__ import annotations
 
 import argparse
 
+from softcath import design
 from softcath.cli.options import add_design, add_out, as_options
+from softcath.core.atomic import Outputs, prepare_out_dir
+from softcath.fem.coil import closed_forms as cf
+from softcath.fem.coil import coil_wire, resolved_coil_stiffness
+from softcath.fem.coil.helix import helix_mesh
+from softcath.fem.coil.homogenised import homogenised_models
+from softcath.fem.coil.picture import bent_coil_picture
 
 HELP = "resolved-wire coil stiffness (tension, compression, bending with contact) vs homogenised models"
 
@@ -28,10 +35,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
     """The coil.json entry of one coil (resolved wire, ratios, homogenised models, closed forms)."""
-    from softcath.fem.coil import closed_forms as cf
-    from softcath.fem.coil import coil_wire, resolved_coil_stiffness
-    from softcath.fem.coil.homogenised import homogenised_models
-
     r = resolved_coil_stiffness(coil, elements_per_turn=elements_per_turn)
     models = homogenised_models(coil)
     wire, geo = coil_wire(coil), {"radius": coil.mean_radius, "pitch": coil.pitch}
@@ -84,10 +87,6 @@ def coil_report(coil, *, elements_per_turn: int = 48) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath import design
-    from softcath.fem.coil.helix import helix_mesh
-    from softcath.studies.atomic import Outputs, prepare_out_dir
-
     with as_options({"elements_per_turn": "--elements-per-turn"}):  # checked before any work
         helix_mesh(radius=1.0, pitch=1.0, turns=1, elements_per_turn=args.elements_per_turn)
     d = design.resolve(args.design)
@@ -99,8 +98,6 @@ def run(args: argparse.Namespace) -> int:
     with Outputs(out) as o:  # both files or neither
         o.json("coil.json", doc)
         if not args.no_png:
-            from softcath.fem.coil.picture import bent_coil_picture
-
             bent_coil_picture(o.path("coil.png"), {"outer coil": d.coil, "channel": d.channel})
     for name in coils:
         e = doc[name]

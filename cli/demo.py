@@ -6,7 +6,12 @@ from __future__ import annotations
 
 import argparse
 
+from softcath import design
 from softcath.cli.options import add_design, add_out
+from softcath.core.atomic import prepare_out_dir
+from softcath.core.errors import DataError, DesignError
+from softcath.design.measurement import read_measurement_csv
+from softcath.studies.demo import SECTIONS, run_demo
 
 HELP = "run the whole story on the paper's design and write DIR/index.html"
 
@@ -23,9 +28,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.design.errors import DesignError
-    from softcath.studies.demo import SECTIONS, run_demo
-
     keys = [k for k, _, _ in SECTIONS]
     only = None
     if args.only:
@@ -35,14 +37,10 @@ def run(args: argparse.Namespace) -> int:
             raise DesignError("only", bad[0], f"unknown section; choose from {', '.join(keys)}")
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
-    from softcath import design
-    from softcath.studies.atomic import prepare_out_dir
 
     out = prepare_out_dir(args.out)
     design.resolve(args.design)  # a bad design is refused before any section runs
     if args.data is not None:
-        from softcath.design.measurement import read_measurement_csv
-
         read_measurement_csv(args.data)  # so is a bad data file (the sections would each fail on it)
     res = run_demo(
         out,
@@ -57,8 +55,6 @@ def run(args: argparse.Namespace) -> int:
     print(f"demo: {res.index_html} ({res.seconds:.0f} s)")
     failed = [s["key"] for s in res.sections if s["status"] == "failed"]
     if failed:
-        from softcath.design.errors import DataError
-
         raise DataError(
             f"{len(failed)} section(s) failed: {', '.join(failed)} (reasons in {res.index_html}; "
             "rerun with --debug --only KEY for the traceback)"

@@ -5,7 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath import design
+from softcath.analytic import composite_section, gains
 from softcath.cli.options import add_design, add_out
+from softcath.core.atomic import Outputs, atomic_path, check_outputs, check_parent, prepare_out_dir
+from softcath.design import cad  # CadQuery: lazily, only for export
+from softcath.studies.plots import section_plot
 
 HELP = "show / validate / export (STEP, STL) a design"
 
@@ -26,9 +31,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath import design
-    from softcath.analytic import composite_section, gains
-
     d = design.resolve(args.design)
     if args.action == "validate":
         squeezed = "" if d.catalogue_fits else "; note: the catalogue tube is squeezed to fit"
@@ -38,8 +40,6 @@ def run(args: argparse.Namespace) -> int:
     if args.action == "export":
         if not (args.step or args.stl or args.out):
             raise design.DesignError("export", None, "give --out DIR, --step PATH and/or --stl PATH")
-        from softcath.design import cad  # CadQuery: lazily, only for export
-        from softcath.studies.atomic import atomic_path, check_outputs, check_parent, prepare_out_dir
 
         step, stl = args.step, args.stl
         if args.out and not (step or stl):
@@ -61,8 +61,6 @@ def run(args: argparse.Namespace) -> int:
         return 0
     out = None
     if args.out:
-        from softcath.studies.atomic import prepare_out_dir
-
         out = prepare_out_dir(args.out)
     cs = composite_section(d)
     kc, ec = gains(d, "cap")
@@ -86,9 +84,6 @@ def run(args: argparse.Namespace) -> int:
     )
     print(f"gains (cap load): {kc:.4g} 1/(mm MPa), {ec:.4g} 1/MPa;  (lumen load): {kl:.4g}, {el:.4g}")
     if out is not None:
-        from softcath.studies.atomic import Outputs
-        from softcath.studies.plots import section_plot
-
         doc = {
             "name": d.name,
             "section_mm": d.section.__dict__ | {"lumen_center_y": d.section.lumen_center_y},

@@ -2,8 +2,9 @@
 
 Each subcommand lives in its own module ``softcath.cli.<name>`` (``cli/<name>.py``) exposing
 ``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``.
-Modules import their heavy dependencies inside ``run`` so that
-``softcath --help`` stays fast.
+A module is imported only when its command is parsed (:func:`build_parser`), so it imports
+the library at its top and ``softcath --help`` still imports none of it; the heavy optional
+dependencies (CadQuery, OpenCV, Panel, ...) stay inside the functions that use them.
 
 Every way a command can fail ends here, in :func:`main`: an input error
 (:class:`~softcath.design.errors.SoftcathError`) or any other exception becomes one
@@ -28,11 +29,14 @@ import warnings
 from softcath import __version__
 from softcath.cli.help_text import PlainFormatter
 from softcath.cli.options import check_option_effects, in_command_terms, option_terms
-from softcath.design.errors import SoftcathError
-from softcath.interrupts import clear_stop, request_stop
+from softcath.core.atomic import forget_created_dirs, remove_created_dirs
+from softcath.core.errors import SoftcathError
+from softcath.core.interrupts import clear_stop, request_stop
+from softcath.core.output_ledger import forget_inputs, protect_inputs
 
-#: (subcommand, module): every module is imported when the parser is built; one that fails
-#: to import fails the command line (a broken install must not lose a subcommand silently).
+#: (subcommand, module): a command's module is imported when that command is parsed, so
+#: ``softcath --help`` imports none of them; :func:`build_parser` without a command imports
+#: every one (a broken install must not lose a subcommand silently).
 SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("demo", "softcath.cli.demo"),
     ("design", "softcath.cli.design"),
@@ -52,6 +56,32 @@ SUBCOMMANDS: tuple[tuple[str, str], ...] = (
     ("optimise", "softcath.cli.optimise"),
     ("app", "softcath.cli.app"),
 )
+
+#: Each command's one-line help, as its module's ``HELP`` says (a test keeps them equal): the
+#: top-level ``--help`` lists the commands without importing their modules.
+HELP: dict[str, str] = {
+    "demo": "run the whole story on the paper's design and write DIR/index.html",
+    "design": "show / validate / export (STEP, STL) a design",
+    "analytic": "curvature, elongation, tip pose over a pressure range",
+    "calibrate": "the paper's ellipse shape optimisation against a measurement CSV",
+    "fem": (
+        "one FEM bending check (mesh, solve, compare with the analytic model); --nonlinear for finite strain"
+    ),
+    "section": "2-D section model: FEM-grade curvature per MPa in milliseconds",
+    "sweep": "run a design sweep (local processes or Dask), resumable",
+    "report": "write a static HTML report of a sweep directory",
+    "select": "rank a sweep's designs by constraints and objectives (Pareto front)",
+    "measure": "measure the tip in a video / image folder / camera into a CSV and an overlay video",
+    "record": "record serial sensors (and a camera) into the measurement CSV at 200 Hz",
+    "bench": "virtual bench: simulated devices and camera recorded through the real pipeline",
+    "discrepancy": "name the effect the model is missing (hysteresis, lag, ...) and show the gap shrink",
+    "coil": (
+        "resolved-wire coil stiffness (tension, compression, bending with contact) vs homogenised models"
+    ),
+    "predict": "prediction bands of the bending gain under parameter uncertainty, vs a measurement",
+    "optimise": "optimise a design (DE or NSGA-II) under select-style objectives and constraints",
+    "app": "the interactive design app in the browser (local web server; Ctrl-C stops it)",
+}
 
 EXIT_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -166,8 +196,15 @@ def parser_message(message: str) -> str:
     return message
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Build the argument parser with every subcommand of :data:`SUBCOMMANDS`.
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """Build the argument parser with the subcommands of :data:`SUBCOMMANDS`.
+
+    Parameters
+    ----------
+    command
+        ``None``: every subcommand's parser, each module imported. A name: that
+        subcommand's parser only; the others are listed with their one-line :data:`HELP`
+        and their modules are not imported (``""``: none is imported).
 
     Raises
     ------
@@ -186,6 +223,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, module_name in SUBCOMMANDS:
+        if command is not None and name != command:
+            sub.add_parser(name, help=HELP.get(name))  # listed; its module loads when it is chosen
+            continue
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__)
         module.add_arguments(p)
@@ -195,6 +235,13 @@ def build_parser() -> argparse.ArgumentParser:
             _defaults={a.dest: a.default for a in p._actions if a.option_strings},
         )
     return parser
+
+
+def _chosen_command(argv: list[str] | None) -> str:
+    """The subcommand ``argv`` names (its first positional; the global options are flags), or ``""``."""
+    args = sys.argv[1:] if argv is None else argv
+    first = next((a for a in args if not a.startswith("-")), "")
+    return first if first in dict(SUBCOMMANDS) else ""
 
 
 class _BriefFormatter(logging.Formatter):
@@ -265,7 +312,7 @@ def _stdout_failed() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``softcath`` console script; returns the exit status."""
-    parser = build_parser()
+    parser = build_parser(_chosen_command(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, already said in one line)
@@ -281,9 +328,6 @@ def main(argv: list[str] | None = None) -> int:
             old_term = old_int = None
     name = args.command + (f" {args.action}" if getattr(args, "action", None) else "")
     _printable_streams()
-    from softcath.studies.atomic import forget_created_dirs, remove_created_dirs
-    from softcath.studies.output_ledger import forget_inputs, protect_inputs
-
     forget_created_dirs()
     forget_inputs()
     protect_inputs(_input_files(args))

@@ -15,6 +15,13 @@ import argparse
 from pathlib import Path
 
 from softcath.cli.options import add_out
+from softcath.core.atomic import staged_dir, unstage
+from softcath.core.errors import DataError, DesignError
+from softcath.hardware.errors import FrameSourceError
+from softcath.hardware.frames import open_source
+from softcath.hardware.measure_video import measure_video
+from softcath.hardware.vision import Calibration
+from softcath.hardware.vision.scale import scale_from_chessboard
 
 HELP = "measure the tip in a video / image folder / camera into a CSV and an overlay video"
 
@@ -74,17 +81,12 @@ def add_chessboard_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _scale_from_args(args: argparse.Namespace) -> float:
-    from softcath.design.errors import DesignError
-
     board = getattr(args, "chessboard", None)
     if board is None:
         if args.px_per_mm is None:
             raise DesignError("--px-per-mm", None, "is required (or give --chessboard)")
         return args.px_per_mm
     import cv2
-
-    from softcath.hardware.errors import FrameSourceError
-    from softcath.hardware.vision.scale import scale_from_chessboard
 
     if args.square_mm is None:
         raise DesignError("--square-mm", None, "is required with --chessboard")
@@ -102,9 +104,6 @@ def calibration_from_args(args: argparse.Namespace):
     """A :class:`softcath.hardware.vision.Calibration` from --px-per-mm (or --chessboard), --base,
     --base-angle."""
     import math
-
-    from softcath.design.errors import DesignError
-    from softcath.hardware.vision import Calibration
 
     scale = _scale_from_args(args)  # the scale, base angle and diameter are checked by Calibration
     diameter = getattr(args, "diameter", 0.8)
@@ -130,16 +129,11 @@ def run(args: argparse.Namespace) -> int:
     import logging
     import math
 
-    from softcath.hardware.frames import open_source
-    from softcath.hardware.measure_video import measure_video
-
     cal = calibration_from_args(args)
     if getattr(args, "chessboard", None):
         print(f"scale from the chessboard: {cal.px_per_mm:.3f} px/mm")
     # per-frame misses are counted and summarised below rather than logged one by one
     logging.getLogger("softcath.hardware.measure_video").setLevel(logging.ERROR)
-    from softcath.design.errors import DataError, DesignError
-    from softcath.studies.atomic import staged_dir, unstage
 
     if args.fps is not None and not (math.isfinite(args.fps) and args.fps > 0):
         raise DesignError("--fps", args.fps, "must be a finite frame rate > 0 Hz")

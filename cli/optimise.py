@@ -171,7 +171,7 @@ def run(args: argparse.Namespace) -> int:
             prob = ", ".join(f"P({k}) = {v:.2f}" for k, v in w.probabilities.items())
             print(f"    p5/p50/p95 {pct}{'; ' + prob if prob else ''}")
         if w.fem_check:
-            print(f"    {_fem_line(w.fem_check)}")
+            print(f"    {_fem_line(w.fem_check, opt.load)}")
     if len(opt.best) > 5:
         print(f"  ... {len(opt.best) - 5} more on the Pareto front")
     print(f"optimum: {paths['optimum']}; report: {report}")
@@ -221,19 +221,21 @@ def _as_options():
         raise DesignError(_flag(exc.parameter), exc.value, exc.bound) from None
 
 
-def _fem_line(check: dict) -> str:
+def _fem_line(check: dict, load: str | None = None) -> str:
+    """The 3-D FEM re-check of one winner, with the tier and load its values come from."""
+    where = f" [fem, {load} load]" if load else " [fem]"  # the re-check runs under the search's load
     if check["status"] != "ok":
-        return f"3-D FEM re-check failed: {check['reason']}"
+        return f"3-D FEM re-check failed{where}: {check['reason']}"
     rd = check["curvature_rel_diff"]
     agree = f"; its curvature differs from the model's by {rd:.2%}" if rd is not None else ""
     if check["feasible"]:
-        return f"3-D FEM: meets the constraints{agree}"
+        return f"3-D FEM: meets the constraints{where}{agree}"
     missed = check.get("missed") or {}
     which = "; ".join(
         f"{text} (undefined)" if m is None else f"{text} by {-m:.4g} (margin {m:.4g})"
         for text, m in missed.items()
     )
-    return f"3-D FEM: MISSES {which or 'the constraints'}{agree}"
+    return f"3-D FEM: MISSES {which or 'the constraints'}{where}{agree}"
 
 
 def _unit(path: str) -> str:

@@ -13,6 +13,9 @@ import contextlib
 from collections.abc import Iterator
 from pathlib import Path
 
+from softcath.core.errors import DesignError
+from softcath.core.limits import check_pressure
+
 DEFAULT_DESIGN = "paper"
 DESIGN_HELP = "preset name (e.g. paper) or path to a design .toml"
 
@@ -37,7 +40,10 @@ def model_name(text: str) -> str:
     The option's ``choices`` then refuse what is not a tier of the command
     (the names: :mod:`softcath.studies.tiers`).
     """
-    from softcath.studies.tiers import ALIASES, tier_name
+    from softcath.studies.tiers import (  # the library loads when a command runs, not for --help
+        ALIASES,
+        tier_name,
+    )
 
     return tier_name(text, parameter="--model") if text in ALIASES else text
 
@@ -98,9 +104,6 @@ def parse_pressures(text: str, *, param: str = "--pressure", increasing: bool = 
     """
     import numpy as np
 
-    from softcath.design.errors import DesignError
-    from softcath.studies.model_validity import check_pressure
-
     items = [item for item in text.split(",") if item.strip()]  # "0.1,0.3," : an empty item is nothing
     if not items:
         raise DesignError(param, text, "must hold at least one pressure in MPa")
@@ -147,8 +150,6 @@ def as_options(names: dict[str, str]) -> Iterator[None]:
     The library names its own parameters (``samples``, ``seed``); a command renames the
     ones it passes through from an option, keeping the value and the bound.
     """
-    from softcath.design.errors import DesignError
-
     try:
         yield
     except DesignError as exc:
@@ -212,7 +213,7 @@ def resolve_design(args: argparse.Namespace):
     """The design of ``args.design`` with ``--assembly`` overrides applied."""
     from dataclasses import replace
 
-    from softcath import design
+    from softcath import design  # the library loads when a command runs, not for --help
 
     d = design.resolve(args.design)
     overrides = getattr(args, "assembly", None) or []
@@ -266,8 +267,6 @@ def in_command_terms(exc: Exception, terms: dict[str, str]) -> Exception:
     is said with the option; a dotted or spaced tail is kept (``vary.tube.h`` ->
     ``--vary tube.h``). Anything else is returned unchanged.
     """
-    from softcath.design.errors import DesignError
-
     if not isinstance(exc, DesignError) or not isinstance(exc.parameter, str):
         return exc
     name = exc.parameter
@@ -326,8 +325,6 @@ def check_option_effects(args: argparse.Namespace, command: str, defaults: dict)
     DesignError
         Naming the option, its value and the option it needs.
     """
-    from softcath.design.errors import DesignError
-
     terms = getattr(args, "_terms", {})
     for dests, active, why in _ACTS_ONLY_WITH.get(command, ()):
         if active(args):

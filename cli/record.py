@@ -11,8 +11,15 @@ from __future__ import annotations
 import argparse
 import sys
 
-from softcath.cli.measure import add_chessboard_arguments
+from softcath.cli.measure import add_chessboard_arguments, calibration_from_args
 from softcath.cli.options import add_out
+from softcath.core.atomic import prepare_out_dir, write_text
+from softcath.core.errors import DataError, DesignError
+from softcath.hardware.frames import open_source
+from softcath.hardware.measure_video import measured_frames
+from softcath.hardware.recorder import Recorder, RecorderConfig
+from softcath.hardware.sensors import SerialSensor
+from softcath.hardware.stage import ZaberStage
 
 HELP = "record serial sensors (and a camera) into the measurement CSV at 200 Hz"
 
@@ -81,8 +88,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _refuse_an_earlier_recording(out) -> None:
     """A recording streams into DIR/measurements.csv from its first row (so a kill keeps it): an
     earlier recording there would be truncated before the new one knows it has data. Refused."""
-    from softcath.design.errors import DesignError
-
     for name in ("measurements.csv", "record.json"):
         if (out / name).exists():
             raise DesignError(
@@ -95,12 +100,6 @@ def _refuse_an_earlier_recording(out) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``softcath record``."""
 
-    from softcath.cli.measure import calibration_from_args
-    from softcath.design.errors import DataError
-    from softcath.hardware.recorder import Recorder, RecorderConfig
-    from softcath.hardware.sensors import SerialSensor
-    from softcath.studies.atomic import prepare_out_dir, write_text
-
     _check_args(args)
     out = prepare_out_dir(args.out)
     _refuse_an_earlier_recording(out)
@@ -112,15 +111,10 @@ def run(args: argparse.Namespace) -> int:
     cfg = RecorderConfig(clock=args.clock, device_rate_hz=args.device_rate)
     camera = stage = source = None
     if args.camera is not None:
-        from softcath.hardware.frames import open_source
-        from softcath.hardware.measure_video import measured_frames
-
         cal = calibration_from_args(args)
         source = open_source(args.camera)
         camera = measured_frames(source, cal, method=args.method, host_time=source.kind == "camera")
     if args.stage_port:
-        from softcath.hardware.stage import ZaberStage
-
         stage = ZaberStage(args.stage_port).open()
 
     def status(s) -> None:
@@ -161,8 +155,6 @@ def run(args: argparse.Namespace) -> int:
 def _check_args(args: argparse.Namespace) -> None:
     """Refuse a bad duration, scale or device rate."""
     import math
-
-    from softcath.design.errors import DesignError
 
     if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
         raise DesignError("--duration", args.duration, "must be a finite time > 0 s")

@@ -6,6 +6,9 @@ from __future__ import annotations
 import argparse
 
 from softcath.cli.options import add_out
+from softcath.core.atomic import prepare_out_dir
+from softcath.core.errors import DataError
+from softcath.studies.report import write_report
 
 HELP = "write a static HTML report of a sweep directory"
 
@@ -19,16 +22,11 @@ def run(args: argparse.Namespace) -> int:
     import re
     from pathlib import Path
 
-    from softcath.design.errors import DataError
-    from softcath.studies.report import write_report
-
     if not Path(args.dir).is_dir():
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
 
     out = None
     if args.out is not None:
-        from softcath.studies.atomic import prepare_out_dir
-
         out = prepare_out_dir(args.out)
     path, _ = write_report(args.dir, out=out)
     # the report's figures, not other PNGs the folder holds

@@ -18,6 +18,10 @@ DIR/section_curve.png the curvature against pressure.
 ``softcath.cli.section_nonlinear``): the bend curve through every pressure of
 the range, with DIR/section_curve.png against the linear model and, with
 ``--measured CSV``, a measured curve.
+
+Several designs (``softcath section A.toml B.toml ...``) overlay their bend curves
+(``softcath.cli.section_overlay``): DIR/overlay.csv, overlay.json and overlay.png, each
+curve labelled with its design, tier and load, each value the single-design run's.
 """
 
 from __future__ import annotations
@@ -27,8 +31,8 @@ import csv
 from pathlib import Path
 
 from softcath.cli.options import (
+    DESIGN_HELP,
     add_assembly,
-    add_design,
     add_out,
     add_pressure_range,
     as_options,
@@ -53,7 +57,12 @@ _BILINEAR_SECONDS_PER_PRESSURE = 1.0e-4
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    add_design(p)
+    p.add_argument(
+        "design",
+        nargs="+",
+        metavar="DESIGN",
+        help=f"{DESIGN_HELP}; several: their bend curves overlaid in one picture and one table",
+    )
     add_pressure_range(p, default="0:0.6:13")
     p.add_argument(
         "--load",
@@ -184,6 +193,12 @@ def run(args: argparse.Namespace) -> int:
     from softcath.cli.section_nonlinear import check_options, run_nonlinear
 
     check_options(args)
+    if isinstance(args.design, list) and len(args.design) > 1:
+        from softcath.cli.section_overlay import run_overlay
+
+        return run_overlay(args)
+    if isinstance(args.design, list):
+        args.design = args.design[0]
     if args.nonlinear:
         return run_nonlinear(args)
     from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS

@@ -15,7 +15,17 @@ import csv
 import math
 from pathlib import Path
 
-from softcath.design.errors import DesignError
+from softcath.cli.options import parse_pressure_range, resolve_design
+from softcath.core.atomic import Outputs, prepare_out_dir
+from softcath.core.errors import DesignError
+from softcath.core.output_ledger import check_replace
+from softcath.core.plotting import pyplot
+from softcath.design.measurement import read_measurement_csv
+from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
+from softcath.fem.section_model.finite_strain.curve import CSV_COLUMNS
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
+from softcath.studies.model_validity import SELF_CONTACT_DEG, check_measured_pressures, warn_self_contact
+from softcath.studies.sweep.section_nonlinear_eval import curve_with_rest
 
 #: Options of the linear section model that the finite-strain model does not take.
 LINEAR_ONLY = ("coil_model", "coil_bound", "initial_tension", "coil_modulus", "coil_bending")
@@ -39,9 +49,6 @@ def check_options(args: argparse.Namespace) -> None:
 
 def check_cost(d, n_pressures: int, args: argparse.Namespace) -> float:
     """Refuse a curve estimated beyond the work limit (warn above a minute); the estimate in s."""
-    from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
-    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, check_size
-
     mesh_size = MESH_SIZE if args.mesh_size is None else args.mesh_size
     check_size(mesh_size, SEGMENTS if args.segments is None else args.segments)  # named by the library
     return check_work_seconds(
@@ -54,13 +61,6 @@ def check_cost(d, n_pressures: int, args: argparse.Namespace) -> float:
 
 
 def run_nonlinear(args: argparse.Namespace) -> int:
-    from softcath.cli.options import parse_pressure_range, resolve_design
-    from softcath.fem.section_model.finite_strain.curve import CSV_COLUMNS
-    from softcath.studies.atomic import Outputs, prepare_out_dir
-    from softcath.studies.model_validity import check_measured_pressures, warn_self_contact
-    from softcath.studies.output_ledger import check_replace
-    from softcath.studies.sweep.section_nonlinear_eval import curve_with_rest
-
     check_options(args)
     pressures = parse_pressure_range(args.pressure)  # options first, then the folder, then the work
     if (pressures < 0).any():
@@ -77,8 +77,6 @@ def run_nonlinear(args: argparse.Namespace) -> int:
     check_cost(d, len(walk), args)
     measured = None
     if args.measured is not None:
-        from softcath.design.measurement import read_measurement_csv
-
         measured = read_measurement_csv(args.measured, missing="drop")
         check_measured_pressures(
             measured.pressure_MPa, max(walk), param="--measured", value=str(args.measured)
@@ -134,8 +132,6 @@ def run_nonlinear(args: argparse.Namespace) -> int:
 
 def _self_contact_from(c) -> float:
     """The first pressure of ``c`` whose bend passes a full turn (the tip through itself)."""
-    from softcath.studies.model_validity import SELF_CONTACT_DEG
-
     past = [
         p
         for p, a in zip(c.pressure, c.bend_angle_rad, strict=True)
@@ -146,10 +142,7 @@ def _self_contact_from(c) -> float:
 
 def curve_picture(c, path: Path, *, measured=None) -> None:
     """Curvature and bend angle against pressure: finite-strain, linear and measured."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     import numpy as np
 
     p = np.linspace(0.0, float(c.pressure.max()), 50)

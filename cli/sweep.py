@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 
 from softcath.cli.options import add_out, add_progress, as_options
+from softcath.core.atomic import folder_lock, prepare_out_dir
+from softcath.studies.sweep import load_spec, run_sweep
 
 HELP = "run a design sweep (local processes or Dask), resumable"
 
@@ -29,9 +31,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import folder_lock, prepare_out_dir
-    from softcath.studies.sweep import load_spec, run_sweep
-
     spec = load_spec(args.spec)
     out = prepare_out_dir(args.out)
     options = {"workers": "--workers", "dask_local": "--dask-local", "scheduler": "--scheduler"}
@@ -46,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         )
     print(
         f"sweep {spec.name}: {s.n_designs} designs ({s.ok_designs} ok, {s.failed_designs} failed) "
-        f"x {len(spec.pressures_MPa)} pressures x {len(spec.loads)} loads on {s.backend}; "
+        f"x {len(spec.pressures)} pressures x {len(spec.loads)} loads on {s.backend}; "
         f"evaluated {s.evaluated_designs} designs, {s.skipped_tasks} of {s.n_tasks} tasks already done; "
         f"{s.seconds:.1f} s"
     )

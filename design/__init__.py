@@ -10,11 +10,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from softcath.core.errors import DataError, DesignError, SoftcathError
 from softcath.design import presets as _presets
 from softcath.design.assembly import Assembly
 from softcath.design.coil_mechanics import CoilStiffness, coil_stiffness
 from softcath.design.components import Coil, Tip, Tube
-from softcath.design.errors import DataError, DesignError, SoftcathError
 from softcath.design.io import dumps, from_dict, load, loads, save, to_dict
 from softcath.design.materials import Material
 from softcath.design.section import AssembledSection

@@ -30,7 +30,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.design.validation import positive
 
 __all__ = ["Assembly", "INTERFACES", "INTERFACE_KINDS", "FILLERS", "PROXIMAL"]

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.errors import DesignError
 from softcath.design.tip import TipDesign
 
 __all__ = [
@@ -115,8 +116,6 @@ def build_solids(design: TipDesign, *, coil: str = "annulus", land_gap: float = 
         Bonded-land threshold (mm).
     """
     import cadquery as cq
-
-    from softcath.design.errors import DesignError
 
     if coil not in ("annulus", "helix"):
         raise DesignError("coil", coil, "must be 'annulus' or 'helix'")

@@ -9,8 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from softcath.core.errors import DesignError
 from softcath.design import validation
-from softcath.design.errors import DesignError
 from softcath.design.materials import Material
 
 __all__ = ["Coil", "Tube", "Tip"]

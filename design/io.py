@@ -19,9 +19,9 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
+from softcath.core.errors import DesignError
 from softcath.design.assembly import Assembly
 from softcath.design.components import Coil, Tip, Tube
-from softcath.design.errors import DesignError
 from softcath.design.materials import Material
 from softcath.design.tip import TipDesign
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from softcath.core.errors import DesignError
 from softcath.design import validation
-from softcath.design.errors import DesignError
 
 __all__ = ["Material"]
 

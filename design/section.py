@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = [
     "AssembledSection",
@@ -126,7 +126,7 @@ def wall_thickness(a, b, a_int, b_int, h):
     return np.minimum(np.asarray(b) - np.asarray(b_int) - np.abs(h), np.asarray(a) - np.asarray(a_int))
 
 
-def lumen_containment(a, b, a_int, b_int, h, wall, n: int = 2001):
+def lumen_containment(a, b, a_int, b_int, h, wall, *, n: int = 2001):
     """Max over the lumen boundary of ((x/(a−t))² + (y/(b−t))²); ≤ 1 means the lumen fits with wall t.
 
     The lumen point at parameter s = sin φ gives the quadratic

@@ -6,10 +6,10 @@ import functools
 from dataclasses import dataclass, replace
 from dataclasses import field as _field
 
+from softcath.core.errors import DesignError
 from softcath.design import section as _section
 from softcath.design.assembly import Assembly
 from softcath.design.components import Coil, Tip, Tube
-from softcath.design.errors import DesignError
 from softcath.design.materials import Material
 
 __all__ = ["TipDesign"]

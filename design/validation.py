@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import numbers
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 # Design numbers are mm and MPa: nothing in a catheter (or its materials) lies outside
 # [1e-9, 1e9] in magnitude, and staying inside keeps every derived quantity (I ~ length^4,

@@ -1,5 +1,14 @@
-"""softcath FEM bending check: meshes of the as-assembled tip, linear
-P2 elasticity with homogenised coils, verified against closed forms.
+"""softcath's mechanics of the tip: section models, finite strain, the coil, and the 3-D FEM.
+
+Subpackages, from fastest to fullest:
+
+- :mod:`~softcath.fem.section_model`: the 2-D section model (linear, ~13 ms a design)
+  and its finite-strain counterpart (:mod:`~softcath.fem.section_model.finite_strain`);
+- :mod:`~softcath.fem.coil`: the helical coil's own mechanics;
+- :mod:`~softcath.fem.mesh`: gmsh and TetWild meshes of the as-assembled tip, cached on disk;
+- the 3-D FEM bending check (this package's :func:`check`: linear P2 elasticity with
+  homogenised coils, verified against closed forms) and its finite-strain counterpart
+  (:mod:`~softcath.fem.nonlinear`).
 
 >>> from softcath import fem
 >>> r = fem.check("paper", pressures=[0.05], loads=("cap",))   # doctest: +SKIP

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 
 __all__ = ["Circle", "kasa_fit", "hyper_fit", "geometric_fit", "fit_with_base"]
 

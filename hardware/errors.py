@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from softcath.design.errors import SoftcathError
+from softcath.core.errors import SoftcathError
 
 __all__ = ["DeviceError", "FrameSourceError"]
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 
 __all__ = [
     "PAPER_FS_HZ",

@@ -10,7 +10,7 @@ import json
 import math
 from dataclasses import asdict, dataclass, field
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = ["PAPER_FS_HZ", "CAMERA_COLUMNS", "RecorderConfig", "Status", "RecordSummary"]
 

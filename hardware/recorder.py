@@ -47,7 +47,6 @@ from softcath.hardware.timebase import DeviceStream, Series
 __all__ = [
     "CAMERA_COLUMNS",
     "PAPER_FS_HZ",
-    "CsvSink",
     "RecorderConfig",
     "Status",
     "RecordSummary",

@@ -13,7 +13,7 @@ import logging
 import math
 from dataclasses import dataclass
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.hardware.errors import DeviceError
 from softcath.hardware.ports import LineReader, open_port
 from softcath.hardware.protocol import LineDecoder, LineStats

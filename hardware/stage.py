@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.hardware.errors import DeviceError
 from softcath.hardware.ports import open_port
 

@@ -33,15 +33,18 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DesignError
-from softcath.design.measurement import read_recording
+from softcath import design as design_pkg
+from softcath.core.errors import DesignError
+from softcath.design.measurement import CsvSink, read_recording
 from softcath.hardware.frames import VideoWriter
 from softcath.hardware.recorder import Recorder, RecorderConfig, RecordSummary
 from softcath.hardware.sensors import SerialSensor
 from softcath.hardware.stage import DEFAULT_MICROSTEP_MM, SyringeModel, ZaberStage
 from softcath.hardware.vision import Calibration, measure
 from softcath.virtualbench.devices import VirtualClock, VirtualLineDevice, VirtualStage
+from softcath.virtualbench.plant import Plant
 from softcath.virtualbench.render import Scene, render_frame
+from softcath.virtualbench.truth_effects import make_effect
 
 __all__ = ["WAVEFORMS", "BenchConfig", "BenchResult", "make_plant", "run_bench"]
 
@@ -150,9 +153,6 @@ def make_plant(design, *, effects=(), load: str = "cap"):
     ``effects`` is a sequence of ``(name, params_dict)`` for
     :func:`~softcath.virtualbench.truth_effects.make_effect`.
     """
-    from softcath.virtualbench.plant import Plant
-    from softcath.virtualbench.truth_effects import make_effect
-
     built = tuple(make_effect(name, **params) for name, params in effects)
     return Plant.from_design(design, effects=built, load=load)
 
@@ -192,6 +192,7 @@ def _camera(
     kappa: np.ndarray,
     arc: np.ndarray,
     writer: VideoWriter,
+    *,
     cal: Calibration,
     rng: np.random.Generator,
     counts: dict,
@@ -252,7 +253,9 @@ def run_bench(
         sig = _plant_signals(cfg, plant, stage_dev, t, rng)
 
         # 2. record through the real recorder and measurement pipeline
-        summary, frames = _record(out, cfg, scene, t, sig, press_dev, enc_dev, progress)
+        summary, frames = _record(
+            out, cfg, scene, t, sig, press_dev=press_dev, enc_dev=enc_dev, progress=progress
+        )
     finally:
         stage_dev.close()
         press_dev.close()
@@ -261,7 +264,18 @@ def run_bench(
     # 3. truth and headline numbers
     rms = _curvature_rms(out / "run.csv", t, sig.kappa)
     _write_truth_csv(out / "truth.csv", t, sig.p_true, sig.x_mm, sig.resp)
-    truth = _truth(design, design_label, load, plant, cfg, scene, stage_dev.commands, summary, rms, sig.kappa)
+    truth = _truth(
+        design,
+        design_label,
+        load,
+        plant,
+        cfg=cfg,
+        scene=scene,
+        commands=stage_dev.commands,
+        summary=summary,
+        rms=rms,
+        kappa=sig.kappa,
+    )
     (out / "truth.json").write_text(json.dumps(truth, indent=2, default=_json_default))
     return BenchResult(
         run_csv=str(out / "run.csv"),
@@ -324,6 +338,7 @@ def _record(
     scene: Scene,
     t: np.ndarray,
     sig: _Signals,
+    *,
     press_dev: VirtualLineDevice,
     enc_dev: VirtualLineDevice,
     progress,
@@ -335,7 +350,14 @@ def _record(
     writer = VideoWriter(out / "frames.avi", fps=cfg.fps, size=(scene.width_px, scene.height_px))
     cam_rng = np.random.default_rng([cfg.seed, 1])
     camera = _camera(
-        replace(cfg, scene=scene), sig.t_frames, sig.k_frames, sig.arc_frames, writer, cal, cam_rng, counts
+        replace(cfg, scene=scene),
+        sig.t_frames,
+        sig.k_frames,
+        sig.arc_frames,
+        writer,
+        cal=cal,
+        rng=cam_rng,
+        counts=counts,
     )
     pressure = SerialSensor(press_dev.url, name="pressure sensor", scale=1e-3).open()
     encoder = SerialSensor(enc_dev.url, name="encoder", scale=DEFAULT_MICROSTEP_MM).open()
@@ -386,6 +408,7 @@ def _truth(
     design_label: str,
     load: str,
     plant,
+    *,
     cfg: BenchConfig,
     scene: Scene,
     commands,
@@ -395,8 +418,6 @@ def _truth(
 ) -> dict:
     """The content of ``truth.json``."""
     try:
-        from softcath import design as design_pkg
-
         design_toml = design_pkg.dumps(design)
     except Exception:  # noqa: BLE001 - a design object without TOML support still runs
         design_toml = None
@@ -460,8 +481,6 @@ def _json_default(o):
 
 
 def _write_truth_csv(path: Path, t, p_true, x_mm, resp) -> None:
-    from softcath.design.measurement import CsvSink
-
     cols = ("time_s", "pressure_MPa", "stage_mm", "curvature_per_mm", "arc_length_mm")
     sink = CsvSink(path, cols)
     for i in range(len(t)):

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.virtualbench.hidden_protocols import (
     Protocol,
     default_protocol,
@@ -214,7 +214,9 @@ def make_case(
     plant = Plant(**plant_kw, effects=tuple(truth))
     enr = {e.name: _sig(plant_kw, e, runs) / sigma for e in truth}
     sensor = _sensor(sensor_bandwidth_hz, proto.fs_hz)
-    table = _table(plant, runs, sensor, rng, sigma, pressure_noise_fraction, proto)
+    table = _table(
+        plant, runs, sensor, rng, sigma=sigma, pressure_noise_fraction=pressure_noise_fraction, proto=proto
+    )
     log.info("hidden case %s seed %d: ENR %s", effects, seed, enr)
     return HiddenCase(
         effects=tuple(effects),
@@ -239,7 +241,7 @@ def _check_case(effects, noise_fraction, effect_to_noise) -> None:
         raise DesignError("effect_to_noise", effect_to_noise, "must be > 0")
 
 
-def _table(plant, runs, sensor, rng, sigma, pressure_noise_fraction, proto) -> pd.DataFrame:
+def _table(plant, runs, sensor, rng, *, sigma, pressure_noise_fraction, proto) -> pd.DataFrame:
     """Simulate every run from rest through the sensors and add the noise: the measurement table."""
     frames = []
     t_start = 0.0

@@ -23,8 +23,9 @@ from typing import Any
 
 import numpy as np
 
+from softcath import analytic
 from softcath.analytic.pose import tip_pose
-from softcath.design.errors import DataError, DesignError
+from softcath.core.errors import DataError, DesignError
 from softcath.virtualbench.truth_effects import TruthEffect, check_range
 
 __all__ = ["Plant", "PlantResponse"]
@@ -86,8 +87,6 @@ class Plant:
 
         The analytic model is linear in pressure, so its response at 1 MPa is the gain.
         """
-        from softcath import analytic
-
         r = analytic.response(design, np.array([1.0]), load=load)
         return cls(
             curvature_per_mpa=float(np.ravel(r.curvature)[0]),

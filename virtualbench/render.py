@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = ["Scene", "arc_points", "arc_end_pose", "render_frame", "render_chessboard"]
 

@@ -37,7 +37,7 @@ from typing import ClassVar
 import numpy as np
 
 from softcath.analytic.effects.base import first_order
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = [
     "EFFECT_NAMES",

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from softcath.analytic.section import design_inputs, section_arrays
+from softcath.core.errors import DataError, DesignError
 from softcath.design import TipDesign
-from softcath.design.errors import DataError, DesignError
 from softcath.design.measurement import Measurement
 from softcath.design.section import check_shape, max_outer_semi_axis
 

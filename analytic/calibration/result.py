@@ -10,8 +10,8 @@ from softcath.analytic.beam import gains_arrays
 from softcath.analytic.calibration.problem import SHAPE_KEYS, FitData, ShapeProblem
 from softcath.analytic.data_gain import data_gain
 from softcath.analytic.section import design_inputs
+from softcath.core.errors import DataError
 from softcath.design import TipDesign
-from softcath.design.errors import DataError
 from softcath.design.measurement import Measurement
 
 __all__ = ["CalibrationResult", "nrmse", "describe_fit"]

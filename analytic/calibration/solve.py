@@ -21,8 +21,8 @@ from softcath.analytic.calibration.problem import (
     multistart,
 )
 from softcath.analytic.calibration.result import CalibrationResult, describe_fit
+from softcath.core.errors import DesignError
 from softcath.design import TipDesign
-from softcath.design.errors import DesignError
 from softcath.design.measurement import Measurement
 
 __all__ = ["IPOPT_OPTIONS", "calibrate"]

@@ -27,6 +27,7 @@ from scipy.optimize import least_squares
 
 from softcath.analytic.effects import get
 from softcath.analytic.effects.base import STAGE_ORDER, Scales
+from softcath.core.errors import DesignError
 
 __all__ = ["Segment", "ChainFit", "fit_chain", "predict_chain", "simulate_columns"]
 
@@ -100,8 +101,6 @@ def _ordered(effects: Sequence[str]) -> tuple[str, ...]:
     for e in effects:
         get(e)  # raises on an unknown name
     if len(set(effects)) != len(effects):
-        from softcath.design.errors import DesignError
-
         raise DesignError("effects", list(effects), "each effect at most once")
     return tuple(sorted(effects, key=STAGE_ORDER.index))
 
@@ -217,7 +216,9 @@ def fit_chain(
     params = _unpack(effects, free, z, scales)
     phi, y, names = _filtered_design(effects, params, segments, output_filter, ctx)
     coef, res = _solve(phi, y, fixed_gain)
-    lin_se, stderr = _uncertainties(effects, free, z, best, phi, res, fixed_gain, n_eff, scales)
+    lin_se, stderr = _uncertainties(
+        effects, free, z, best, phi, res, fixed_gain=fixed_gain, n_eff=n_eff, scales=scales
+    )
     gain_se = 0.0 if fixed_gain is not None else float(lin_se[0])
     col_se = lin_se if fixed_gain is not None else lin_se[1:]
     coefficients = {nm: float(c) for nm, c in zip(names[1:], coef[1:], strict=True)}
@@ -273,7 +274,7 @@ def _fit_nonlinear(resid, free, start, scales, max_nfev):
     return best.x, best
 
 
-def _uncertainties(effects, free, z, best, phi, res, fixed_gain, n_eff, scales):
+def _uncertainties(effects, free, z, best, phi, res, *, fixed_gain, n_eff, scales):
     """1-sigma errors: of the linear coefficients (array) and of the nonlinear parameters (dict)."""
     n = res.size
     k = len(free) + phi.shape[1] - (fixed_gain is not None)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib
 
 from softcath.analytic.effects.base import STAGE_ORDER, Candidate
+from softcath.core.errors import DesignError
 
 __all__ = ["get", "names", "register", "MEASURED_CANDIDATES", "FEM_CANDIDATES"]
 
@@ -33,8 +34,6 @@ FEM_CANDIDATES: tuple[str, ...] = ("lumen_wall", "nonlinear_gain", "offset", "de
 
 def register(candidate: Candidate) -> None:
     """Add a candidate to the registry (its ``name`` must be in ``STAGE_ORDER``)."""
-    from softcath.design.errors import DesignError
-
     if candidate.name not in STAGE_ORDER:
         raise DesignError("effect", candidate.name, f"must be one of {STAGE_ORDER}")
     _REGISTRY[candidate.name] = candidate
@@ -57,8 +56,6 @@ def get(name: str) -> Candidate:
     DesignError
         If no candidate has that name.
     """
-    from softcath.design.errors import DesignError
-
     try:
         return _REGISTRY[name]
     except KeyError:

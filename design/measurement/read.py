@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 from softcath.design.measurement.record import Measurement, check_time, check_values
 from softcath.design.measurement.schema import MIN_ROWS, OPTIONAL, REQUIRED, RUN
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 from softcath.design.measurement.schema import DEFAULT_RUN, LIMITS, MIN_ROWS, OPTIONAL, REQUIRED, RUN
 
 __all__ = ["Measurement", "check_values", "check_time"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 import os
@@ -10,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.atomic import atomic_path
+from softcath.core.errors import DesignError
 from softcath.fem.geometry import VOID, TipGeometry
 from softcath.fem.mesh.extrusion import extruded_gmsh
 from softcath.fem.mesh.model import TipMesh
@@ -60,16 +63,12 @@ def mesh_tip(
     MeshError
         Inverted elements, or a region volume off the exact one by more than 1 %.
     """
-    from softcath.design.errors import DesignError
-
     if mesher not in MESHERS:
         raise DesignError("mesher", mesher, f"must be one of {MESHERS}")
     if not (math.isfinite(mesh_size) and 0.005 <= mesh_size <= 0.5):
         raise DesignError("mesh_size", mesh_size, "must be in [0.005, 0.5] mm")
     if not (math.isfinite(axial_ratio) and 0.5 <= axial_ratio <= 10):
         raise DesignError("axial_ratio", axial_ratio, "must be in [0.5, 10]")
-    import hashlib
-
     key = hashlib.sha256(
         f"{_RECIPE}|{geometry.digest()}|{mesher}|{mesh_size:.6g}|{axial_ratio:.6g}".encode()
     ).hexdigest()[:20]
@@ -99,9 +98,8 @@ def mesh_tip(
     mesh = checked_mesh(geometry, arrays, mesher, mesh_size, seconds, key)
     if use_cache:
         folder.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".tmp.npz")
-        np.savez_compressed(tmp, seconds=np.array(seconds), **arrays)
-        os.replace(tmp, path)  # atomic: parallel sweeps never read half a file
+        with atomic_path(path) as tmp:  # parallel sweeps never read half a file
+            np.savez_compressed(tmp, seconds=np.array(seconds), **arrays)
     return mesh
 
 

@@ -18,7 +18,7 @@ from softcath.fem.mesh.model import MeshQuality, TipMesh, curved_volumes, skfem_
 VOLUME_TOL = 0.01
 
 
-def checked_mesh(geometry, arrays, mesher, mesh_size, seconds, key, cached=False):
+def checked_mesh(geometry, arrays, mesher, mesh_size, seconds, key, *, cached=False):
     points, tets, labels = arrays["points"], arrays["tets"], arrays["labels"]
     vol = tet_volumes(points, tets)
     if (vol <= 0).any():
@@ -90,7 +90,7 @@ def tet_volumes(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
 
 
 def scaled_jacobian(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
-    """Min over the corners of det[e1 e2 e3] / (|e1| |e2| |e3|), scaled: regular tet = 1."""
+    """Min over the corners of ``det[e1 e2 e3] / (|e1| |e2| |e3|)``, scaled: regular tet = 1."""
     p = points[tets]
     out = np.full(tets.shape[0], np.inf)
     corners = ((0, 1, 2, 3), (1, 2, 0, 3), (2, 0, 1, 3), (3, 0, 2, 1))

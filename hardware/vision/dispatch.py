@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.hardware.vision.centreline import measure_centre_line
 from softcath.hardware.vision.paper import measure_paper
 from softcath.hardware.vision.types import METHODS, Calibration, TipMeasurement

@@ -29,7 +29,7 @@ def arc_to_tip(k_ccw: float, tip: np.ndarray, heading: float) -> float:
     return phi / k_ccw
 
 
-def arc_result(k_cw, base, heading_deg, tip_px, pts, s, reason=""):
+def arc_result(k_cw, base, heading_deg, tip_px, pts, s, *, reason=""):
     if tip_px is None:
         return TipMeasurement(
             ok=False,

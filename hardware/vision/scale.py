@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.hardware.errors import FrameSourceError
 
 __all__ = ["scale_from_points", "scale_from_chessboard", "camera_intrinsics"]

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 
 __all__ = ["Calibration", "TipMeasurement", "METHODS"]
 

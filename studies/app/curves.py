@@ -17,7 +17,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from softcath import analytic
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.finite_strain import section_curve
+from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError
+from softcath.fem.section_model.strain import silicone_strain_range
 from softcath.studies.tiers import TIERS
 
 __all__ = [
@@ -116,9 +120,6 @@ def formula_curve(design, pressures: ArrayLike) -> TierCurve:
 
 def linear_section_curve(design, pressures: ArrayLike) -> TierCurve:
     """The linear section model under the lumen load, with its largest silicone strain."""
-    from softcath.fem.section_model import section_model
-    from softcath.fem.section_model.strain import silicone_strain_range
-
     r = section_model(design, loads=("lumen",), keep_fields=True)
     _, high = silicone_strain_range(r, "lumen")
     return _linear("section", "lumen", r.gains("lumen"), design.tip.bending_length, pressures, high)
@@ -133,9 +134,6 @@ def finite_strain_curve(
     ``on_pressure(done, total)`` is called after each pressure; an exception it raises stops
     the computation (how superseded work is cancelled).
     """
-    from softcath.fem.section_model.finite_strain import section_curve
-    from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError
-
     p = np.asarray(pressures, dtype=float)
     message = ""
     try:

@@ -16,7 +16,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from softcath import design as design_pkg
+from softcath.core.plotting import pyplot
 from softcath.studies.app.curves import TierCurve
+from softcath.studies.app.shapes import bent_tip, section_shapes
 
 __all__ = ["CSV_COLUMNS", "curves_csv", "design_toml", "view_png"]
 
@@ -86,12 +88,7 @@ def view_png(
     measured=None,
 ) -> bytes:
     """A PNG of the app's view: the section, κ and θ against pressure, the tip at ``pressure``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from softcath.studies.app.shapes import bent_tip, section_shapes
+    plt = pyplot()
 
     fig, axes = plt.subplots(1, 4, figsize=(17, 4.2), constrained_layout=True)
     ax = axes[0]

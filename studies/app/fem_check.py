@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from softcath import design as design_pkg
+from softcath import fem
 
 __all__ = ["FemCheck", "FemCheckView"]
 
@@ -50,8 +51,6 @@ class FemCheckView:
 def _child(toml_text: str, pressure: float, load: str, mesh_size: float, out: Any) -> None:
     """The child process: run the check and put ``("stage", text)`` … ``("done", numbers)``."""
     try:
-        from softcath import fem
-
         d = design_pkg.loads(toml_text, source="the app's design")
         r = fem.check(
             d,

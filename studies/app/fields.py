@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from softcath.design.assembly import FILLERS, INTERFACE_KINDS, INTERFACES, PROXIMAL
+from softcath.design.io import to_dict
 
 __all__ = ["Field", "design_fields", "field_value"]
 
@@ -95,8 +96,6 @@ def field_value(design, path: str, table: Mapping[str, Any] | None = None) -> An
     """The value ``design`` has at ``path``: from its TOML tables (``table``, else
     ``design.to_dict(design)``), the nominal shape's numbers for a tube shape the file leaves
     out, the default assembly's for an ``[assembly]`` it leaves out; ``None`` if it has none."""
-    from softcath.design.io import to_dict
-
     head, _, rest = path.partition(".")
     if head == "tube" and rest in ("a", "a_int", "b_int", "h"):
         return float(design.tube_shape[rest])

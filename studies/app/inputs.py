@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from softcath.design.io import to_dict
 from softcath.studies.app.fields import Field, field_value
 from softcath.studies.app.state import AppState
 
@@ -92,8 +93,6 @@ class Inputs:
                 if msg:
                     continue  # the refused value stays in its box, next to its message
                 if table is None:
-                    from softcath.design.io import to_dict
-
                     table = to_dict(state.design)
                 value = _shown(field_value(state.design, path, table))
                 if value is not None and widget.value != value:

@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from softcath.design.errors import SoftcathError
+from softcath.core.errors import SoftcathError
 
 __all__ = ["JobView", "LatestJob", "Superseded", "Ticket"]
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
 from softcath.design.measurement import Measurement, read_measurement_csv
 
 __all__ = ["MAX_UPLOAD_BYTES", "MeasuredCurve", "read_upload"]

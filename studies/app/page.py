@@ -20,11 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from softcath.design.errors import SoftcathError
+from softcath.core.errors import SoftcathError
+from softcath.core.limits import check_pressure
 from softcath.studies.app.curves import TierCurve, finite_strain_curve, formula_curve, linear_section_curve
 from softcath.studies.app.fem_check import FemCheck
 from softcath.studies.app.jobs import LatestJob
-from softcath.studies.app.measured import MeasuredCurve
+from softcath.studies.app.measured import MeasuredCurve, read_upload
 from softcath.studies.app.state import AppState, apply_value, initial_state
 
 __all__ = ["POLL_MS", "Session"]
@@ -142,8 +143,6 @@ class Session:
     @guarded("pressure range")
     def set_pressures(self, *, p_max: float | None = None, pressure: float | None = None) -> None:
         """Change the curves' largest pressure and/or the chosen pressure [MPa]."""
-        from softcath.studies.model_validity import check_pressure
-
         if p_max is not None:
             p = float(check_pressure(p_max, param="largest pressure")[0])
             if not p > 0:
@@ -231,8 +230,6 @@ class Session:
     @guarded("measurement upload")
     def upload(self, data: bytes | None, filename: str | None) -> None:
         """Overlay an uploaded measurement CSV (a bad file: one message, the old overlay kept)."""
-        from softcath.studies.app.measured import read_upload
-
         if not data:
             return
         self.measured = read_upload(data, filename or "upload.csv")

@@ -15,7 +15,9 @@ import threading
 from dataclasses import dataclass
 from typing import Any
 
+from softcath.studies.app.layout import build
 from softcath.studies.app.measured import MAX_UPLOAD_BYTES
+from softcath.studies.app.page import Session
 from softcath.studies.app.state import initial_state
 
 __all__ = ["RunningApp", "WEBSOCKET_MAX_BYTES", "make_server", "start_in_thread", "view"]
@@ -36,17 +38,11 @@ def view(spec: Any = "paper", **options: Any):
     options
         ``p_max`` and ``pressure`` [MPa] of :class:`~softcath.studies.app.page.Session`.
     """
-    from softcath.studies.app.layout import build
-    from softcath.studies.app.page import Session
-
     return build(Session(spec, **options))
 
 
 def _page(spec: Any, options: dict):
     import panel as pn
-
-    from softcath.studies.app.layout import build
-    from softcath.studies.app.page import Session
 
     session = Session(spec, **options)
     pn.state.on_session_destroyed(lambda _ctx: session.close())

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.analytic import composite_section
 from softcath.studies.app.curves import TierCurve
 
 __all__ = ["Outline", "bent_tip", "section_shapes", "section_marks"]
@@ -66,8 +67,6 @@ def section_shapes(design) -> list[Outline]:
 
 def section_marks(design) -> dict[str, float]:
     """The composite neutral axis ȳ and the pressure centre y_p of the formula [mm]."""
-    from softcath.analytic import composite_section
-
     cs = composite_section(design)
     return {
         "neutral_axis_y_mm": float(cs.neutral_axis_y),

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from softcath import design as design_pkg
-from softcath.design.errors import DesignError
+from softcath.core.errors import DesignError
 from softcath.design.tip import TipDesign
 from softcath.studies.app.fields import Field, design_fields
 from softcath.studies.sweep.variants import build_variant

@@ -39,8 +39,10 @@ def _header(selection: Selection, entry: dict) -> str:
         f"feasible{' (Pareto front)' if entry.get('pareto') else ''}",
         f"tier: {tier} ({selection.model}), {selection.load} load",
     ]
-    lines += [f"constraint: {c}" for c in selection.constraints]
-    lines += [f"{k} -> {v:.6g}" for k, v in entry["objectives"].items()]
+    src = selection.source  # every value says its tier and load, as the summary's lines do
+    where = f"[{src['tier']}{' ' + src['statistic'] if 'statistic' in src else ''}, {src['load']} load]"
+    lines += [f"constraint: {c} {where}" for c in selection.constraints]
+    lines += [f"{k} -> {v:.6g} {where}" for k, v in entry["objectives"].items()]
     return "\n".join(lines)
 
 

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import uuid
 
-from softcath.design.errors import DesignError
-from softcath.interrupts import raise_pending_stop
+from softcath.core.errors import DesignError
+from softcath.core.interrupts import raise_pending_stop
 from softcath.studies.sweep.evaluators import evaluate_task
-from softcath.studies.sweep.runner import _outcome
+from softcath.studies.sweep.task_outcome import outcome
 
 __all__ = ["connect", "run_on_dask"]
 
@@ -74,4 +74,4 @@ def run_on_dask(tasks, client):
             yield task, fut.result()
         except Exception as exc:
             raise_pending_stop()
-            yield _outcome(task, exc)
+            yield outcome(task, exc)

@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 
-from softcath.studies.atomic import pid_alive
+from softcath.core.atomic import pid_alive
 
 __all__ = ["tie_to_parent", "pid_alive"]
 

@@ -11,6 +11,10 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from softcath import design
+from softcath.studies.sweep.spec import _base_table
+from softcath.studies.sweep.variants import build_variant
+
 __all__ = ["DEFAULT_RANGES", "random_designs"]
 
 #: Uniform ranges (dotted design path -> (low, high)) around the paper design: outer coil
@@ -37,10 +41,6 @@ def random_designs(
     (:func:`softcath.studies.sweep.variants.build_variant`).
     """
     from pathlib import Path
-
-    from softcath import design
-    from softcath.studies.sweep.spec import _base_table
-    from softcath.studies.sweep.variants import build_variant
 
     table = _base_table(base, Path("."))  # the TOML as written, so dotted paths match a sweep spec's
     rng = np.random.default_rng(seed)

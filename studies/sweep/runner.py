@@ -23,12 +23,18 @@ import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
-from softcath.design.errors import DesignError
-from softcath.interrupts import raise_pending_stop
+from softcath.core.errors import DesignError
+from softcath.core.interrupts import raise_pending_stop
+from softcath.fem.limits import check_workers
+from softcath.studies.sweep.dask_scale_out import connect, run_on_dask
 from softcath.studies.sweep.evaluators import evaluate_task
+from softcath.studies.sweep.lifeline import tie_to_parent
+from softcath.studies.sweep.results import add_derived_columns, write_results
 from softcath.studies.sweep.sampling import expand
 from softcath.studies.sweep.spec import SweepSpec
 from softcath.studies.sweep.store import SweepStore, design_counts
+from softcath.studies.sweep.task_outcome import failed_frame as _failed_frame
+from softcath.studies.sweep.task_outcome import outcome as _outcome
 
 __all__ = ["SweepSummary", "run_sweep", "build_tasks"]
 
@@ -90,7 +96,7 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
                 "variants": chunk,
                 "param_paths": paths,
                 "base_table": spec.base_table,
-                "pressures_MPa": list(spec.pressures_MPa),
+                "pressures_MPa": list(spec.pressures),
                 "loads": list(spec.loads),
                 "evaluators": list(spec.evaluators),
                 "mesh_size": spec.mesh_size,
@@ -99,44 +105,6 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
             }
         )
     return tasks
-
-
-# Failures of the machinery, not of the design: the task is not saved, so a rerun retries it.
-# (ModuleNotFoundError: a cluster worker without softcath installed.)
-_INFRASTRUCTURE = {
-    "BrokenProcessPool",
-    "KilledWorker",
-    "CancelledError",
-    "CommClosedError",
-    "TimeoutError",
-    "ModuleNotFoundError",
-}
-
-
-def _outcome(task: dict, exc: BaseException):
-    if type(exc).__name__ in _INFRASTRUCTURE:
-        log.warning(
-            "sweep task %s lost (%s: %s); it will be retried on the next run",
-            task["task_id"],
-            type(exc).__name__,
-            exc,
-        )
-        return task, None
-    return task, _failed_frame(task, exc)
-
-
-def _failed_frame(task: dict, exc: BaseException):
-    """Rows of a task whose evaluation raised: analytic values kept, status failed with the reason."""
-    reason = f"task failed: {type(exc).__name__}: {exc}"
-    log.warning("sweep task %s failed: %s", task["task_id"], reason)
-    try:
-        frame = evaluate_task(dict(task, evaluators=["paper"]))
-    except Exception:  # even the analytic path fails: rows with the reason and no values
-        raise_pending_stop()
-        return evaluate_task(dict(task, fail_reason=reason))
-    frame["status"] = "failed"
-    frame["reason"] = [r or reason for r in frame["reason"]]
-    return frame
 
 
 def _serial(tasks):
@@ -163,8 +131,6 @@ def _single_threaded_worker(sweep_pid: int | None = None) -> None:
     # makes a worker's results bit-identical to a Dask worker's (BLAS rounding depends on threads).
     threadpool_limits(limits=1)
     if sweep_pid is not None:
-        from softcath.studies.sweep.lifeline import tie_to_parent
-
         tie_to_parent(sweep_pid)
 
 
@@ -202,7 +168,6 @@ def _check_options(workers, dask_local, scheduler) -> None:
     chosen = [n for n, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler)) if v]
     if len(chosen) > 1:
         raise DesignError("backend", " ".join(chosen), "choose one of workers, dask_local, scheduler")
-    from softcath.fem.limits import check_workers
 
     for name, v in (("workers", workers), ("dask_local", dask_local)):
         check_workers(v, param=name)
@@ -330,8 +295,6 @@ def _start_backend(pending: list[dict], workers, dask_local, scheduler):
 
     client = cluster = None
     if scheduler or dask_local:
-        from softcath.studies.sweep.dask_scale_out import connect, run_on_dask
-
         client, cluster, backend = connect(scheduler, dask_local)
         results = run_on_dask(pending, client)
     else:
@@ -380,8 +343,6 @@ def _store_results(
 
 def _merge_results(store: SweepStore, spec: SweepSpec):
     """The merged results with derived columns, and the CSV and Parquet files written from them."""
-    from softcath.studies.sweep.results import add_derived_columns, write_results
-
     df = store.read_all()
     # Derived columns are recomputed on the merged table (cheap) so files from any run agree.
     df = add_derived_columns(df, max_strain=spec.max_strain, p_max=spec.p_max)

@@ -14,7 +14,10 @@ import time
 
 import numpy as np
 
-from softcath.interrupts import raise_pending_stop
+from softcath.analytic import response_from_gains
+from softcath.core.interrupts import raise_pending_stop
+from softcath.fem.section_model import batch, section_model
+from softcath.fem.section_model.strain import silicone_strain_range
 
 __all__ = [
     "SECTION_KEYS",
@@ -51,9 +54,6 @@ def section_columns(
     ``max_strain_section`` the largest principal strain in the silicone at
     mid-span (:func:`softcath.fem.section_model.strain.silicone_strain_range`).
     """
-    from softcath.fem.section_model import section_model
-    from softcath.fem.section_model.strain import silicone_strain_range
-
     opts = {k: v for k, v in (options or {}).items() if v is not None}
     t0 = time.perf_counter()
     r = section_model(design, loads=loads, keep_fields=True, **opts)
@@ -108,9 +108,8 @@ def section_blocks_many(
                 for k, v in values[ld].items():
                     block[k][j] = v
         return cols, errors
-    from softcath.fem.section_model.batch import section_models
 
-    items = section_models(designs, loads=loads, **opts)
+    items = batch.section_models(designs, loads=loads, **opts)
     errors = {j: item for j, item in enumerate(items) if isinstance(item, Exception)}
     good = [j for j in range(len(items)) if j not in errors]
     if good:
@@ -127,8 +126,6 @@ def _response_blocks(items: list, pressures: np.ndarray, loads: tuple[str, ...])
     computation of :meth:`SectionResult.response`: ~250 designs a task would otherwise make
     2 x 250 response objects of 3 values each.
     """
-    from softcath.analytic import response_from_gains
-
     p = np.asarray(pressures, dtype=float)[None, :]
     results = [it.result for it in items]
     length0 = np.array([[r.length_mm] for r in results], dtype=float)

@@ -41,19 +41,34 @@ is combined with the whole sample.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
-import math
+import logging
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from softcath.design.errors import DesignError
+from softcath import design
+from softcath.core.errors import DesignError
+from softcath.core.limits import check_pressure
+from softcath.design import presets
 from softcath.design.load_cases import LOADS
+from softcath.fem.section_model.api import COIL_BENDING
+from softcath.fem.section_model.mesh import MESHERS
+from softcath.studies.sweep.parameters import (
+    Parameter,
+    _design_count,
+    _n_samples,
+    _parameters,
+    _real,
+)
 from softcath.studies.tiers import TIERS, tier_name
 
 __all__ = ["Parameter", "SweepSpec", "load_spec", "parse_spec"]
+
+log = logging.getLogger(__name__)
 
 EVALUATORS = tuple(TIERS)
 #: Evaluator -> the name the fingerprint hashes: the spelling of the sweeps written before the
@@ -86,28 +101,6 @@ _TOP_KEYS = {"sweep", "parameters", "sample"}
 
 
 @dataclass(frozen=True)
-class Parameter:
-    """One swept design field.
-
-    Attributes
-    ----------
-    path
-        Dotted path into the base design's TOML tables, e.g. ``"tube.a"``.
-    kind
-        ``"grid"`` (linspace), ``"values"`` (explicit list) or ``"lhs"`` (Latin hypercube range).
-    values
-        The grid points or listed values (empty for ``"lhs"``).
-    bounds
-        (low, high) of a Latin-hypercube parameter, else ``None``.
-    """
-
-    path: str
-    kind: str
-    values: tuple[Any, ...] = ()
-    bounds: tuple[float, float] | None = None
-
-
-@dataclass(frozen=True)
 class SweepSpec:
     """A parsed, checked sweep specification (see module docstring).
 
@@ -121,8 +114,9 @@ class SweepSpec:
         The base design's TOML table structure (validated).
     parameters
         The swept parameters, in file order.
-    pressures_MPa
-        Pressures at which every design is evaluated [MPa], ascending.
+    pressures
+        Pressures at which every design is evaluated [MPa], ascending (the keyword
+        ``pressures_MPa`` still reads, with a deprecation message in the log).
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
@@ -147,7 +141,7 @@ class SweepSpec:
     base: str
     base_table: dict
     parameters: tuple[Parameter, ...]
-    pressures_MPa: tuple[float, ...]
+    pressures: tuple[float, ...]
     loads: tuple[str, ...]
     evaluators: tuple[str, ...]
     n_samples: int = 0
@@ -159,6 +153,11 @@ class SweepSpec:
     section_coil_bending: str | None = None
     section_mesher: str | None = None
     source: str = field(default="<string>", compare=False)
+
+    @property
+    def pressures_MPa(self) -> tuple[float, ...]:
+        """:attr:`pressures` under the spelling of the spec file's key and the results' JSON."""
+        return self.pressures
 
     @property
     def uses_fem(self) -> bool:
@@ -180,14 +179,14 @@ class SweepSpec:
 
     @property
     def p_max(self) -> float:
-        return max(self.pressures_MPa)
+        return max(self.pressures)
 
     def fingerprint(self) -> str:
         """A hash of everything that decides the designs and their results (not the run options)."""
         payload = {
             "base_table": self.base_table,
             "parameters": [(p.path, p.kind, list(p.values), p.bounds) for p in self.parameters],
-            "pressures_MPa": self.pressures_MPa,
+            "pressures_MPa": self.pressures,
             "loads": self.loads,
             "evaluators": tuple(_FINGERPRINT_NAMES.get(e, e) for e in self.evaluators),
             "n_samples": self.n_samples,
@@ -228,7 +227,7 @@ class SweepSpec:
                 {"path": p.path, "kind": p.kind, "values": list(p.values), "bounds": p.bounds}
                 for p in self.parameters
             ],
-            "pressures_MPa": list(self.pressures_MPa),
+            "pressures_MPa": list(self.pressures),
             "loads": list(self.loads),
             "evaluators": list(self.evaluators),
             "n_samples": self.n_samples,
@@ -241,58 +240,8 @@ class SweepSpec:
         }
 
 
-#: Points of one grid axis (a product of a few such axes is already 10⁸ designs).
-MAX_GRID_POINTS = 100_000
-#: Designs of one sweep (10⁷ analytic designs take minutes; more would exhaust memory first).
-MAX_DESIGNS = 10_000_000
-#: Largest sweep pressure, MPa (as ``softcath analytic`` / ``fem``: no model holds beyond).
-MAX_PRESSURE_MPA = 100.0
-
-
-def _real(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise DesignError(name, value, "must be a finite number")
-    return float(value)
-
-
-def _parameter(path: str, entry: Any) -> Parameter:
-    name = f"parameters.{path}"
-    if not isinstance(entry, dict) or len(entry) != 1:
-        raise DesignError(name, entry, "must be a table with exactly one of grid, values, lhs")
-    ((kind, value),) = entry.items()
-    if kind == "grid":
-        if not isinstance(value, list) or len(value) != 3:
-            raise DesignError(f"{name}.grid", value, "must be [start, stop, count]")
-        start, stop = _real(f"{name}.grid[0]", value[0]), _real(f"{name}.grid[1]", value[1])
-        count = value[2]
-        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= MAX_GRID_POINTS:
-            raise DesignError(f"{name}.grid[2]", count, f"must be an integer in [1, {MAX_GRID_POINTS}]")
-        step = (stop - start) / (count - 1) if count > 1 else 0.0
-        return Parameter(path, "grid", tuple(start + i * step for i in range(count)))
-    if kind == "values":
-        if not isinstance(value, list) or not value:
-            raise DesignError(f"{name}.values", value, "must be a non-empty list")
-        for i, v in enumerate(value):
-            if isinstance(v, float) and not math.isfinite(v):
-                raise DesignError(f"{name}.values[{i}]", v, "must be a finite number")
-            if not isinstance(v, (int, float, str)):
-                raise DesignError(f"{name}.values[{i}]", v, "must be a number or a name")
-        return Parameter(path, "values", tuple(value))
-    if kind == "lhs":
-        if not isinstance(value, list) or len(value) != 2:
-            raise DesignError(f"{name}.lhs", value, "must be [low, high]")
-        low, high = _real(f"{name}.lhs[0]", value[0]), _real(f"{name}.lhs[1]", value[1])
-        if not high > low:
-            raise DesignError(f"{name}.lhs[1]", high, f"must be > low = {low:g}")
-        return Parameter(path, "lhs", (), (low, high))
-    raise DesignError(name, kind, "unknown kind; use grid, values or lhs")
-
-
 def _base_table(base: str, spec_dir: Path) -> dict:
     """The base design's TOML tables exactly as written (so dotted paths match the file)."""
-    from softcath import design
-    from softcath.design import presets
-
     if base in presets.names():
         table = tomllib.loads(presets.text(base))
     else:
@@ -311,6 +260,21 @@ def _base_table(base: str, spec_dir: Path) -> dict:
             raise DesignError("sweep.base", base, f"is not valid TOML: {exc}") from None
     design.from_dict(table)  # the base itself must be valid
     return table
+
+
+_dataclass_init = SweepSpec.__init__
+
+
+@functools.wraps(_dataclass_init)
+def _init(self, *args, pressures_MPa=None, **kwargs) -> None:
+    # The keyword's older spelling: read as before, with a deprecation message in the log.
+    if pressures_MPa is not None:
+        log.warning("SweepSpec keyword 'pressures_MPa' is deprecated: use 'pressures' (the same values)")
+        kwargs.setdefault("pressures", pressures_MPa)
+    _dataclass_init(self, *args, **kwargs)
+
+
+SweepSpec.__init__ = _init
 
 
 def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string>") -> SweepSpec:
@@ -334,7 +298,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         base=base,
         base_table=base_table,
         parameters=params,
-        pressures_MPa=ps,
+        pressures=ps,
         loads=loads,
         evaluators=evals,
         n_samples=n_samples,
@@ -366,15 +330,14 @@ def _sweep_table(data: dict) -> dict:
 
 
 def _pressures(sweep: dict) -> tuple[float, ...]:
-    """``sweep.pressures_MPa``, sorted and deduplicated, in [0, :data:`MAX_PRESSURE_MPA`]."""
+    """``sweep.pressures_MPa``, sorted and deduplicated, in [0, the one pressure bound]."""
     pressures = sweep.get("pressures_MPa")
     if not isinstance(pressures, list) or not pressures:
         raise DesignError("sweep.pressures_MPa", pressures, "must be a non-empty list of pressures [MPa]")
     ps = tuple(sorted({_real("sweep.pressures_MPa", p) for p in pressures}))
     if ps[0] < 0:
         raise DesignError("sweep.pressures_MPa", ps[0], "must be >= 0")
-    if ps[-1] > MAX_PRESSURE_MPA:
-        raise DesignError("sweep.pressures_MPa", ps[-1], f"must be <= {MAX_PRESSURE_MPA:g} MPa")
+    check_pressure(ps[-1], param="sweep.pressures_MPa")
     return ps
 
 
@@ -424,44 +387,8 @@ def _max_strain(sweep: dict) -> float:
     return max_strain
 
 
-def _parameters(data: dict, base_table: dict) -> tuple[Parameter, ...]:
-    """The ``[parameters]`` table's parameters, their paths checked against the base design."""
-    raw_params = data.get("parameters", {})
-    if not isinstance(raw_params, dict):
-        raise DesignError("parameters", raw_params, "must be a table of dotted design paths")
-    params = tuple(_parameter(k, v) for k, v in _flatten(raw_params))
-    _check_paths(params, base_table)
-    return params
-
-
-def _design_count(params: tuple[Parameter, ...], n_samples: int) -> int:
-    """Designs of a sweep: the factorial grid times the Latin-hypercube sample (0 samples: none)."""
-    return max(n_samples, 1) * math.prod(len(p.values) for p in params if p.kind != "lhs")
-
-
-def _n_samples(data: dict, params: tuple[Parameter, ...]) -> int:
-    """``sample.n`` (required with an lhs parameter, else 0), after checking the sweep's size."""
-    n_samples = 0
-    if any(p.kind == "lhs" for p in params):
-        sample = data.get("sample")
-        if not isinstance(sample, dict) or "n" not in sample:
-            raise DesignError("sample.n", None, "is required when a parameter uses lhs")
-        n_samples = sample["n"]
-        if isinstance(n_samples, bool) or not isinstance(n_samples, int) or n_samples < 1:
-            raise DesignError("sample.n", n_samples, "must be an integer >= 1")
-    n_designs = _design_count(params, n_samples)
-    if n_designs > MAX_DESIGNS:
-        raise DesignError(
-            "parameters", f"{n_designs:.3g} designs", f"must give at most {MAX_DESIGNS:.0e} designs"
-        )
-    return n_samples
-
-
 def _section_table(table: Any) -> tuple[float | None, str | None, str | None]:
     """``[sweep.section]``: mesh_size [mm], coil_bending and mesher, all optional."""
-    from softcath.fem.section_model.api import COIL_BENDING
-    from softcath.fem.section_model.mesh import MESHERS
-
     allowed = {"mesh_size", "coil_bending", "mesher"}
     if not isinstance(table, dict) or set(table) - allowed:
         raise DesignError("sweep.section", table, f"must be a table with only {', '.join(sorted(allowed))}")
@@ -475,27 +402,6 @@ def _section_table(table: Any) -> tuple[float | None, str | None, str | None]:
     if mesher is not None and mesher not in MESHERS:
         raise DesignError("sweep.section.mesher", mesher, f"must be one of {list(MESHERS)}")
     return (None if mesh is None else float(mesh)), bending, mesher
-
-
-def _flatten(table: dict, prefix: str = ""):
-    """Accept both ``"tube.a" = {...}`` and ``[parameters.tube] a = {...}``."""
-    for key, value in table.items():
-        path = f"{prefix}{key}"
-        if isinstance(value, dict) and not (set(value) & {"grid", "values", "lhs"}):
-            yield from _flatten(value, f"{path}.")
-        else:
-            yield path, value
-
-
-def _check_paths(params: tuple[Parameter, ...], base_table: dict) -> None:
-    from softcath.studies.sweep.variants import check_path
-
-    seen = set()
-    for p in params:
-        if p.path in seen:
-            raise DesignError(f"parameters.{p.path}", p.path, "is given twice")
-        seen.add(p.path)
-        check_path(base_table, p.path)
 
 
 def load_spec(path: str | Path) -> SweepSpec:

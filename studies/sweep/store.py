@@ -18,7 +18,8 @@ import time
 import uuid
 from pathlib import Path
 
-from softcath.design.errors import DataError
+from softcath.core.errors import DataError
+from softcath.studies.sweep.results import _TEXT_COLUMNS, _stringify_objects
 
 __all__ = ["SweepStore", "arrow_table", "design_counts"]
 
@@ -196,8 +197,6 @@ def arrow_table(frame):
     import numpy as np
     import pandas as pd
     import pyarrow as pa
-
-    from softcath.studies.sweep.results import _TEXT_COLUMNS, _stringify_objects
 
     if frame.columns.is_unique and all(isinstance(c, str) for c in frame.columns):
         arrays = []

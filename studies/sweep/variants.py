@@ -22,7 +22,8 @@ import copy
 from collections.abc import Mapping
 from typing import Any
 
-from softcath.design.errors import DesignError
+from softcath import design
+from softcath.core.errors import DesignError
 
 __all__ = ["check_path", "set_path", "variant_table", "build_variant", "VariantBuilder"]
 
@@ -108,8 +109,6 @@ def variant_table(base_table: Mapping[str, Any], overrides: Mapping[str, Any]) -
                 table[part][k] = v
     shape_swept = [k for k in _SHAPE if f"tube.{k}" in swept]
     if shape_swept and len(shape_swept) < len(_SHAPE) and "a" not in table["tube"]:
-        from softcath import design
-
         nominal = design.from_dict(base_table).tube_shape
         for k in _SHAPE:
             table["tube"].setdefault(k, nominal[k])
@@ -127,8 +126,6 @@ def _plain(value: Any) -> Any:
 
 def build_variant(base_table: Mapping[str, Any], overrides: Mapping[str, Any], *, name: str | None = None):
     """A validated :class:`design.TipDesign` for the variant (raises DesignError if impossible)."""
-    from softcath import design
-
     table = variant_table(base_table, overrides)
     if name is not None:
         table["name"] = name
@@ -148,8 +145,6 @@ class VariantBuilder:
     _PARTS = ("coil", "tube", "channel", "tip")
 
     def __init__(self, base_table: Mapping[str, Any]) -> None:
-        from softcath import design
-
         self.base_table = base_table
         self.base = design.from_dict(base_table)
         self._materials: dict[str, Any] = {}

@@ -67,3 +67,28 @@ def test_cli_bad_input_exits_2_naming_the_parameter(tmp_path):
     )
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines()[-1].startswith("softcath fem: error: --mesh-size = 0.001")
+
+
+def test_the_default_load_is_lumen_and_the_formula_beside_it_is_softcath_analytics(cli, tmp_path):
+    """``fem`` without ``--load`` runs the real (lumen) load and shows the paper's formula under the cap
+    load it is defined for: the same curvature and bend ``softcath analytic`` gives at that pressure."""
+    import csv
+
+    run = cli("fem", "paper", "--pressure", "0.1", "--mesh-size", "0.3", "--no-png", "--out", tmp_path / "f")
+    assert run.status == 0
+    assert cli("analytic", "paper", "--pressure", "0.1", "--out", tmp_path / "a").status == 0
+    with (tmp_path / "a" / "analytic.csv").open() as fh:
+        ref = list(csv.DictReader(fh))[-1]
+    doc = json.loads((tmp_path / "f" / "fem.json").read_text())
+    assert doc["load"] == "lumen" and doc["analytic"]["load"] == "lumen"
+    formula = doc["paper_formula"]
+    assert formula["load"] == "cap"
+    assert formula["curvature_per_mm"] == pytest.approx(float(ref["curvature_per_mm"]), rel=1e-9)
+    assert formula["bend_angle_rad"] == pytest.approx(float(ref["bend_angle_rad"]), rel=1e-9)
+    assert formula["ratio_fem_over_formula"] == pytest.approx(
+        doc["curvature_per_mm"] / formula["curvature_per_mm"], rel=1e-12
+    )
+    # the lumen load bends the tip 2-4x the cap force alone (docs/fem.md: 3.1x on this mesh size)
+    assert 2 < formula["ratio_fem_over_formula"] < 4
+    assert "lumen load at 0.1 MPa" in run.out
+    assert f"cap load by definition: {formula['curvature_per_mm']:.4g}" in run.out

@@ -67,9 +67,12 @@ def test_nonlinear_layers_and_formulation_default_to_the_documented_rules():
     assert (given.layers, given.mixed, given.convergence) == (6, False, True)
 
 
-def test_the_modes_differ_where_documented():
+def test_both_modes_take_the_real_load_by_default():
+    # One default load for every 3-D check: the real one (lumen wall + cap); the paper's cap force
+    # only when asked for (the linear check took the cap load before).
     assert fem_cmd.nonlinear_settings(_args("--nonlinear")).load == "lumen"
-    assert fem_cmd.linear_settings(_args("--pressure", "0.1")).load == "cap"
+    assert fem_cmd.linear_settings(_args("--pressure", "0.1")).load == "lumen"
+    assert fem_cmd.linear_settings(_args("--pressure", "0.1", "--load", "cap")).load == "cap"
 
 
 def test_options_given_override_the_mode_defaults():
@@ -83,7 +86,7 @@ def test_help_states_both_modes_defaults(capsys):
     with pytest.raises(SystemExit):
         build_parser().parse_args(["fem", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert "Default: cap (linear), lumen (--nonlinear)" in text
+    assert "Default: lumen (both modes)" in text
     assert "default 0.16 linear, 0.15 --nonlinear" in text
 
 

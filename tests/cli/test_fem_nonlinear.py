@@ -2,6 +2,7 @@
 
 import csv
 import json
+import math
 
 import pytest
 
@@ -60,3 +61,16 @@ def test_fem_nonlinear_cli_writes_json_sweep_and_series(tmp_path, capsys):
     assert (tmp_path / "tip_series.pvd").is_file() and (tmp_path / "deformed_tip.png").stat().st_size > 1000
     out = capsys.readouterr().out
     assert "departs by 5 %" in out and "mid-span (Z/L 0.3-0.7): curvature" in out
+    # the paper's formula shown (summary line and fem.json) is softcath analytic's at the same pressure,
+    # under the cap load it is defined for, whatever load the 3-D run took
+    assert main(["analytic", "paper", "--pressure", "0.05", "--out", str(tmp_path / "a")]) == 0
+    capsys.readouterr()
+    with (tmp_path / "a" / "analytic.csv").open() as fh:
+        ref = list(csv.DictReader(fh))[-1]
+    formula = doc["paper_formula"]
+    assert formula["load"] == "cap" and formula["pressure_MPa"] == pytest.approx(0.05)
+    assert formula["curvature_per_mm"] == pytest.approx(float(ref["curvature_per_mm"]), rel=1e-9)
+    assert formula["bend_angle_rad"] == pytest.approx(float(ref["bend_angle_rad"]), rel=1e-9)
+    assert doc["analytic_bend_angle_rad"] == pytest.approx(float(ref["bend_angle_rad"]), rel=1e-9)
+    line = next(ln for ln in out.splitlines() if "paper's formula at 0.05 MPa" in ln)
+    assert "cap load" in line and f"{math.degrees(float(ref['bend_angle_rad'])):.2f} deg" in line

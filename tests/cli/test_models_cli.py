@@ -82,3 +82,23 @@ def test_calibrate_model_section_from_the_cli(tmp_path, capsys):
     assert doc["x_opt"]["h"] == pytest.approx(0.015, rel=1e-3)
     assert (out / "calibration.png").is_file() and (out / "calibrated_design.toml").is_file()
     assert "space-mapping iteration" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("model", "load", "reason"),
+    [("paper", "cap", "defined for the cap load"), ("section", "lumen", "the real load")],
+)
+def test_analytic_says_its_load_and_why(tmp_path, cli, model, load, reason):
+    """The paper's formula is the cap-load formula by definition; the section model takes the real load,
+    as every other command; the summary and analytic.json say which and why, and the curve is that
+    load's (the same values as asking for the load explicitly)."""
+    r = cli("analytic", "paper", "--model", model, "--pressure", "0.1,0.3", "--out", tmp_path / "d")
+    assert r.status == 0
+    assert f"({load} load" in r.out and f"load: {load}: " in r.out and reason in r.out
+    doc = json.loads((tmp_path / "d" / "analytic.json").read_text())
+    assert (doc["model"], doc["load"]) == (model, load) and reason in doc["load_reason"]
+    argv = ("analytic", "paper", "--model", model, "--pressure", "0.1,0.3", "--load", load)
+    assert cli(*argv, "--out", tmp_path / "e").status == 0
+    _, a = _read(tmp_path / "d" / "analytic.csv")
+    _, b = _read(tmp_path / "e" / "analytic.csv")
+    np.testing.assert_array_equal(a, b)

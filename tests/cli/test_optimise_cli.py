@@ -215,3 +215,16 @@ def test_optimise_leaves_no_partial_outputs_when_a_writer_fails(tmp_path, capsys
     )
     assert rc == 2 and "disk full" in capsys.readouterr().err
     assert not out.exists() or not any(out.iterdir())
+
+
+@pytest.mark.parametrize("load", ["lumen", "cap"])
+def test_the_3d_fem_recheck_line_says_its_tier_and_load(tmp_path, cli, load):
+    """The winners' 3-D FEM re-check runs under the search's load and its summary line says so."""
+    argv = ["optimise", "paper", "--model", "section", "--load", load, "--vary", "tube.h=-0.03:0.03"]
+    argv += ["--objective", "maximise bend_angle_deg at p=0.1", "--constraint", "max_strain <= 1 at p=0.1"]
+    r = cli(*argv, "--pressures", "0.1", "--budget", "10", "--no-progress", "--out", tmp_path / "o")
+    assert r.status == 0
+    doc = json.loads((tmp_path / "o" / "optimum.json").read_text())
+    assert doc["load"] == load and doc["best"][0]["fem_check"]["status"] == "ok"
+    lines = [ln.strip() for ln in r.out.splitlines() if ln.strip().startswith("3-D FEM")]
+    assert lines and all(f"[fem, {load} load]" in ln for ln in lines)

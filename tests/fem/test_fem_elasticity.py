@@ -52,13 +52,14 @@ def test_patch_test_transversely_isotropic():
 
 
 @pytest.mark.slow
-def test_patch_test_on_a_pytetwild_mesh():
+def test_patch_test_on_a_pytetwild_mesh(tmp_path, monkeypatch):
     import warnings
 
     import pytetwild
     import pyvista as pv
 
     cube = pv.Cube(center=(0.5, 0.5, 0.5)).triangulate()
+    monkeypatch.chdir(tmp_path)  # fTetWild writes __tracked_surface.stl into the working directory
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # pytetwild uses a deprecated pyvista accessor
         grid = pytetwild.tetrahedralize_pv(cube, edge_length_fac=0.25)
