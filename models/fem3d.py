@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
@@ -134,7 +135,6 @@ class FemTier(Tier):
         return fem_check_function() is not None
 
     def _solve(self, designs, pressures, loads, options):
-        from softcath.interrupts import raise_pending_stop
 
         check = fem_check_function()
         n, n_p = len(designs), pressures.size

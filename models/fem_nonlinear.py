@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.analytic.pose import tip_pose
+from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 
 __all__ = ["FEM_NONLINEAR", "FemNonlinearTier"]
@@ -39,9 +41,7 @@ class FemNonlinearTier(Tier):
     def _solve(self, designs, pressures, loads, options):
         import time
 
-        from softcath.analytic.pose import tip_pose
         from softcath.fem.nonlinear import bend_curve
-        from softcath.interrupts import raise_pending_stop
 
         n = len(designs)
         positive = np.unique(pressures[pressures > 0])

@@ -6,6 +6,8 @@ import time
 
 import numpy as np
 
+from softcath import analytic
+from softcath.analytic.section import section_arrays
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
@@ -20,9 +22,6 @@ class PaperTier(Tier):
     """
 
     def _solve(self, designs, pressures, loads, options):
-        from softcath import analytic
-        from softcath.analytic.section import section_arrays
-
         t0 = time.perf_counter()
         inp = {k: v[:, None] for k, v in analytic.design_inputs_many(designs).items()}
         s = section_arrays(inp)

@@ -32,7 +32,7 @@ from softcath.models.paper import PAPER
 from softcath.models.response import ResponseBatch, TipResponse
 from softcath.models.section import SECTION
 from softcath.models.section_nonlinear import SECTION_NONLINEAR
-from softcath.models.tier import Tier
+from softcath.models.tier import REGISTERED, Tier
 
 __all__ = [
     "ALIASES",
@@ -50,7 +50,7 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 #: Name -> tier, from the cheapest to the most expensive (:func:`register` adds to it).
-TIERS: dict[str, Tier] = {}
+TIERS: dict[str, Tier] = REGISTERED
 
 #: Old spellings -> the tier's name (accepted with a deprecation warning in the log).
 ALIASES: dict[str, str] = {"analytic": "paper", "nonlinear": "fem-nonlinear"}

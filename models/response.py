@@ -204,6 +204,8 @@ class ResponseBatch:
         Tier-specific (n_designs, n_pressures) diagnostics.
     errors
         Design index -> the exception that design raised.
+    model
+        The :class:`~softcath.models.Tier` that answered (its validity rule gives the warnings).
     """
 
     tier: str
@@ -221,6 +223,7 @@ class ResponseBatch:
     parameters: tuple[Mapping[str, Any], ...] = ()
     extras: Mapping[str, np.ndarray] = field(default_factory=dict, repr=False)
     errors: Mapping[int, Exception] = field(default_factory=dict)
+    model: Any = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return int(np.shape(self.curvature_per_mm)[0])
@@ -228,10 +231,8 @@ class ResponseBatch:
     def __getitem__(self, i: int) -> TipResponse:
         if i in self.errors:
             raise self.errors[i]
-        from softcath.models.registry import get
-
         values = {name: np.asarray(getattr(self, name))[i].copy() for name in OBSERVABLES}
-        warnings = get(self.tier).warnings(
+        warnings = self.model.warnings(
             self.pressures, values["bend_angle_rad"], values["max_strain"], values["elongation"]
         )
         return TipResponse(

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
@@ -33,7 +34,6 @@ _BATCHED_OPTIONS = frozenset({"mesh_size", "mesher", "segments", "coil_modulus",
 
 def _one_by_one(designs, pressures, loads, options) -> tuple[dict, dict]:
     """The sweep's section columns of each design alone (``softcath.fem.section_model.section_model``)."""
-    from softcath.interrupts import raise_pending_stop
     from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
 
     cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}

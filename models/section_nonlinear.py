@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 
 __all__ = ["SECTION_NONLINEAR", "SectionNonlinearTier", "SECTION_NONLINEAR_FIELDS"]
@@ -30,7 +31,6 @@ class SectionNonlinearTier(Tier):
 
     def _solve(self, designs, pressures, loads, options):
         # the evaluator lives with the sweep, which loads this registry: loaded on first use
-        from softcath.interrupts import raise_pending_stop
         from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
 
         n = len(designs)

@@ -18,14 +18,17 @@ from typing import Any
 
 import numpy as np
 
+from softcath.design.assembly import Assembly
 from softcath.design.errors import DesignError
 from softcath.models.response import OBSERVABLES, ResponseBatch, TipResponse, tip_curvature
 from softcath.models.validity import response_warnings
 
-__all__ = ["LOADS", "SLOW_SECONDS", "Tier"]
+__all__ = ["LOADS", "REGISTERED", "SLOW_SECONDS", "Tier"]
 
 #: The loads a tier can be asked about: the end-cap force alone, or the lumen pressure on wall and cap.
 LOADS = ("cap", "lumen")
+#: The registered tiers, name -> tier (filled by :func:`softcath.models.register`).
+REGISTERED: dict[str, Tier] = {}
 #: Seconds a design above which a tier is slow: minutes a design, not a search's thousands of runs.
 SLOW_SECONDS = 10.0
 
@@ -147,8 +150,6 @@ class Tier:
 
     @staticmethod
     def _assembly(assembly):
-        from softcath.design.assembly import Assembly
-
         return assembly if isinstance(assembly, Assembly) else Assembly.from_dict(assembly or {})
 
     def check_assembly(self, assembly, *, parameter: str = "assembly") -> None:
@@ -167,15 +168,12 @@ class Tier:
             Naming ``parameter`` with the options that differ from the bonded tip and the tiers
             that model them.
         """
-        from softcath.design.assembly import Assembly
-        from softcath.models.registry import tiers
-
         a = self._assembly(assembly)
         if a.is_default or self.as_built:
             return
         base = Assembly()
         changed = {k: v for k, v in a.to_dict().items() if getattr(base, k) != v}
-        modelled = [t for t in tiers() if t.as_built]
+        modelled = [t for t in REGISTERED.values() if t.as_built]
         raise DesignError(
             parameter,
             changed,
@@ -239,4 +237,4 @@ class Tier:
             arc = tip_curvature(cols["bend_angle_rad"], cols["elongation"], lengths)
             cols["tip_curvature_per_mm"] = np.where(np.isnan(tip), arc, tip)
         rest.setdefault("seconds", np.full(len(designs), np.nan))
-        return ResponseBatch(tier=self.name, load=load, pressures=pressures, **cols, **rest)
+        return ResponseBatch(tier=self.name, load=load, pressures=pressures, **cols, model=self, **rest)

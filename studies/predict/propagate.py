@@ -23,6 +23,7 @@ import numpy as np
 from softcath.design.errors import DesignError
 from softcath.models import LOADS, get, linear_names
 from softcath.studies.predict.sampling import split_overrides
+from softcath.studies.sweep.variants import VariantBuilder
 
 __all__ = ["TIERS", "TIER_OPTIONS", "DEFAULT_LOAD", "GAIN_PRESSURE", "TierSample", "propagate"]
 
@@ -62,8 +63,6 @@ class TierSample:
 
 def _variants(table: Mapping[str, Any], values: list[dict[str, Any]]):
     """Yield (design or None, options, error) per sample row."""
-    from softcath.studies.sweep.variants import VariantBuilder
-
     builder = VariantBuilder(table)
     for row in values:
         overrides, options = split_overrides(row)

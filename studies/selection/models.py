@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from softcath.studies.selection.expressions import SelectionError
-from softcath.studies.sweep.results import MODEL_COLUMNS
+from softcath.studies.sweep.results import MODEL_COLUMNS, has_model, model_columns
 from softcath.studies.tiers import ALIASES, TIERS, tier_name
 
 __all__ = ["MODEL_NAMES", "resolve_model"]
@@ -18,8 +18,6 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     See the module docstring for the defaults; ``note`` says what was chosen
     for the user when it was not asked for.
     """
-    from softcath.studies.sweep.results import has_model, model_columns
-
     loads = sorted(set(df["load"]))
     notes = []
     if model in ALIASES:

@@ -14,6 +14,7 @@ that fails on a design adds its reason; neither ever stops the task.
 
 from __future__ import annotations
 
+import json
 import logging
 import time
 from typing import TYPE_CHECKING, Any
@@ -24,6 +25,7 @@ from softcath import models
 from softcath.design.errors import DesignError
 from softcath.models.fem3d import fem_check_function, fem_records
 from softcath.studies.sweep.results import _FEM_RENAME, TIER_COLUMNS
+from softcath.studies.sweep.variants import VariantBuilder
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -44,10 +46,6 @@ _BUILDERS: dict[str, Any] = {}
 
 def _builder(base_table: dict):
     """One :class:`VariantBuilder` per base design and process (tasks of a sweep share it)."""
-    import json
-
-    from softcath.studies.sweep.variants import VariantBuilder
-
     key = json.dumps(base_table, sort_keys=True, default=str)
     if key not in _BUILDERS:
         _BUILDERS.clear()
