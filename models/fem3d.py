@@ -170,7 +170,6 @@ class FemTier(Tier):
                     for k in FEM_KEYS:
                         rows[ld][k][i] = np.nan
             seconds[i] = time.perf_counter() - t0
-        params = tuple(self.parameters(d, options) for d in designs)
         return {
             ld: self._batch(
                 designs,
@@ -178,7 +177,7 @@ class FemTier(Tier):
                 ld,
                 {**{f: rows[ld][k] for k, f in _FIELDS.items()}, "tip_curvature_per_mm": tip[ld]},
                 seconds=seconds,
-                parameters=params,
+                options=options,
                 extras={k: v for k, v in rows[ld].items() if k not in _FIELDS},
                 errors=errors,
             )

@@ -70,9 +70,8 @@ class FemNonlinearTier(Tier):
                     for f, attr in _CURVE.items():
                         values[f][i, pos] = np.asarray(getattr(curve, attr), float)[idx[pos]]
                 seconds[i] = time.perf_counter() - t0
-            params = tuple(self.parameters(d, options) for d in designs)
             out[load] = self._batch(
-                designs, pressures, load, values, seconds=seconds, parameters=params, errors=errors
+                designs, pressures, load, values, seconds=seconds, options=options, errors=errors
             )
         return out
 

@@ -8,6 +8,7 @@ import numpy as np
 
 from softcath import analytic
 from softcath.analytic.section import section_arrays
+from softcath.models.response import tip_curvature
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
@@ -35,6 +36,7 @@ class PaperTier(Tier):
             )
             values = {
                 "curvature_per_mm": r.curvature,
+                "tip_curvature_per_mm": tip_curvature(r.bend_angle, r.elongation, inp["length"]),
                 "elongation": r.elongation,
                 "bend_angle_rad": r.bend_angle,
                 "tip_x_mm": r.tip_x,
@@ -43,9 +45,8 @@ class PaperTier(Tier):
             }
             out[load] = values
         seconds = np.full(len(designs), (time.perf_counter() - t0) / max(len(designs), 1))
-        params = tuple(self.parameters(d, options) for d in designs)
         return {
-            load: self._batch(designs, pressures, load, v, seconds=seconds, parameters=params)
+            load: self._batch(designs, pressures, load, v, seconds=seconds, options=options)
             for load, v in out.items()
         }
 

@@ -198,8 +198,10 @@ class ResponseBatch:
         (n_designs, n_pressures) arrays; units as in :class:`TipResponse`.
     seconds
         (n_designs,) wall time per design [s].
-    parameters
-        One mapping per design (see :attr:`TipResponse.parameters`).
+    options
+        The options the tier was given (its defaults fill the rest in each design's parameters).
+    designs
+        The designs, in order (each response's parameters name its design and length).
     extras
         Tier-specific (n_designs, n_pressures) diagnostics.
     errors
@@ -220,7 +222,8 @@ class ResponseBatch:
     lumen_volume_change_mm3: np.ndarray
     max_strain: np.ndarray
     seconds: np.ndarray
-    parameters: tuple[Mapping[str, Any], ...] = ()
+    options: Mapping[str, Any] = field(default_factory=dict)
+    designs: tuple = field(default=(), repr=False, compare=False)
     extras: Mapping[str, np.ndarray] = field(default_factory=dict, repr=False)
     errors: Mapping[int, Exception] = field(default_factory=dict)
     model: Any = field(default=None, repr=False, compare=False)
@@ -240,7 +243,7 @@ class ResponseBatch:
             load=self.load,
             pressures=np.asarray(self.pressures, float).copy(),
             warnings=warnings,
-            parameters=dict(self.parameters[i]) if self.parameters else {},
+            parameters=self.model.parameters(self.designs[i], self.options) if self.designs else {},
             seconds=float(self.seconds[i]),
             extras={k: np.asarray(v)[i].copy() for k, v in self.extras.items()},
             **values,

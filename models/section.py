@@ -62,7 +62,6 @@ class SectionTier(Tier):
             cols, errors = section_blocks_many(designs, pressures, loads, options)
         else:  # an option only the single-design model takes (e.g. poisson_cap): one design at a time
             cols, errors = _one_by_one(designs, pressures, loads, options)
-        params = tuple(self.parameters(d, options) for d in designs)
         out = {}
         for load in loads:
             block = cols[load]
@@ -75,7 +74,7 @@ class SectionTier(Tier):
                 seconds=np.asarray(block["section_seconds"], float)[:, 0]
                 if pressures.size
                 else np.full(len(designs), np.nan),
-                parameters=params,
+                options=options,
                 extras={"section_formula_ratio": block["section_formula_ratio"]},
                 errors=errors,
             )

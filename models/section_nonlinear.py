@@ -51,7 +51,6 @@ class SectionNonlinearTier(Tier):
                     blocks[ld][col][i] = values[ld][col]
                 if pressures.size:
                     seconds[ld][i] = values[ld]["section_nonlinear_seconds"][0]
-        params = tuple(self.parameters(d, options) for d in designs)
         return {
             ld: self._batch(
                 designs,
@@ -59,7 +58,7 @@ class SectionNonlinearTier(Tier):
                 ld,
                 {f: blocks[ld][c] for c, f in SECTION_NONLINEAR_FIELDS.items()},
                 seconds=seconds[ld],
-                parameters=params,
+                options=options,
                 errors=errors,
             )
             for ld in loads

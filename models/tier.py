@@ -237,4 +237,6 @@ class Tier:
             arc = tip_curvature(cols["bend_angle_rad"], cols["elongation"], lengths)
             cols["tip_curvature_per_mm"] = np.where(np.isnan(tip), arc, tip)
         rest.setdefault("seconds", np.full(len(designs), np.nan))
-        return ResponseBatch(tier=self.name, load=load, pressures=pressures, **cols, model=self, **rest)
+        return ResponseBatch(
+            tier=self.name, load=load, pressures=pressures, **cols, designs=tuple(designs), model=self, **rest
+        )
