@@ -18,6 +18,14 @@ from collections.abc import Mapping
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.models import TIERS, linear_names
+from softcath.models.validity import (
+    LINEAR_BEND_LIMIT_DEG,
+    SELF_CONTACT_DEG,
+    SILICONE_STRAIN_LIMIT,
+    linear_range_warnings,
+    self_contact_warning,
+)
 
 __all__ = [
     "LINEAR_BEND_LIMIT_DEG",
@@ -37,10 +45,6 @@ __all__ = [
 
 log = logging.getLogger("softcath.validity")
 
-#: Bend angle beyond which the linear models depart from finite strain by ≳ 5 % (docs/nonlinear.md).
-LINEAR_BEND_LIMIT_DEG = 5.0
-#: The silicone strain limit the sweeps use by default (``softcath.studies.sweep.spec``).
-SILICONE_STRAIN_LIMIT = 0.3
 #: Largest pressure any command accepts, MPa: 100× the 1 MPa where the paper's tip already
 #: bends > 50°; beyond it every model's answer is meaningless (and 1e300 overflows).
 MAX_PRESSURE_MPA = 100.0
@@ -67,30 +71,10 @@ def check_finite_columns(columns: Mapping[str, object], *, param: str, value: ob
             raise DesignError(param, value, f"gives a non-finite {name} (overflow); use a smaller value")
 
 
-#: Bend angle of a uniform arc past which the tip passes through itself (a full turn: the arc's end
-#: meets its start). No model of softcath has self-contact, so its numbers beyond are not physical.
-SELF_CONTACT_DEG = 360.0
 #: Measured pressures above this multiple of a model's highest pressure are refused as a unit mistake
 #: (a file in bar reads 10x the MPa); above :data:`_MEASURED_WARN_RATIO` they are named in a warning.
 _MEASURED_REFUSE_RATIO = 5.0
 _MEASURED_WARN_RATIO = 1.5
-
-
-def self_contact_warning(pressures, bend_angle_rad, *, model: str) -> str | None:
-    """The message for a bend past :data:`SELF_CONTACT_DEG` (the tip passing through itself), or None."""
-    p = np.atleast_1d(np.asarray(pressures, dtype=float))
-    theta = np.degrees(np.abs(np.atleast_1d(np.asarray(bend_angle_rad, dtype=float))))
-    if p.shape != theta.shape:
-        p = np.full(theta.shape, np.nan)
-    past = np.isfinite(theta) & (theta > SELF_CONTACT_DEG)
-    if not past.any():
-        return None
-    first = int(np.argmax(past))
-    where = f" from {p[first]:g} MPa" if np.isfinite(p[first]) else ""
-    return (
-        f"bend {np.nanmax(theta):.4g} deg is past {SELF_CONTACT_DEG:g} deg{where}: the tip would pass "
-        f"through itself; {model} has no self-contact, so its answers there are not physical"
-    )
 
 
 def warn_self_contact(pressures, bend_angle_rad, *, model: str) -> bool:
@@ -173,50 +157,8 @@ def check_measured_pressures(measured_MPa, model_top_MPa: float, *, param: str, 
         )
 
 
-def linear_range_warnings(
-    pressures, bend_angle_rad, *, max_strain=None, elongation=None, model: str = "the linear model"
-) -> list[str]:
-    """Messages for every way ``pressures`` and the linear results leave the linear model's validity."""
-    p = np.atleast_1d(np.asarray(pressures, dtype=float))
-    msgs = []
-    if np.any(p < 0):
-        msgs.append(
-            f"negative pressure ({p.min():g} MPa): {model} assumes an inflating lumen "
-            "(p >= 0); suction and lumen collapse are not modelled"
-        )
-    theta = np.degrees(np.abs(np.atleast_1d(np.asarray(bend_angle_rad, dtype=float))))
-    theta = theta[np.isfinite(theta)]
-    if theta.size and theta.max() > LINEAR_BEND_LIMIT_DEG:
-        msgs.append(
-            f"bend {theta.max():.3g} deg is beyond the ~{LINEAR_BEND_LIMIT_DEG:g} deg where {model} "
-            "departs from finite strain by 5 %; use `softcath fem --nonlinear` for large bends"
-        )
-    contact = self_contact_warning(p, bend_angle_rad, model=model)
-    if contact:
-        msgs.append(contact)
-    if max_strain is not None:
-        e = np.atleast_1d(np.asarray(max_strain, dtype=float))
-        e = e[np.isfinite(e)]
-        if e.size and e.max() > SILICONE_STRAIN_LIMIT:
-            msgs.append(
-                f"silicone strain {e.max():.3g} exceeds the small-strain limit {SILICONE_STRAIN_LIMIT:g} "
-                "of the linear model; use `softcath fem --nonlinear`"
-            )
-    if elongation is not None:
-        e = np.atleast_1d(np.asarray(elongation, dtype=float))
-        e = e[np.isfinite(e)]
-        if e.size and np.abs(e).max() > SILICONE_STRAIN_LIMIT:
-            worst = float(e[np.argmax(np.abs(e))])
-            what = " (a length <= 0)" if worst <= -1 else ""
-            msgs.append(
-                f"elongation {worst:.3g}{what} is beyond the small-strain limit ±{SILICONE_STRAIN_LIMIT:g} "
-                f"of {model}; use `softcath fem --nonlinear`"
-            )
-    return msgs
-
-
-#: The small-rotation tiers: valid to :data:`LINEAR_BEND_LIMIT_DEG` of bend.
-LINEAR_TIERS = ("paper", "section", "fem")
+#: The small-rotation tiers: valid to :data:`LINEAR_BEND_LIMIT_DEG` of bend (:attr:`Tier.valid_to_deg`).
+LINEAR_TIERS = linear_names()
 
 
 def linear_tier_warning(
@@ -237,12 +179,11 @@ def linear_tier_warning(
     way_out
         What to do instead (e.g. "give --model section-nonlinear").
     """
-    from softcath.studies.tiers import TIERS
-
-    if model not in LINEAR_TIERS or not np.isfinite(bend_deg) or abs(bend_deg) <= LINEAR_BEND_LIMIT_DEG:
+    tier = TIERS.get(model)
+    if tier is None or not np.isfinite(bend_deg) or abs(bend_deg) <= tier.valid_to_deg:
         return None
     return (
-        f"{TIERS[model].label} ({model}) is a linear tier, valid to ~{LINEAR_BEND_LIMIT_DEG:g} deg of bend, "
+        f"{tier.label} ({model}) is a linear tier, valid to ~{tier.valid_to_deg:g} deg of bend, "
         f"but {how} bend up to {abs(bend_deg):.3g} deg at {pressure_MPa:g} MPa: its values there are off "
         f"by more than 5 %; {way_out}"
     )

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.models import TIERS
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput, unavailable
 from softcath.studies.report.html_blocks import esc, fmt
 
@@ -65,7 +66,7 @@ def section_verdict(ctx: DemoContext) -> SectionOutput:
             f"<b>Build design {best['design_id']}</b> ({params}): best of {sel.n_feasible} designs that meet "
             f"{', '.join(esc(c) for c in sel.constraints)}, ranked by "
             f"{', '.join(esc(o) for o in sel.objectives)} "
-            f"({'the section model' if sel.model == 'section' else esc(sel.model)}, {esc(sel.load)} load)."
+            f"({TIERS[sel.model].label if sel.model in TIERS else esc(sel.model)}, {esc(sel.load)} load)."
         )
         chk = ctx.shared.get("chosen_check")
         if chk and chk["rows"]:

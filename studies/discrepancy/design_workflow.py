@@ -40,6 +40,8 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DataError
+from softcath.models import LOADS
+from softcath.models import responses as tier_responses
 
 __all__ = ["INGREDIENTS", "DesignCase", "DesignWorkflowResult", "load_sweep_cases", "run_design_workflow"]
 
@@ -61,6 +63,10 @@ class DesignCase:
     formula_gain: float
 
 
+#: The tiers a design sweep's formula is compared with -> the sweep column of their curvature.
+_REFERENCE_COLUMNS = {"fem": "curvature_fem_per_mm"}
+
+
 def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[DesignCase]:
     """The (design, load) cases of a finished sweep with a finite reference curvature.
 
@@ -75,11 +81,11 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     from softcath.studies.sweep.results import read_results
     from softcath.studies.sweep.variants import build_variant
 
-    if reference != "fem":
+    ref_col = _REFERENCE_COLUMNS.get(reference)
+    if ref_col is None:
         raise DataError(f"reference = {reference!r}: a design sweep is compared with the 3-D FEM ('fem')")
     root = Path(sweep_dir)
     df = read_results(root)
-    ref_col = "curvature_fem_per_mm"
     if ref_col not in df or df[ref_col].notna().sum() == 0:
         raise DataError(
             f"{root}: the sweep has no 3-D FEM curvature ({ref_col}); run it with evaluators = "
@@ -128,11 +134,10 @@ class _Models:
             coil = "annulus" if "coil_homogenisation" in physics else "wahl"
             key = (case.design_id, poisson, coil)
             if key not in self._cache:
-                from softcath.fem.section_model import section_model
-
-                self._cache[key] = section_model(
-                    case.design, poisson=poisson, coil_bending=coil, poisson_cap=FEM_POISSON_CAP
-                ).curvature_per_mm_per_MPa
+                options = {"poisson": poisson, "coil_bending": coil, "poisson_cap": FEM_POISSON_CAP}
+                # linear in pressure: the response at 1 MPa is the gain
+                batches = tier_responses([case.design], [1.0], tier="section", loads=LOADS, options=options)
+                self._cache[key] = {ld: float(b[0].curvature_per_mm[0]) for ld, b in batches.items()}
                 if self._progress is not None:
                     self._progress.update(1)
             g = self._cache[key]["lumen" if lumen else "cap"]

@@ -21,10 +21,13 @@ from __future__ import annotations
 import csv
 import logging
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
+from softcath import models
+from softcath.design.assembly import Assembly
 from softcath.design.errors import DataError, DesignError
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 from softcath.studies.discrepancy.model_bank import ModelBank
@@ -281,14 +284,8 @@ def tip_level_factor(design, *, load: str = "lumen") -> float:
     The end-face rotation over the length (what a circle fit over the whole tip
     sees, end zones included) divided by the mid-span fit.
     """
-    from dataclasses import replace as _replace
-
-    from softcath import fem
-    from softcath.design.assembly import Assembly
-
-    r = fem.check(_replace(design, assembly=Assembly()), pressures=[0.1], loads=(load,))
-    c = r.case(load, 0.1)
-    return float(c.curvature_rotation_per_mm / c.curvature_per_mm)
+    r = models.response(replace(design, assembly=Assembly()), [0.1], tier="fem", load=load)
+    return float(r.tip_curvature_per_mm[0] / r.curvature_per_mm[0])
 
 
 def hypotheses_table(record: dict) -> list[str]:

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from softcath import models
 from softcath.analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from softcath.analytic.effects.fit import ChainFit
 from softcath.design.errors import DataError, DesignError
@@ -129,23 +130,18 @@ def _clean(x):
 
 
 def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
-    """``fem(design, pressures) -> curvature`` from the fem package, or None if absent.
+    """``fem(design, pressures) -> curvature`` by the 3-D FEM tier, or None if this build has none.
 
-    Uses ``fem.check(design, pressures=..., loads=("lumen",))``: the FEM with the
-    real load (lumen wall and cap), which the workflow compares with the analytic
-    cap-load model.
+    The FEM with the real load (lumen wall and cap, :func:`softcath.models.response`), which
+    the workflow compares with the analytic cap-load model.
     """
-    try:
-        from softcath import fem as fem_pkg
-    except ImportError:
-        return None
-    check = getattr(fem_pkg, "check", None)
-    if check is None:
+    tier = models.get("fem")
+    if not tier.available():
         return None
 
     def run(design, pressures):
-        res = check(design, pressures=tuple(float(x) for x in pressures), loads=("lumen",))
-        return np.array([c.curvature_per_mm for c in res.cases if c.load == "lumen"])
+        p = tuple(float(x) for x in pressures)
+        return tier.response(design, p, load="lumen").curvature_per_mm
 
     return run
 
@@ -372,9 +368,13 @@ def _discrepancy_result(
     )
 
 
+#: What a time-series model is compared with: the measurement, or the 3-D FEM tier's curve.
+REFERENCES = ("measured", "fem")
+
+
 def _check_rule(reference: str, margin: float | None, min_share: float, max_effects: int) -> None:
     """Refuse an unknown reference or a decision rule out of range."""
-    if reference not in ("measured", "fem"):
+    if reference not in REFERENCES:
         raise DataError(f"reference = {reference!r}: must be 'measured' or 'fem'")
     if margin is not None and not 0 < margin < 1:
         raise DesignError("margin", margin, "must be in (0, 1)")

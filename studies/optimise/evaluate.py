@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.models import get
 from softcath.studies.model_validity import fail_self_contact
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.problem import Problem
@@ -42,23 +43,21 @@ MAX_ROBUST_SAMPLES = 10_000
 MAX_WORK_SECONDS = 2 * 3600.0
 #: One formula run, s: building and checking the variant's design dominates (``predict``: ~10 ms).
 _FORMULA_SECONDS = 0.01
-#: One section-model run on the sweep's batched path per estimated DOF, s: 29.5 ms of worker CPU
-#: for the paper section (docs/section.md), whose estimated DOFs are 2.8k.
-_SECTION_SECONDS_PER_DOF = 1.05e-5
-#: The finite-strain section model's walk through a few pressures against one linear solve: about
-#: fifteen Newton iterations of a tangent twice the linear model's size (~1 s for the paper section).
-_FINITE_STRAIN_FACTOR = 30.0
 
 
 def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | None = None) -> float:
     """Estimated seconds of one model run of the base design (the section tiers by its section's DOFs).
+
+    A tier's :attr:`~softcath.models.Tier.dof_seconds` is its cost per estimated section DOF
+    (0 for a closed form, which costs building the design: :data:`_FORMULA_SECONDS`).
 
     Raises
     ------
     DesignError
         From :func:`softcath.fem.limits.check_section_budget` when one section does not fit at all.
     """
-    if model == "paper":
+    per_dof = get(model).dof_seconds
+    if not per_dof:
         return _FORMULA_SECONDS
     from softcath import design
     from softcath.fem.limits import check_section_budget
@@ -67,8 +66,7 @@ def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | Non
     d = design.from_dict(base_table)
     h = MESH_SIZE if mesh_size is None else mesh_size
     dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=h)
-    factor = _FINITE_STRAIN_FACTOR if model == "section-nonlinear" else 1.0
-    return _FORMULA_SECONDS + factor * _SECTION_SECONDS_PER_DOF * dofs
+    return _FORMULA_SECONDS + per_dof * dofs
 
 
 def check_work(model: str, base_table: dict, runs: int, *, param: str, value, mesh_size=None) -> float:
@@ -158,7 +156,9 @@ class Scores:
 
 
 def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Sequence[str]) -> list[dict]:
-    n_tasks = 1 if tuple(evaluators) == ("paper",) else max(1, min(slots, len(variants)))
+    # closed forms only (the paper's formula): one task, a pool's start-up would cost more than the work
+    instant = all(get(e).seconds_per_design <= _FORMULA_SECONDS for e in evaluators)
+    n_tasks = 1 if instant else max(1, min(slots, len(variants)))
     size = max(1, math.ceil(len(variants) / n_tasks))
     paths = sorted({p for v in variants for p in v})
     return [

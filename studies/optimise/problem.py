@@ -14,6 +14,7 @@ from typing import Any
 
 from softcath.design.errors import DesignError
 from softcath.design.validation import MAX_MAGNITUDE
+from softcath.models import tiers
 from softcath.studies.model_validity import MAX_PRESSURE_MPA
 from softcath.studies.selection.criteria import (
     Constraint,
@@ -30,8 +31,9 @@ from softcath.studies.tiers import check_assembly, tier_name
 
 __all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
 
-#: The model tiers a search can run (:mod:`softcath.studies.tiers`; a tier's sweep evaluator has its name).
-MODELS = ("paper", "section", "section-nonlinear")
+#: The model tiers a search can run: those that are not slow (:attr:`softcath.models.Tier.slow`;
+#: a tier's sweep evaluator has its name).
+MODELS = tuple(t.name for t in tiers() if not t.slow)
 
 
 @dataclass(frozen=True)

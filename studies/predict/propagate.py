@@ -1,12 +1,14 @@
 """Push a sample of design variants through one model tier: gains κ/p and ε/p per variant.
 
-Tiers: ``paper`` (the composite-beam formula, eq. 7, vectorised over the
-sample with ``analytic.design_inputs`` / ``gains_arrays``), ``section`` (the
-2-D generalised-plane-strain section model, ~0.25 s a variant; meshes are
-reused while only materials move) and ``fem`` (the 3-D linear FEM,
-``fem.check``, ~10 s a variant; Poisson ratios capped at 0.49 there).
-Variants the design checks reject (an impossible joint combination of shape
-parameters) are kept as NaN and counted, never silently replaced.
+The tiers are the linear ones of the registry (:func:`softcath.models.linear_names`: the
+paper's formula, the section model, the 3-D linear FEM), whose responses are linear in
+pressure: each variant's gains are its response at :data:`GAIN_PRESSURE` over that pressure.
+Variants are answered through :meth:`softcath.models.Tier.responses`, grouped by their
+model options (``model.<name>`` ranges): the formula vectorised over the sample, the
+section model batched (meshes reused while only materials move), the 3-D FEM (~10 s a
+variant; Poisson ratios capped at 0.49 there) one by one. Variants the design checks reject
+(an impossible joint combination of shape parameters) are kept as NaN and counted, never
+silently replaced.
 """
 
 from __future__ import annotations
@@ -19,24 +21,22 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.models import LOADS, get, linear_names
 from softcath.studies.predict.sampling import split_overrides
+from softcath.studies.sweep.variants import VariantBuilder
 
-__all__ = ["TIERS", "TIER_OPTIONS", "DEFAULT_LOAD", "TierSample", "propagate"]
+__all__ = ["TIERS", "TIER_OPTIONS", "DEFAULT_LOAD", "GAIN_PRESSURE", "TierSample", "propagate"]
 
 log = logging.getLogger(__name__)
 
-#: The tiers (:mod:`softcath.studies.tiers`) a prediction band can be drawn for.
-TIERS = ("paper", "section", "fem")
-#: Model options each tier understands (``model.<name>`` ranges).
-TIER_OPTIONS: dict[str, tuple[str, ...]] = {
-    "paper": (),
-    "section": ("coil_modulus", "coil_bending"),
-    "fem": ("coil_modulus",),
-}
-#: The load each tier is about unless told: the paper's formula is a cap-load model.
-DEFAULT_LOAD = {"paper": "cap", "section": "lumen", "fem": "lumen"}
-#: Pressure of the linear FEM solve [MPa]; the gains are per MPa whatever it is.
-_FEM_PRESSURE = 0.1
+#: The tiers (:mod:`softcath.models`) a prediction band can be drawn for: the linear ones.
+TIERS = linear_names()
+#: Model options each tier understands (``model.<name>`` ranges): :attr:`softcath.models.Tier.options`.
+TIER_OPTIONS: dict[str, tuple[str, ...]] = {t: tuple(get(t).options) for t in TIERS}
+#: The load each tier is about unless told (:attr:`softcath.models.Tier.default_load`).
+DEFAULT_LOAD = {t: get(t).default_load for t in TIERS}
+#: Pressure of the gain's response [MPa]: 1 MPa, so a response linear in p is its gain exactly.
+GAIN_PRESSURE = 1.0
 
 
 @dataclass(frozen=True)
@@ -63,8 +63,6 @@ class TierSample:
 
 def _variants(table: Mapping[str, Any], values: list[dict[str, Any]]):
     """Yield (design or None, options, error) per sample row."""
-    from softcath.studies.sweep.variants import VariantBuilder
-
     builder = VariantBuilder(table)
     for row in values:
         overrides, options = split_overrides(row)
@@ -84,56 +82,36 @@ def propagate(
     tier: str, table: Mapping[str, Any], values: list[dict[str, Any]], *, load: str, progress: bool = False
 ) -> TierSample:
     """Gains of ``tier`` for every variant ``values`` (dotted path -> value) of the base ``table``."""
-    if tier not in TIERS:
-        raise DesignError("model", tier, f"must be one of {TIERS}")
-    if load not in ("cap", "lumen"):
+    model = get(tier, allowed=TIERS)
+    if load not in LOADS:
         raise DesignError("load", load, "must be cap or lumen")
     n = len(values)
     gain = np.full(n, np.nan)
     elong = np.full(n, np.nan)
     errors: list[str] = []
-    if tier == "paper":
-        _paper(table, values, load, gain, elong, errors)
-    else:
-        with _bar(n, tier, progress) as bar:
-            for i, (d, options, err) in enumerate(_variants(table, values)):
-                if d is None:
-                    errors.append(err)
-                else:
-                    gain[i], elong[i] = _solve(tier, d, options, load)
-                bar.update()
+    groups: dict[tuple, list[tuple[int, Any]]] = {}
+    for i, (d, options, err) in enumerate(_variants(table, values)):
+        if d is None:
+            errors.append(err)
+        else:
+            groups.setdefault(tuple(sorted(options.items())), []).append((i, d))
+    with _bar(n, tier, progress) as bar:
+        bar.update(len(errors))
+        for options, members in groups.items():
+            # a batched tier takes the group at once; the others one variant at a time (the bar moves)
+            step = len(members) if model.batched else 1
+            for start in range(0, len(members), step):
+                part = members[start : start + step]
+                batch = model.responses(
+                    [d for _i, d in part], [GAIN_PRESSURE], loads=(load,), options=dict(options)
+                )[load]
+                for j, (i, _d) in enumerate(part):
+                    if j in batch.errors:
+                        raise batch.errors[j]
+                    gain[i] = batch.curvature_per_mm[j, 0] / GAIN_PRESSURE
+                    elong[i] = batch.elongation[j, 0] / GAIN_PRESSURE
+                bar.update(len(part))
     feasible = np.isfinite(gain)
     if errors:
         log.info("%s: %d of %d variants infeasible, e.g. %s", tier, len(errors), n, errors[0])
     return TierSample(gain, elong, feasible, tuple(errors[:5]))
-
-
-def _paper(table, values, load, gain, elong, errors) -> None:
-    """The formula over the whole sample at once: one dict of input arrays."""
-    from softcath.analytic import design_inputs_many, gains_arrays
-
-    designs, idx = [], []
-    for i, (d, _options, err) in enumerate(_variants(table, values)):
-        if d is None:
-            errors.append(err)
-        else:
-            designs.append(d)
-            idx.append(i)
-    if not designs:
-        return
-    inputs = design_inputs_many(designs)
-    k, e = gains_arrays(inputs, load)
-    gain[idx], elong[idx] = k, e
-
-
-def _solve(tier: str, d, options: dict[str, str], load: str) -> tuple[float, float]:
-    if tier == "section":
-        from softcath.fem.section_model import section_model
-
-        r = section_model(d, loads=(load,), **options)
-        return r.curvature_per_mm_per_MPa[load], r.elongation_per_MPa[load]
-    from softcath import fem
-
-    r = fem.check(d, pressures=(_FEM_PRESSURE,), loads=(load,), **options)
-    case = r.cases[0]
-    return case.curvature_per_mm / _FEM_PRESSURE, case.elongation / _FEM_PRESSURE

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.models import get
 from softcath.studies.predict.band import measured_position, percentiles
 from softcath.studies.predict.propagate import TIER_OPTIONS, propagate
 from softcath.studies.predict.ranges import Range
@@ -105,10 +106,12 @@ def predict_tier(
         raise DesignError("samples", samples, f"no feasible variant; e.g. {result.errors[0]}")
     nominal = propagate(tier, table, [{}], load=load)
     notes = []
-    if tier == "fem" and any(r.path.endswith("poisson_ratio") for r in use):
-        notes.append("the 3-D FEM caps Poisson ratios at 0.49 (displacement-only P2 locks above)")
-    if tier == "paper" and load == "lumen":
-        notes.append("paper tier, lumen load: the formula's cap gain times (1 - 2 nu)")
+    model = get(tier)
+    for suffix, note in model.range_notes.items():  # how the tier treats a sampled parameter
+        if any(r.path.endswith(suffix) for r in use):
+            notes.append(note)
+    if load in model.load_notes:  # what the tier's answer under this load means
+        notes.append(model.load_notes[load])
     n_bad = int((~result.feasible).sum())
     if n_bad:
         notes.append(f"{n_bad} of {samples} variants infeasible (design checks) and left out")

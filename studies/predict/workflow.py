@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from softcath.design.errors import DesignError
+from softcath.models import get
 from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
 from softcath.studies.predict.ranges import (
     Range,
@@ -57,8 +58,8 @@ def check_predict_inputs(
         Naming ``samples``, ``fem_samples``, ``seed`` or ``measured_gain`` with its bound.
     """
     for name, value, tier_names in (
-        ("samples", samples, [t for t in tiers if t != "fem"]),
-        ("fem_samples", fem_samples, [t for t in tiers if t == "fem"]),
+        ("samples", samples, [t for t in tiers if not get(t).slow]),
+        ("fem_samples", fem_samples, [t for t in tiers if get(t).slow]),
     ):
         if value is None:
             continue
@@ -150,11 +151,12 @@ def predict(
         check_assembly(name, table.get("assembly"))
     ranges = resolve_ranges(design_ref, vary, ranges_file)
     order = [model] + [t for t in TIERS if t in compare and t != model]
-    if "section" in order:
-        _check_section_work(table, samples or DEFAULT_SAMPLES["section"])
+    for tier in order:
+        if get(tier).dof_seconds:  # a section tier: its work is estimated from the section's size
+            _check_section_work(table, samples or DEFAULT_SAMPLES[tier])
     tiers = []
     for tier in order:
-        n = (fem_samples if tier == "fem" else samples) or DEFAULT_SAMPLES[tier]
+        n = (fem_samples if get(tier).slow else samples) or DEFAULT_SAMPLES[tier]
         tiers.append(
             predict_tier(
                 table,

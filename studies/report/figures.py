@@ -24,6 +24,8 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 _LOAD_COLOURS = {"cap": "tab:blue", "lumen": "tab:orange"}
+#: Panel key of the x-axis "the paper's formula under the cap load" (not a results column).
+_FORMULA_CAP = "formula_cap_curvature"
 
 
 def _plt():
@@ -160,11 +162,11 @@ def parity_plot(df, path: Path) -> Path | None:
         ("curvature_analytic_per_mm", "analytic κ, same load [1/mm]", "vs the analytic model of each load")
     ]
     if len(paper):
-        panels.append(("paper", "paper's formula κ (cap load) [1/mm]", "vs the paper's formula"))
+        panels.append((_FORMULA_CAP, "paper's formula κ (cap load) [1/mm]", "vs the paper's formula"))
     for ax, (xcol, xlabel, title) in zip(axes[0], panels, strict=False):
         lo, hi = np.inf, -np.inf
         for load, g in ok.groupby("load"):
-            if xcol == "paper":
+            if xcol is _FORMULA_CAP:
                 x = paper.reindex(pd_index(g)).to_numpy(float)
             else:
                 x = g[xcol].to_numpy(float)

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.sweep.results import MODEL_COLUMNS, has_model, model_columns
 from softcath.studies.tiers import ALIASES, TIERS, tier_name
 
 __all__ = ["MODEL_NAMES", "resolve_model"]
 
-#: The tiers a sweep's results have columns of (:mod:`softcath.studies.tiers`) -> their labels.
-MODEL_NAMES = {n: TIERS[n].label for n in ("paper", "section", "fem", "section-nonlinear")}
+#: The tiers a sweep's results have best-estimate columns of (:data:`MODEL_COLUMNS`) -> their labels.
+MODEL_NAMES = {n: TIERS[n].label for n in MODEL_COLUMNS}
 
 
 def resolve_model(df, model: str | None = None, load: str | None = None):
@@ -17,8 +18,6 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     See the module docstring for the defaults; ``note`` says what was chosen
     for the user when it was not asked for.
     """
-    from softcath.studies.sweep.results import has_model, model_columns
-
     loads = sorted(set(df["load"]))
     notes = []
     if model in ALIASES:
@@ -39,7 +38,7 @@ def resolve_model(df, model: str | None = None, load: str | None = None):
     elif not has_model(df, model):
         raise SelectionError(f"model '{model}': this sweep has no results of {MODEL_NAMES[model]}")
     if load is None:
-        load = "cap" if model in (None, "paper") else "lumen"
+        load = TIERS[model].default_load if model is not None else "cap"  # a plain table: the cap load
         if load not in loads:
             notes.append(f"the sweep has no {load} load: used {loads[0]}")
             load = loads[0]

@@ -61,9 +61,10 @@ def robust_select(
     that value); the result's ``robust`` records P, the samples, the ranges,
     the model and every design's probabilities and percentiles.
     """
-    from softcath.studies.optimise import Problem, make_robustness
+    from softcath.studies.optimise import MODELS, Problem, make_robustness
 
-    model = model or (selection.model if selection.model in ("paper", "section-nonlinear") else "section")
+    # the selection's tier if a search can run it (not the 3-D FEM, not a plain table), else the section model
+    model = model or (selection.model if selection.model in MODELS else "section")
     swept = {p for r in selection.ranked for p in r["parameters"]}
     use = [r for r in ranges if r.path not in swept]
     left_out = [r.path for r in ranges if r.path in swept]

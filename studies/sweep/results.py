@@ -152,6 +152,59 @@ SECTION_NONLINEAR_COLUMNS = (
     "section_nonlinear_seconds",
 )
 
+#: Tier -> its sweep columns (before the FEM renaming, :data:`_FEM_RENAME`) and where each comes
+#: from in the tier's :class:`~softcath.models.ResponseBatch`: a response field, ``extras.<name>``
+#: or ``seconds``. The tiers' order is the columns' order in the results (a file format).
+TIER_COLUMNS: dict[str, dict[str, str]] = {
+    "paper": {
+        "curvature_analytic_per_mm": "curvature_per_mm",
+        "elongation_analytic": "elongation",
+        "bend_angle_analytic_rad": "bend_angle_rad",
+        "tip_x_analytic_mm": "tip_x_mm",
+        "tip_y_analytic_mm": "tip_y_mm",
+        "max_strain_analytic": "max_strain",
+    },
+    "fem": {
+        "fem_curvature_per_mm": "curvature_per_mm",
+        "fem_elongation": "elongation",
+        "fem_bend_angle_rad": "bend_angle_rad",
+        "fem_tip_x_mm": "tip_x_mm",
+        "fem_tip_y_mm": "tip_y_mm",
+        "fem_curvature_variation": "extras.curvature_variation",
+        "fem_max_strain": "max_strain",
+        "fem_residual": "extras.residual",
+        "fem_n_elements": "extras.n_elements",
+        "fem_dofs": "extras.dofs",
+        "fem_mesh_seconds": "extras.mesh_seconds",
+        "fem_solve_seconds": "extras.solve_seconds",
+    },
+    "fem-nonlinear": {
+        "nonlinear_bend_angle_rad": "bend_angle_rad",
+        "nonlinear_curvature_per_mm": "tip_curvature_per_mm",
+        "nonlinear_max_strain": "max_strain",
+    },
+    "section": {
+        "curvature_section_per_mm": "curvature_per_mm",
+        "elongation_section": "elongation",
+        "bend_angle_section_rad": "bend_angle_rad",
+        "tip_x_section_mm": "tip_x_mm",
+        "tip_y_section_mm": "tip_y_mm",
+        "max_strain_section": "max_strain",
+        "section_formula_ratio": "extras.section_formula_ratio",
+        "section_seconds": "seconds",
+    },
+    "section-nonlinear": {
+        "curvature_section_nonlinear_per_mm": "curvature_per_mm",
+        "elongation_section_nonlinear": "elongation",
+        "bend_angle_section_nonlinear_rad": "bend_angle_rad",
+        "tip_x_section_nonlinear_mm": "tip_x_mm",
+        "tip_y_section_nonlinear_mm": "tip_y_mm",
+        "max_strain_section_nonlinear": "max_strain",
+        "lumen_volume_change_section_nonlinear_mm3": "lumen_volume_change_mm3",
+        "section_nonlinear_seconds": "seconds",
+    },
+}
+
 #: Model -> its columns for the best-estimate quantities (see :func:`model_columns`).
 MODEL_COLUMNS = {
     "paper": {
@@ -262,6 +315,10 @@ def has_model(df, model: str) -> bool:
     return col in df.columns and bool(np.isfinite(df[col].to_numpy(float)).any())
 
 
+#: The ``source`` of a tier's rows where it is not the tier's name (a file format kept from before).
+_SOURCE = {"paper": "analytic"}
+
+
 def model_columns(df, model: str):
     """A copy of ``df`` whose best-estimate columns come from one model.
 
@@ -285,7 +342,7 @@ def model_columns(df, model: str):
             df[col] = np.degrees(df["bend_angle_section_rad"].to_numpy(float))
         df[best] = df[col].to_numpy(float) if col in df.columns else np.nan
     _bend_per_mpa(df)
-    df["source"] = "analytic" if model == "paper" else model
+    df["source"] = _SOURCE.get(model, model)
     return df
 
 

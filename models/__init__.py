@@ -1,0 +1,66 @@
+"""The model tiers behind one interface: every tier answers a design with a :class:`TipResponse`.
+
+Five tiers, from the cheapest to the most expensive: ``paper`` (the paper's formula),
+``section`` (the linear section model), ``section-nonlinear`` (the finite-strain section
+model), ``fem`` (the 3-D linear FEM) and ``fem-nonlinear`` (the 3-D finite-strain FEM).
+Each is a :class:`Tier` in the registry, with its capabilities (loads, options, the bend it
+is valid to, whether it models an as-built assembly) and two methods, ``response`` for one
+design and ``responses`` for many (vectorised or batched where the tier can be).
+
+The consumers (sweeps, selection, optimisation, prediction bands, the discrepancy
+workflows) ask the registry for a tier and read its capabilities; none compares a tier's
+name. A new option of a tier is one entry of its ``options`` (name -> default), which its
+``_solve`` passes on; a new tier is one :class:`Tier` subclass implementing ``_solve`` (one
+module) and one :func:`register` call, plus its sweep columns if sweeps are to store it
+(:data:`softcath.studies.sweep.results.TIER_COLUMNS`).
+
+>>> from softcath import design, models
+>>> r = models.response(design.preset("paper"), [0.1], tier="paper", load="cap")
+>>> r.tier, r.load, r.curvature_per_mm.shape
+('paper', 'cap', (1,))
+>>> models.get("fem").options["mesh_size"]
+0.16
+"""
+
+from __future__ import annotations
+
+from softcath.models.registry import (
+    ALIASES,
+    TIERS,
+    get,
+    linear_names,
+    names,
+    register,
+    response,
+    responses,
+    tier_name,
+    tiers,
+)
+from softcath.models.response import OBSERVABLES, ResponseBatch, TipResponse
+from softcath.models.tier import LOADS, Tier
+from softcath.models.validity import LINEAR_BEND_LIMIT_DEG, SELF_CONTACT_DEG
+
+__all__ = [
+    "ALIASES",
+    "LINEAR_BEND_LIMIT_DEG",
+    "LOADS",
+    "OBSERVABLES",
+    "ResponseBatch",
+    "SELF_CONTACT_DEG",
+    "TIERS",
+    "Tier",
+    "TipResponse",
+    "get",
+    "linear_names",
+    "names",
+    "register",
+    "response",
+    "responses",
+    "tier_name",
+    "tiers",
+]
+
+if __name__ != "softcath.models":  # the bare folder name would load a second copy of every module
+    raise ImportError(
+        "import softcath.models, not models: the top-level folders are rooms of the softcath package"
+    )
