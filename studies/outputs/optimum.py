@@ -17,9 +17,10 @@ from pathlib import Path
 
 from softcath.core.atomic import prepare_out_dir, staged_dir, unstage
 from softcath.core.output_ledger import check_inputs_outside, check_replace
-from softcath.studies.optimise import Optimum, Problem, Robustness, optimise, write_optimum
+from softcath.studies import optimise as search  # through the module: a test may replace its functions
+from softcath.studies.optimise import Optimum, Problem, Robustness
 from softcath.studies.optimise.validity import tier_validity
-from softcath.studies.report.optimum import write_optimum_report
+from softcath.studies.report import optimum as optimum_report
 
 __all__ = ["OptimumRun", "optimum_run"]
 
@@ -75,7 +76,7 @@ def optimum_run(
     out = prepare_out_dir(folder, param="folder")
     check_inputs_outside(out, "designs")  # the designs folder is refilled: no input may live there
     check_replace(out, [out / n for n in _REPLACED])
-    opt = optimise(
+    opt = search.optimise(
         problem,
         budget=budget,
         seed=seed,
@@ -87,6 +88,6 @@ def optimum_run(
     )
     opt = dataclasses.replace(opt, validity=validity)
     with staged_dir(out, owner="optimise") as stage:
-        paths = {k: unstage(v, stage, out) for k, v in write_optimum(opt, problem, stage).items()}
-        report = unstage(write_optimum_report(stage), stage, out)
+        paths = {k: unstage(v, stage, out) for k, v in search.write_optimum(opt, problem, stage).items()}
+        report = unstage(optimum_report.write_optimum_report(stage), stage, out)
     return OptimumRun(optimum=opt, paths=paths, report=report)
