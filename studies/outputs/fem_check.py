@@ -22,6 +22,8 @@ from pathlib import Path
 
 from softcath import analytic
 from softcath.core.atomic import Outputs, prepare_out_dir, staged_dir
+from softcath.core.errors import DataError
+from softcath.design import TipDesign
 from softcath.fem.api import FemCase, FemResult, check
 from softcath.fem.export import render_png, write_vtu
 from softcath.fem.html_view import write_tip_html
@@ -35,7 +37,7 @@ __all__ = ["FemCheck", "fem_check", "nonlinear_fem_check", "paper_formula"]
 class FemCheck:
     """One linear FEM check: the design, its result and the load and pressure it ran at."""
 
-    design: object
+    design: TipDesign
     result: FemResult
     load: str
     pressure: float
@@ -61,6 +63,8 @@ class FemCheck:
         """Write ``fem.json``, ``tip.vtu`` and (``picture``) ``tip.png``, ``tip.html``, all or none."""
         names = ["fem.json", "tip.vtu"]
         sol, ld, p = self.result.solution, self.load, self.pressure
+        if sol is None:  # a result read back from fem.json has numbers, no fields
+            raise DataError("the FEM result keeps no solution fields: tip.vtu needs the check's own result")
         with Outputs(prepare_out_dir(folder, param="folder")) as o:
             o.json("fem.json", self.to_json())
             write_vtu(sol, ld, p, o.path("tip.vtu"))

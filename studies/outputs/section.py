@@ -178,7 +178,7 @@ def section_run(
     if coil_bound is not None:
         curve = bend_curve(
             design,
-            p,
+            p.tolist(),
             load=load,
             coil_model=coil_bound,
             initial_tension=initial_tension,
