@@ -9,6 +9,9 @@ load and why that load).
 The load: the paper's formula is defined for the cap load (the end-cap force on the
 composite beam), so ``--model paper`` takes the cap load and says so; the section model
 takes the real load (lumen wall + cap), as every other command does. ``--load`` overrides.
+
+The files are written by the library: :func:`softcath.studies.outputs.analytic.analytic_run` and
+its ``write``.
 """
 
 from __future__ import annotations

@@ -5,6 +5,8 @@ frequency and time, fits every candidate effect (hysteresis, lag, delay,
 dead_zone, viscoelastic, offset, nonlinear_gain) on training runs, scores it on
 held-out runs, and names an effect only if it beats the model by the margin.
 Writes DIR/discrepancy.json and DIR/report.html.
+
+The files are written by the library: :mod:`softcath.studies.outputs.discrepancy`.
 """
 
 from __future__ import annotations

@@ -29,6 +29,9 @@ option              linear      ``--nonlinear``
 ``--load``          lumen       lumen
 ``--mesh-size``     0.16 mm     0.15 mm
 ==================  ==========  ==============
+
+The files are written by the library: :func:`softcath.studies.outputs.fem_check.fem_check` and its
+``write``; :func:`softcath.studies.outputs.fem_check.nonlinear_fem_check` with ``--nonlinear``.
 """
 
 from __future__ import annotations

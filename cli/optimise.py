@@ -6,6 +6,8 @@ One objective: differential evolution (pymoo) then a COBYLA polish; several: NSG
 Pareto set. --robust P optimises the objectives' p50 over the design's material/manufacturing ranges
 (those of `softcath predict`) with every constraint met with probability >= P. Writes
 DIR/optimum.json, DIR/history.parquet, DIR/designs/*.toml and the report DIR/index.html.
+
+The files are written by the library: :func:`softcath.studies.outputs.optimum.optimum_run`.
 """
 
 from __future__ import annotations

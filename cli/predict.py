@@ -15,6 +15,9 @@ model's bands at ``--pressures``: per pressure p5/p50/p95 of the curvature
 and bend angle (``nonlinear`` in prediction.json, DIR/curve_band.png), and
 ``--measured CSV`` places a measured curve in them pressure by pressure, not
 only its line-fit slope.
+
+The files are written by the library: :func:`softcath.studies.outputs.predict.prediction_run` and
+its ``write``.
 """
 
 from __future__ import annotations

@@ -22,6 +22,9 @@ the range, with DIR/section_curve.png against the linear model and, with
 Several designs (``softcath section A.toml B.toml ...``) overlay their bend curves
 (``softcath.cli.section_overlay``): DIR/overlay.csv, overlay.json and overlay.png, each
 curve labelled with its design, tier and load, each value the single-design run's.
+
+The files are written by the library: :func:`softcath.studies.outputs.section.section_run` and
+its ``write``.
 """
 
 from __future__ import annotations

@@ -10,6 +10,8 @@ with the finite-strain section model (--no-recheck keeps the linear ranking). Wr
 (ranked list, Pareto front, model and load) and the first ranked designs as design files,
 DIR/designs/design_ID.toml, which `softcath design validate`, `section` and `fem` take as they are;
 `softcath report DIR` shows them.
+
+The files are written by the library: :func:`softcath.studies.outputs.selection.selection_run`.
 """
 
 from __future__ import annotations
