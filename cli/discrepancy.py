@@ -5,14 +5,28 @@ frequency and time, fits every candidate effect (hysteresis, lag, delay,
 dead_zone, viscoelastic, offset, nonlinear_gain) on training runs, scores it on
 held-out runs, and names an effect only if it beats the model by the margin.
 Writes DIR/discrepancy.json and DIR/report.html.
+
+The files are written by the library: :mod:`softcath.studies.outputs.discrepancy`.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from softcath.cli.options import add_design, add_out, design_or_data
+from softcath.core.atomic import prepare_out_dir
+from softcath.design.errors import DataError, DesignError
+from softcath.studies.discrepancy.design_workflow import load_sweep_cases, run_design_workflow
+from softcath.studies.discrepancy.design_workflow_report import write_design_report
+from softcath.studies.discrepancy.prototype import hypotheses_table
+from softcath.studies.outputs.discrepancy import (
+    discrepancy_run,
+    prototype_run,
+    write_discrepancy,
+    write_prototype_record,
+)
 
 HELP = "name the effect the model is missing (hysteresis, lag, ...) and show the gap shrink"
 
@@ -81,13 +95,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import math
-
-    from softcath.design.errors import DataError, DesignError
-    from softcath.studies.atomic import prepare_out_dir, staged_dir, unstage
-    from softcath.studies.discrepancy import run_workflow, write_report
-    from softcath.studies.discrepancy.workflow import fem_reference
-
     out = prepare_out_dir(args.out)
     if args.margin is not None and not (math.isfinite(args.margin) and 0 <= args.margin < 1):
         raise DesignError("--margin", args.margin, "must be a fraction in [0, 1)")
@@ -100,43 +107,18 @@ def run(args: argparse.Namespace) -> int:
         return _run_prototype(args, out)
     if data is not None and data.is_dir():
         return _run_designs(args)
-    fem_fn = None
-    if args.reference == "fem" and data is None:
-        fem_fn = fem_reference()
-        if fem_fn is None:
-            raise DataError(
-                "--reference fem: no FEM table given and fem.check is not "
-                "available; pass a CSV with pressure_MPa, curvature_per_mm"
-            )
-    if args.reference == "measured" and data is None:
-        raise DataError("a measurement CSV is required")
-    cands = None
-    if args.candidates:
-        cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
-    result = run_workflow(
+    result = discrepancy_run(
         data,
         args.design,
         reference=args.reference,
-        fem=fem_fn,
         margin=args.margin,
         max_effects=args.max_effects,
-        candidates=cands,
-        progress=True,
+        candidates=_candidates(args),
         excitation=args.excitation,
+        physical=args.physical,
+        progress=True,
     )
-    if (
-        args.reference == "measured"
-        and args.physical
-        and "quasi-static" not in {r["kind"] for r in result.runs}
-    ):
-        import dataclasses
-
-        from softcath import design
-        from softcath.studies.discrepancy.to_physics import physical_step
-
-        result = dataclasses.replace(result, physical=physical_step(result, design.resolve(args.design)))
-    with staged_dir(out) as stage:  # the record and its page replace earlier ones only together
-        html = unstage(write_report(result, stage), stage, out)
+    html = write_discrepancy(result, out)
     named = " + ".join(result.named) if result.named else "nothing"
     print(f"named: {named}")
     print(
@@ -178,36 +160,28 @@ def _print_physical(phys: dict) -> None:
     )
 
 
+def _candidates(args: argparse.Namespace) -> tuple[str, ...] | None:
+    """``--candidates a,b``: the effects or ingredients to try, or None for all."""
+    if not args.candidates:
+        return None
+    return tuple(c.strip() for c in args.candidates.split(",") if c.strip())
+
+
 def _run_prototype(args: argparse.Namespace, out: Path) -> int:
-    import math
-
-    from softcath import design
-    from softcath.design.errors import DataError, DesignError
-    from softcath.studies.atomic import Outputs
-    from softcath.studies.discrepancy.prototype import (
-        explain_prototype,
-        hypotheses_table,
-        load_prototype_csv,
-        tip_level_factor,
-    )
-
     if args.measured is None:
         raise DataError("--reference prototype: a CSV of pressure_MPa, curvature_per_mm is required")
-    measured = load_prototype_csv(args.measured)
-    d = design.resolve(args.design)
     factor = args.tip_factor
-    if factor is None:
-        factor = tip_level_factor(d)
-    elif not (math.isfinite(factor) and 0.2 <= factor <= 5):
+    if factor is not None and not (math.isfinite(factor) and 0.2 <= factor <= 5):
         raise DesignError("--tip-factor", factor, "must be in [0.2, 5]")
-    cands = None
-    if args.candidates:
-        cands = tuple(c.strip() for c in args.candidates.split(",") if c.strip())
-    record = explain_prototype(
-        d, measured, tip_factor=factor, candidates=cands, workers=args.workers, progress=True
+    record = prototype_run(
+        args.design,
+        args.measured,
+        tip_factor=factor,
+        candidates=_candidates(args),
+        workers=args.workers,
+        progress=True,
     )
-    with Outputs(out) as o:
-        o.json("discrepancy.json", record)
+    write_prototype_record(record, out)
     for line in hypotheses_table(record):
         print(line)
     base, best = record["nrmse_before"], record["best_nrmse"]
@@ -226,9 +200,6 @@ def _run_prototype(args: argparse.Namespace, out: Path) -> int:
 
 
 def _run_designs(args: argparse.Namespace) -> int:
-    from softcath.studies.discrepancy.design_workflow import load_sweep_cases, run_design_workflow
-    from softcath.studies.discrepancy.design_workflow_report import write_design_report
-
     cases = load_sweep_cases(args.measured, reference="fem")  # a sweep holds no measurement
     margin = 0.05 if args.margin is None else args.margin
     result = run_design_workflow(cases, margin=margin, max_steps=args.max_effects + 1, progress=True)

@@ -29,6 +29,9 @@ option              linear      ``--nonlinear``
 ``--load``          lumen       lumen
 ``--mesh-size``     0.16 mm     0.15 mm
 ==================  ==========  ==============
+
+The files are written by the library: :func:`softcath.studies.outputs.fem_check.fem_check` and its
+``write``; :func:`softcath.studies.outputs.fem_check.nonlinear_fem_check` with ``--nonlinear``.
 """
 
 from __future__ import annotations
@@ -39,7 +42,14 @@ import sys
 from dataclasses import dataclass
 
 from softcath.cli.options import add_assembly, add_design, add_out, resolve_design
+from softcath.core.atomic import prepare_out_dir
 from softcath.design.errors import DesignError
+from softcath.fem.api import check_assembly
+from softcath.fem.limits import check_fem_budget
+from softcath.fem.nonlinear.errors import SettingError
+from softcath.fem.nonlinear.outputs import NonlinearSettings
+from softcath.studies.model_validity import check_pressure
+from softcath.studies.outputs.fem_check import fem_check, nonlinear_fem_check
 
 HELP = "one FEM bending check (mesh, solve, compare with the analytic model); --nonlinear for finite strain"
 
@@ -153,11 +163,8 @@ def linear_settings(args: argparse.Namespace) -> LinearSettings:
     )
 
 
-def nonlinear_settings(args: argparse.Namespace):
+def nonlinear_settings(args: argparse.Namespace) -> NonlinearSettings:
     """The :class:`~softcath.fem.nonlinear.NonlinearSettings` of the parsed options."""
-    from softcath.fem.nonlinear.errors import SettingError
-    from softcath.fem.nonlinear.outputs import NonlinearSettings
-
     pressure = DEFAULT_NONLINEAR_PRESSURE if args.pressure is None else args.pressure
     if not pressure > 0:  # said in the command's terms: the linear check accepts 0 MPa
         raise DesignError("--pressure", pressure, "must be > 0 MPa for --nonlinear")
@@ -178,17 +185,11 @@ def nonlinear_settings(args: argparse.Namespace):
 
 
 def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
-    from softcath.fem.limits import check_fem_budget
-    from softcath.fem.nonlinear.outputs import run_check
-    from softcath.studies.atomic import staged_dir
-
     settings = nonlinear_settings(args)
     check_fem_budget(d, mesh_size=settings.mesh_size, param="--mesh-size")  # before minutes of meshing
-    with staged_dir(out) as stage:  # every output appears only if the whole run succeeded
-        _, lines = run_check(d, settings, stage)
-        formula = _add_paper_formula(stage / "fem.json", d)
+    formula, lines = nonlinear_fem_check(d, settings, out)
     for line in lines:
-        print(line.replace(str(stage), str(out)))
+        print(line)
     print(
         f"  paper's formula at {formula['pressure_MPa']:g} MPa, cap load (the load it is defined for): "
         f"{formula['bend_angle_deg']:.2f} deg, curvature {formula['curvature_per_mm']:.4g} 1/mm "
@@ -197,68 +198,33 @@ def _run_nonlinear(d, args: argparse.Namespace, out) -> int:
     return 0
 
 
-def _add_paper_formula(path, d) -> dict:
-    """Give the finite-strain ``fem.json`` the linear check's ``paper_formula`` block; return it."""
-    import json
-
-    doc = json.loads(path.read_text(encoding="utf-8"))
-    formula = {
-        "pressure_MPa": doc["pressure_MPa"],
-        **paper_formula(d, doc["pressure_MPa"], doc["curvature_per_mm"]),
-    }
-    doc["paper_formula"] = formula
-    path.write_text(json.dumps(doc, indent=2), encoding="utf-8")
-    return formula
-
-
 def run(args: argparse.Namespace) -> int:
-    from softcath.fem.limits import check_fem_budget
-    from softcath.studies.atomic import Outputs, prepare_out_dir
-    from softcath.studies.model_validity import check_pressure, warn_linear_range
-
     out = prepare_out_dir(args.out)
     if args.pressure is not None:
         check_pressure(args.pressure, param="--pressure")
     d = resolve_design(args)
     if args.nonlinear:
-        from softcath.fem.api import check_assembly
-
         check_assembly(d.assembly)  # the finite-strain FEM fuses every interface
         return _run_nonlinear(d, args, out)
     s = linear_settings(args)
     check_fem_budget(d, mesh_size=s.mesh_size, param="--mesh-size")  # before minutes of meshing
-    from softcath import fem
-    from softcath.fem.export import render_png, write_vtu
-    from softcath.fem.html_view import write_tip_html
-
     stages = iter(range(1, 5))
 
     def status(stage: str) -> None:
         print(f"[{next(stages, 4)}/4] {stage} ...", file=sys.stderr, flush=True)
 
-    result = fem.check(
+    fc = fem_check(
         d,
-        pressures=[s.pressure],
-        loads=(s.load,),
+        s.pressure,
+        load=s.load,
         mesh_size=s.mesh_size,
         mesher=args.mesher,
         coil_modulus=args.coil_modulus,
         use_cache=not args.no_cache,
         progress=status,
     )
-    c = result.case(s.load, s.pressure)
-    doc = result.to_json(s.load, s.pressure)
-    doc["assembly"] = d.assembly.to_dict()
-    doc["analytic"]["load"] = s.load  # the library's comparison is the formula under the same load
-    formula = paper_formula(d, s.pressure, c.curvature_per_mm)
-    doc["paper_formula"] = formula
-    with Outputs(out) as o:
-        o.json("fem.json", doc)
-        write_vtu(result.solution, s.load, s.pressure, o.path("tip.vtu"))
-        if not args.no_png:
-            render_png(result.solution, s.load, s.pressure, o.path("tip.png"))
-            write_tip_html(result.solution, s.load, s.pressure, o.path("tip.html"))
-    warn_linear_range(s.pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
+    fc.write(out, picture=not args.no_png)
+    result, c, formula = fc.result, fc.case, fc.paper_formula()
     ratio = formula["ratio_fem_over_formula"]
     print(
         f"{result.design_name}: linear 3-D FEM, {s.load} load at {s.pressure:g} MPa -> "
@@ -276,24 +242,3 @@ def run(args: argparse.Namespace) -> int:
         + ("" if args.no_png else ", tip.png")
     )
     return 0
-
-
-def paper_formula(d, pressure: float, curvature_per_mm: float) -> dict:
-    """The paper's formula at ``pressure`` beside a 3-D curvature, under the cap load.
-
-    The formula is the cap-load composite beam by definition (its lumen variant is the wall
-    effect alone, not the paper's prediction), so the check shows it under the cap load
-    whatever load the FEM ran, as ``softcath analytic`` and ``fem --nonlinear`` do.
-    """
-    from softcath import analytic
-
-    ref = analytic.response(d, pressure, load="cap")
-    k = float(ref.curvature)
-    return {
-        "load": "cap",
-        "curvature_per_mm": k,
-        "elongation": float(ref.elongation),
-        "bend_angle_rad": float(ref.bend_angle),
-        "bend_angle_deg": math.degrees(float(ref.bend_angle)),
-        "ratio_fem_over_formula": curvature_per_mm / k if k else None,
-    }

@@ -6,14 +6,14 @@ One objective: differential evolution (pymoo) then a COBYLA polish; several: NSG
 Pareto set. --robust P optimises the objectives' p50 over the design's material/manufacturing ranges
 (those of `softcath predict`) with every constraint met with probability >= P. Writes
 DIR/optimum.json, DIR/history.parquet, DIR/designs/*.toml and the report DIR/index.html.
+
+The files are written by the library: :func:`softcath.studies.outputs.optimum.optimum_run`.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
-import logging
 from pathlib import Path
 
 from softcath.cli.options import (
@@ -25,6 +25,14 @@ from softcath.cli.options import (
     model_name,
     parse_pressure_list,
 )
+from softcath.core.atomic import prepare_out_dir
+from softcath.design.errors import DesignError
+from softcath.design.reference import unit_of
+from softcath.fem.limits import check_workers
+from softcath.studies.optimise import check_search, make_problem, make_robustness
+from softcath.studies.outputs.optimum import optimum_run
+from softcath.studies.predict import resolve_ranges
+from softcath.studies.predict.ranges import base_table
 
 HELP = "optimise a design (DE or NSGA-II) under select-style objectives and constraints"
 
@@ -93,12 +101,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.fem.limits import check_workers
-    from softcath.studies.atomic import prepare_out_dir
-    from softcath.studies.optimise import check_search, make_problem, make_robustness, optimise, write_optimum
-    from softcath.studies.output_ledger import check_inputs_outside, check_replace
-    from softcath.studies.predict.ranges import base_table
-
     # Everything that can be checked is checked before the output folder or any run.
     check_workers(args.workers, param="--workers")
     pressures = parse_pressure_list(args.pressures, param="--pressures")
@@ -116,22 +118,14 @@ def run(args: argparse.Namespace) -> int:
         )
         robust = None
         if args.robust is not None:
-            from softcath.studies.predict import resolve_ranges
-
             ranges = resolve_ranges(args.design, args.robust_vary, args.ranges)
             robust = make_robustness(args.robust, ranges, samples=args.samples, seed=args.seed)
         check_search(problem, budget=args.budget, seed=args.seed, robust=robust)
-    from softcath.studies.optimise.validity import tier_validity
-
-    validity = tier_validity(problem)
-    if validity.get("warning"):  # said before the search: the user may stop it and change --model
-        logging.getLogger("softcath.validity").warning(validity["warning"])
     out = prepare_out_dir(args.out)
-    check_inputs_outside(out, "designs")  # the designs folder is refilled: no input may live there
-    check_replace(out, [out / n for n in ("optimum.json", "history.parquet", "index.html")])
     with _as_options():
-        opt = optimise(
+        result = optimum_run(
             problem,
+            out,
             budget=args.budget,
             seed=args.seed,
             robust=robust,
@@ -140,15 +134,7 @@ def run(args: argparse.Namespace) -> int:
             fem_check=not args.no_fem_check,
             progress=not args.no_progress,
         )
-    opt = dataclasses.replace(opt, validity=validity)
-    from softcath.studies.atomic import staged_dir, unstage
-    from softcath.studies.report.optimum import write_optimum_report
-
-    # The record, designs and report replace earlier ones only together; an earlier run's designs
-    # that this one did not write (pareto_07.toml of a longer front) are removed.
-    with staged_dir(out, owner="optimise") as stage:
-        paths = {k: unstage(v, stage, out) for k, v in write_optimum(opt, problem, stage).items()}
-        report = unstage(write_optimum_report(stage), stage, out)
+    opt, paths, report = result.optimum, result.paths, result.report
     print(
         f"{opt.algorithm} on the {opt.model} model ({opt.load} load), {opt.backend}: "
         f"{opt.evaluations} designs ({opt.model_runs} model runs) in {opt.seconds:.1f} s"
@@ -176,8 +162,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"  ... {len(opt.best) - 5} more on the Pareto front")
     print(f"optimum: {paths['optimum']}; report: {report}")
     if not opt.feasible:
-        from softcath.design.errors import DesignError
-
         given = ("--constraint", args.constraint) if args.constraint else ("--vary", args.vary)
         raise DesignError(
             given[0],
@@ -213,8 +197,6 @@ def _flag(parameter: str) -> str:
 @contextlib.contextmanager
 def _as_options():
     """A library refusal in this command's terms (:func:`_flag`), value and bound kept."""
-    from softcath.design.errors import DesignError
-
     try:
         yield
     except DesignError as exc:
@@ -240,8 +222,6 @@ def _fem_line(check: dict, load: str | None = None) -> str:
 
 def _unit(path: str) -> str:
     """`` mm`` after a value of a length path (nothing for a dimensionless or unknown one)."""
-    from softcath.design.reference import unit_of
-
     unit = unit_of(path)
     return f" {unit}" if unit not in ("", "-") else ""
 

@@ -15,14 +15,17 @@ model's bands at ``--pressures``: per pressure p5/p50/p95 of the curvature
 and bend angle (``nonlinear`` in prediction.json, DIR/curve_band.png), and
 ``--measured CSV`` places a measured curve in them pressure by pressure, not
 only its line-fit slope.
+
+The files are written by the library: :func:`softcath.studies.outputs.predict.prediction_run` and
+its ``write``.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 from pathlib import Path
 
+from softcath import design
 from softcath.cli.options import (
     PRESSURE_SYNTAX,
     add_design,
@@ -33,6 +36,14 @@ from softcath.cli.options import (
     model_name,
     parse_pressure_list,
 )
+from softcath.core.atomic import prepare_out_dir
+from softcath.design.errors import DesignError
+from softcath.design.measurement import read_measurement_csv
+from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
+from softcath.studies.model_validity import check_measured_pressures
+from softcath.studies.outputs.predict import prediction_run
+from softcath.studies.predict.curve_band import MAX_CURVE_SAMPLES
+from softcath.studies.predict.workflow import check_predict_inputs
 
 #: The library's parameter names as this command's options.
 _OPTIONS = {
@@ -130,10 +141,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.studies.atomic import prepare_out_dir
-    from softcath.studies.predict import predict
-    from softcath.studies.predict.workflow import check_predict_inputs
-
     compare = _compare(args.compare)
     # Everything that can be checked is checked before the output folder or any run.
     pressures = _pressures(args.pressures) if (args.finite_strain or args.nonlinear) else None
@@ -147,8 +154,8 @@ def run(args: argparse.Namespace) -> int:
             tiers=(args.model, *compare),
         )
     out = prepare_out_dir(args.out)
-    with as_options(_OPTIONS):
-        doc, tiers = predict(
+    with as_options({**_OPTIONS, "curve_samples": "--curve-samples"}):
+        result = prediction_run(
             args.design,
             model=args.model,
             compare=compare,
@@ -159,69 +166,18 @@ def run(args: argparse.Namespace) -> int:
             fem_samples=args.fem_samples,
             seed=args.seed,
             measured_gain=args.measured_gain,
+            finite_strain_pressures=pressures if args.finite_strain else None,
+            curve_pressures=pressures if args.nonlinear else None,
+            curve_samples=args.curve_samples,
+            measured=measured,
             progress=not args.no_progress,
         )
-    points = {}
-    if args.finite_strain:
-        from softcath.studies.predict.finite_strain import finite_strain_point
-
-        fs = finite_strain_point(
-            args.design,
-            pressures,
-            load=args.load or "lumen",
-            measured_gain=args.measured_gain,
-            progress=not args.no_progress,
-        )
-        doc["finite_strain"] = fs
-        points[f"finite-strain FEM, nominal\n{fs['load']} load, line fit"] = fs["gain_line_fit"]
-    if args.nonlinear:
-        from softcath.studies.predict.curve_band import curve_bands
-
-        with as_options({**_OPTIONS, "samples": "--curve-samples"}):
-            doc["nonlinear"] = curve_bands(
-                args.design,
-                pressures,
-                vary=args.vary,
-                ranges_file=args.ranges,
-                samples=args.curve_samples,
-                seed=args.seed,
-                load=args.load or "lumen",
-                measured=measured,
-                progress=not args.no_progress,
-            )
-    _write_outputs(out, args, doc, tiers, measured, points)
-    _print_tiers(tiers, doc)
-    if "nonlinear" in doc:
-        _print_nonlinear(doc["nonlinear"])
-    extra = ", curve_band.png" if args.nonlinear else ""
-    print(f"wrote {out}/prediction.json, samples.csv, prediction.png{extra}")
+    wrote = result.write(out)
+    _print_tiers(result.tiers, result.doc)
+    if "nonlinear" in result.doc:
+        _print_nonlinear(result.doc["nonlinear"])
+    print(f"wrote {out}/{', '.join(wrote)}")
     return 0
-
-
-def _write_outputs(out, args: argparse.Namespace, doc: dict, tiers, measured, points: dict) -> None:
-    """``prediction.json``, ``samples.csv``, ``prediction.png`` and, with --nonlinear, ``curve_band.png``."""
-    from softcath.studies.atomic import Outputs
-    from softcath.studies.predict.plot import band_picture
-
-    with Outputs(out) as o:  # all files or none
-        o.json("prediction.json", doc)
-        if args.nonlinear:
-            from softcath.studies.predict.plot import curve_band_picture
-
-            curve_band_picture(
-                doc["nonlinear"],
-                o.path("curve_band.png"),
-                measured=measured,
-                title=f"{doc['design']}: finite-strain section model, curvature bands",
-            )
-        _write_samples(o.path("samples.csv"), tiers)
-        band_picture(
-            tiers,
-            o.path("prediction.png"),
-            measured_gain=args.measured_gain,
-            points=points,
-            title=f"{doc['design']}: κ/p bands (box p5–p95, bar p50, ◆ nominal)",
-        )
 
 
 def _print_tiers(tiers, doc: dict) -> None:
@@ -253,8 +209,6 @@ def _print_tiers(tiers, doc: dict) -> None:
 
 def _compare(text: str) -> tuple[str, ...]:
     """``--compare TIER,TIER``: each a tier this command runs (the same names as ``--model``)."""
-    from softcath.design.errors import DesignError
-
     choices = ("paper", "section", "fem")
     tiers = tuple(model_name(t.strip()) for t in text.split(",") if t.strip())
     for t in tiers:
@@ -267,8 +221,6 @@ def _compare(text: str) -> tuple[str, ...]:
 
 def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
     """Check the --nonlinear options before any work; the measurement read, or None."""
-    from softcath.design.errors import DesignError
-
     if args.measured is not None and not args.nonlinear:
         raise DesignError("--measured", str(args.measured), "needs --nonlinear")
     if args.nonlinear and args.model != "section":
@@ -277,16 +229,11 @@ def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
         )
     if not args.nonlinear:
         return None
-    from softcath.studies.predict.curve_band import MAX_CURVE_SAMPLES
-
     if not 2 <= args.curve_samples <= MAX_CURVE_SAMPLES:
         raise DesignError("--curve-samples", args.curve_samples, f"must be in [2, {MAX_CURVE_SAMPLES}]")
     _check_curve_work(args, pressures)
     if args.measured is None:
         return None
-    from softcath.design.measurement import read_measurement_csv
-    from softcath.studies.model_validity import check_measured_pressures
-
     m = read_measurement_csv(args.measured, missing="drop")
     top = max(pressures or [0.0])
     check_measured_pressures(m.pressure_MPa, top, param="--measured", value=str(args.measured))
@@ -295,9 +242,6 @@ def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
 
 def _check_curve_work(args: argparse.Namespace, pressures) -> None:
     """Refuse --curve-samples whose curves are estimated beyond the work limit; warn beyond a minute."""
-    from softcath import design
-    from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
-
     each = finite_strain_curve_seconds(design.resolve(args.design), len(pressures or ()))
     check_work_seconds(
         (args.curve_samples + 1) * each,
@@ -337,23 +281,8 @@ def _print_nonlinear(nl: dict) -> None:
         )
 
 
-def _write_samples(path: Path, tiers) -> None:
-    """One row per variant and tier; parameters a tier does not use are left empty."""
-    names = list(dict.fromkeys(r.path for t in tiers for r in t.ranges))
-    with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["tier", "load", *names, "curvature_per_mm_per_MPa", "elongation_per_MPa"])
-        for t in tiers:
-            for row, k, e in zip(t.values, t.gains, t.elongations, strict=True):
-                cells = [row.get(n, "") for n in names]
-                cells = [f"{c:.10g}" if isinstance(c, float) else c for c in cells]
-                w.writerow([t.model, t.load, *cells, *("" if v != v else f"{v:.10g}" for v in (k, e))])
-
-
 def _pressures(text: str) -> list[float]:
     """The finite-strain pressures: checked (finite, ±100 MPa, > 0, increasing, two or more)."""
-    from softcath.design.errors import DesignError
-
     values = parse_pressure_list(text, param="--pressures", increasing=True)
     if values[0] <= 0:
         raise DesignError("--pressures", text, "must be > 0 MPa for the finite-strain models")

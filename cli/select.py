@@ -10,6 +10,8 @@ with the finite-strain section model (--no-recheck keeps the linear ranking). Wr
 (ranked list, Pareto front, model and load) and the first ranked designs as design files,
 DIR/designs/design_ID.toml, which `softcath design validate`, `section` and `fem` take as they are;
 `softcath report DIR` shows them.
+
+The files are written by the library: :func:`softcath.studies.outputs.selection.selection_run`.
 """
 
 from __future__ import annotations
@@ -17,7 +19,24 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from softcath.cli.options import add_out, add_seed, model_name
+from softcath.cli.options import add_out, add_seed, as_options, model_name
+from softcath.design.errors import DesignError
+from softcath.design.reference import unit_of
+from softcath.fem.limits import check_workers
+from softcath.studies.outputs.selection import RobustSettings, selection_run
+from softcath.studies.selection import MODEL_NAMES, SelectionError
+from softcath.studies.selection.criteria import parse_constraint, parse_objective, without_text
+
+#: The robust ranking's settings as this command's options.
+_ROBUST_OPTIONS = {
+    "robust.probability": "--robust",
+    "robust.samples": "--samples",
+    "robust.seed": "--seed",
+    "robust.ranges": "--vary/--ranges",
+    "robust.model": "--robust-model",
+    "robust.vary": "--vary",
+    "workers": "--workers",
+}
 
 HELP = "rank a sweep's designs by constraints and objectives (Pareto front)"
 
@@ -95,45 +114,38 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from softcath.fem.limits import check_workers
-    from softcath.studies.selection import MODEL_NAMES, SelectionError, select, write_selection
-    from softcath.studies.sweep.results import read_results
-
     if args.top < 1:
         raise SelectionError(f"--top = {args.top}: must be >= 1")
     if args.designs < 0:
-        from softcath.design.errors import DesignError
-
         raise DesignError("--designs", args.designs, "must be >= 0")
     check_workers(args.workers, param="--workers")
     _check_expressions(args)
-    from softcath.design.errors import DataError
-
-    if not Path(args.dir).is_dir():
-        raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
-    df = read_results(args.dir)
-    sel = select(
-        df,
-        constraints=args.constraint,
-        objectives=args.objective,
-        load=args.load,
-        top=args.top,
-        model=args.model,
-    )
-    out = args.dir
-    if args.out is not None:
-        from softcath.studies.atomic import prepare_out_dir
-
-        out = prepare_out_dir(args.out)
-    sel = _validity(args, sel, df)
-    if not args.no_recheck:
-        sel = _recheck(args, sel, df)
+    robust = None
     if args.robust is not None:
-        sel = _robust(args, sel)
-    from softcath.studies.selection.designs import chosen_design_files
-
-    sel, files = chosen_design_files(sel, args.dir, count=args.designs)
-    path = write_selection(sel, out, designs=files)
+        robust = RobustSettings(
+            probability=args.robust,
+            vary=args.vary,
+            ranges=args.ranges,
+            samples=args.samples,
+            seed=args.seed,
+            model=args.robust_model,
+            progress=not args.no_progress,
+        )
+    with as_options(_ROBUST_OPTIONS):
+        result = selection_run(
+            args.dir,
+            constraints=args.constraint,
+            objectives=args.objective,
+            load=args.load,
+            top=args.top,
+            model=args.model,
+            recheck=not args.no_recheck,
+            robust=robust,
+            designs=args.designs,
+            workers=args.workers,
+            out=args.out,
+        )
+    sel, path, out = result.selection, result.path, result.out
     print(f"model: {MODEL_NAMES.get(sel.model, 'the table as given')} ({sel.model}), {sel.load} load")
     if sel.note:
         print(f"note: {sel.note}")
@@ -191,8 +203,6 @@ def _source(sel) -> str:
 
 def _parameter(path: str, value) -> str:
     """``tube.h=0.02 mm``: a swept value with its unit."""
-    from softcath.design.reference import unit_of
-
     unit = unit_of(path)
     text = f"{value:.4g}" if isinstance(value, float) else str(value)
     return f"{path}={text}{' ' + unit if unit not in ('', '-') else ''}"
@@ -200,10 +210,6 @@ def _parameter(path: str, value) -> str:
 
 def _check_expressions(args: argparse.Namespace) -> None:
     """Parse every --constraint and --objective before any work; a refusal names the option."""
-    from softcath.design.errors import DesignError
-    from softcath.studies.selection import SelectionError
-    from softcath.studies.selection.criteria import parse_constraint, parse_objective, without_text
-
     for option, texts, parse in (
         ("--constraint", args.constraint, parse_constraint),
         ("--objective", args.objective, parse_objective),
@@ -213,97 +219,3 @@ def _check_expressions(args: argparse.Namespace) -> None:
                 parse(text)
             except SelectionError as exc:
                 raise DesignError(option, text, without_text(str(exc), text)) from None
-
-
-def _manifest(args: argparse.Namespace, why: str) -> tuple[dict, dict]:
-    """(spec, base_table) from the sweep's manifest."""
-    import json
-    from pathlib import Path
-
-    from softcath.design.errors import DataError
-
-    manifest = Path(args.dir) / "sweep.json"
-    try:
-        doc = json.loads(manifest.read_text(encoding="utf-8"))
-        return doc["spec"], doc["base_table"]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); {why} needs it") from None
-
-
-def _validity(args: argparse.Namespace, sel, df):
-    """Warn (and record in the selection) when a linear tier ranked designs bending past its validity."""
-    import dataclasses
-    import logging
-
-    from softcath.studies.selection import large_bend_constraints
-    from softcath.studies.selection.large_bends import LINEAR_MODELS, linear_validity_warning
-    from softcath.studies.sweep.results import model_columns
-
-    if sel.model not in LINEAR_MODELS:
-        return sel
-    cols = model_columns(df, sel.model)
-    rechecked = not args.no_recheck and bool(large_bend_constraints(sel, cols))
-    msg = linear_validity_warning(sel, cols, rechecked=rechecked)
-    if not msg:
-        return sel
-    logging.getLogger("softcath.validity").warning(msg)
-    return dataclasses.replace(sel, warnings=(*sel.warnings, msg))
-
-
-def _recheck(args: argparse.Namespace, sel, df):
-    """Re-check with the finite-strain section model a bend constraint beyond a linear model's validity."""
-    from softcath.studies.selection import large_bend_constraints, recheck_large_bends
-    from softcath.studies.sweep.results import model_columns
-
-    if sel.model not in ("paper", "section", "fem"):
-        return sel
-    big = large_bend_constraints(sel, model_columns(df, sel.model))
-    if not big:
-        return sel
-    spec, base_table = _manifest(args, "the large-bend re-check (or give --no-recheck)")
-    return recheck_large_bends(
-        sel, base_table=base_table, pressures=spec["pressures_MPa"], constraints=big, workers=args.workers
-    )
-
-
-def _robust(args: argparse.Namespace, sel):
-    """The robust re-evaluation of the nominal ranking."""
-    import json
-    from pathlib import Path
-
-    from softcath.design.errors import DataError, DesignError
-    from softcath.studies.selection import robust_select, sweep_ranges
-
-    manifest = Path(args.dir) / "sweep.json"
-    try:
-        doc = json.loads(manifest.read_text(encoding="utf-8"))
-        spec, base_table = doc["spec"], doc["base_table"]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise DataError(f"{manifest}: cannot read the sweep's manifest ({exc}); --robust needs it") from None
-    try:
-        ranges = sweep_ranges(spec.get("base", ""), base_table, args.vary, args.ranges)
-        return robust_select(
-            sel,
-            base_table=base_table,
-            pressures=spec["pressures_MPa"],
-            probability=args.robust,
-            ranges=ranges,
-            samples=args.samples,
-            seed=args.seed,
-            model=args.robust_model,
-            workers=args.workers,
-            progress=not args.no_progress,
-        )
-    except DesignError as exc:
-        flags = {
-            "robust": "--robust",
-            "samples": "--samples",
-            "seed": "--seed",
-            "ranges": "--vary/--ranges",
-            "model": "--robust-model",
-            "workers": "--workers",
-        }
-        head, _, rest = exc.parameter.partition(" ")
-        if head == "vary":  # a range given with --vary: "vary PATH [low|high]"
-            raise DesignError(f"--vary {rest}".strip(), exc.value, exc.bound) from None
-        raise DesignError(flags.get(exc.parameter, exc.parameter), exc.value, exc.bound) from None
