@@ -42,9 +42,10 @@ OBSERVABLES: dict[str, tuple[str, str]] = {
 def tip_curvature(bend_angle_rad, elongation, bending_length_mm) -> np.ndarray:
     """Tip-level curvature [1/mm]: the bend angle over the deformed bending length L0 (1 + ε).
 
-    The mean curvature of the whole bending length; for a uniform arc (the paper's formula
-    and the section tiers' arcs) it is the arc's curvature, i.e. the mid-span curvature to
-    rounding. Where the elongation is unknown (NaN), L0 is used.
+    The mean curvature of the whole bending length; for a uniform arc (the paper's formula)
+    it is the arc's curvature, i.e. the mid-span curvature to rounding; the section tiers'
+    angle is the tip's (end zones taken off), so theirs is the mid-span curvature times
+    the end zones' factor. Where the elongation is unknown (NaN), L0 is used.
     """
     eps = np.asarray(elongation, float)
     arc = np.asarray(bending_length_mm, float) * (1.0 + np.where(np.isfinite(eps), eps, 0.0))
@@ -68,8 +69,9 @@ class TipResponse:
         Mid-span curvature [1/mm].
     tip_curvature_per_mm
         Tip-level curvature [1/mm]: bend angle over the deformed bending length
-        (:func:`tip_curvature`). A tier that only gives a uniform arc (the paper's formula,
-        the section tiers) has it equal to the mid-span curvature (to rounding).
+        (:func:`tip_curvature`). The paper's formula (a uniform arc) has it equal to the
+        mid-span curvature; the section tiers take off the end zones
+        (:mod:`softcath.fem.section_model.end_zones`).
     elongation
         Axial elongation of the bending length [-].
     bend_angle_rad

@@ -3,8 +3,8 @@
 With the template mesher (the default) the designs go through the batched section models
 (one kernel per template, factorisations reused: the sweep's path,
 :func:`softcath.studies.sweep.section_eval.section_blocks_many`); with ``mesher = "gmsh"``
-each design is solved alone. The response is linear in pressure; the tip pose is the
-uniform arc of the section's gains.
+each design is solved alone. The response is linear in pressure; the tip's angle and pose
+take off its end zones (:mod:`softcath.fem.section_model.end_zones`).
 """
 
 from __future__ import annotations

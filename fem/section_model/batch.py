@@ -28,6 +28,7 @@ import numpy as np
 from scipy import sparse
 
 from softcath.fem.geometry import FILLER, TUBE
+from softcath.fem.section_model.end_zones import end_zones
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.solve import LOADS
 from softcath.interrupts import raise_pending_stop
@@ -348,6 +349,7 @@ def _result(
     ybar = float(ops["ybar"][j])
     return SectionResult(
         design_name=d.name,
+        end_zones=end_zones(d),
         loads=tuple(out),
         curvature_per_mm_per_MPa={ld: float(v[0][2]) for ld, v in out.items()},
         elongation_per_MPa={ld: float(v[0][0] + v[0][2] * ybar) for ld, v in out.items()},

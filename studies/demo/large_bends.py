@@ -52,7 +52,7 @@ def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
     }
     fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen", linear_gain=False)
     tiers = {name: (fine, np.asarray(f(fine), float)) for name, f in linear_tiers.items()}
-    tiers["finite-strain section model (uniform arc)"] = (fs.pressure, fs.bend_angle_rad)
+    tiers["finite-strain section model (tip angle)"] = (fs.pressure, fs.bend_angle_rad)
     if fem_curve is not None:
         tiers["3-D finite-strain FEM, tip end section"] = (fem_curve.pressure, fem_curve.bend_angle)
         rate = np.asarray(fem_curve.bend_rate_mid, float)
@@ -146,7 +146,7 @@ def _large_bend_facts(c, fs, ratio: float, over: list[float]) -> list[str]:
     text.append(
         f"The finite-strain section model (a 2-D solve of the section at finite strain, {fs.dofs} DOFs, "
         f"{fmt(fs.seconds, 2)} s for {fs.pressure.size} pressures) follows the 3-D FEM's mid-span bend; "
-        "the 3-D tip's end section turns less than the uniform arc by its clamp and cap zones."
+        "its tip angle takes off the end zones (the cap plug and the clamp), as the 3-D end section turns."
     )
     return text
 

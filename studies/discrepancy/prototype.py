@@ -21,14 +21,12 @@ from __future__ import annotations
 import csv
 import logging
 from collections.abc import Sequence
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from softcath import models
-from softcath.design.assembly import Assembly
 from softcath.design.errors import DataError, DesignError
+from softcath.fem.section_model.end_zones import end_zones
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 from softcath.studies.discrepancy.model_bank import ModelBank
 from softcath.studies.discrepancy.physical import (
@@ -279,13 +277,15 @@ def _ambiguity(choice: dict) -> str:
 
 
 def tip_level_factor(design, *, load: str = "lumen") -> float:
-    """Tip-level over mid-span curvature of ``design`` from the 3-D linear FEM (bonded tip).
+    """Tip-level over mid-span curvature of ``design``: its end zones' factor.
 
-    The end-face rotation over the length (what a circle fit over the whole tip
-    sees, end zones included) divided by the mid-span fit.
+    What a circle fit over the whole tip sees is the end section's rotation over the
+    length, end zones included: (L - deficit) / L, from
+    :func:`~softcath.fem.section_model.end_zones.end_zones` (fitted on converged 3-D
+    finite-strain solves; the same under either load, ``load`` is kept for callers).
     """
-    r = models.response(replace(design, assembly=Assembly()), [0.1], tier="fem", load=load)
-    return float(r.tip_curvature_per_mm[0] / r.curvature_per_mm[0])
+    del load
+    return float(end_zones(design).factor)
 
 
 def hypotheses_table(record: dict) -> list[str]:

@@ -17,6 +17,7 @@ import numpy as np
 from softcath.analytic import response_from_gains
 from softcath.core.interrupts import raise_pending_stop
 from softcath.fem.section_model import batch, section_model
+from softcath.fem.section_model.end_zones import tip_pose_arrays
 from softcath.fem.section_model.strain import silicone_strain_range
 
 __all__ = [
@@ -130,18 +131,24 @@ def _response_blocks(items: list, pressures: np.ndarray, loads: tuple[str, ...])
     results = [it.result for it in items]
     length0 = np.array([[r.length_mm] for r in results], dtype=float)
     seconds = np.array([[r.seconds] for r in results], dtype=float)
+    # the tip's angle and pose: the end zones of each design (the gains are mid-span)
+    plug = np.array([[r.end_zones.plug_mm] for r in results], dtype=float)
+    sv = np.array([[r.end_zones.saint_venant_mm] for r in results], dtype=float)
     out = {}
     for ld in loads:
         gains = np.array([r.gains(ld) for r in results], dtype=float).reshape(-1, 2)
         low, high = np.array([it.strain_range[ld] for it in items], dtype=float).reshape(-1, 2).T
         r = response_from_gains(gains[:, :1], gains[:, 1:], length0, p)
+        tip_x, tip_y, angle = tip_pose_arrays(
+            r.curvature, r.elongation, length=length0, plug=plug, saint_venant=sv
+        )
         ratio = np.array([[r_.fem_formula_ratio[ld]] for r_ in results], dtype=float)
         out[ld] = {
             "curvature_section_per_mm": r.curvature,
             "elongation_section": r.elongation,
-            "bend_angle_section_rad": r.bend_angle,
-            "tip_x_section_mm": r.tip_x,
-            "tip_y_section_mm": r.tip_y,
+            "bend_angle_section_rad": angle,
+            "tip_x_section_mm": tip_x,
+            "tip_y_section_mm": tip_y,
             "max_strain_section": np.where(p >= 0, p * high[:, None], p * low[:, None]),
             "section_formula_ratio": np.broadcast_to(ratio, r.curvature.shape),
             "section_seconds": np.broadcast_to(seconds, r.curvature.shape),

@@ -14,6 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.fem.section_model.end_zones import end_zones, tip_angle
+from softcath.fem.section_model.end_zones import tip_pose as end_zone_pose
+
 __all__ = ["CurveFacts", "curve_from_rows", "progress_callback", "rest_row", "state_row"]
 
 
@@ -74,14 +77,13 @@ def poisson(law) -> float:
 
 def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveFacts, state):
     """The :class:`SectionCurve` of ``rows`` (rest rows first) at the first ``len(rows)`` pressures."""
-    from softcath.analytic.pose import tip_pose
     from softcath.fem.section_model.finite_strain.curve import SectionCurve
 
     cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
     k_c = cols.get("curvature", np.zeros(0))
     length = float(d.tip.bending_length)
-    stretched = length * (1.0 + cols.get("elongation", np.zeros(0)))
-    tip_x, tip_y, _ = tip_pose(k_c, stretched)
+    zones = end_zones(d)
+    tip_x, tip_y, _ = end_zone_pose(k_c, cols.get("elongation", np.zeros(0)), zones)
     gain = facts.gain
     return SectionCurve(
         design_name=d.name,
@@ -91,7 +93,7 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
         lateral_curvature_per_mm=cols.get("lateral", np.zeros(0)),
         bend_rate_per_mm=cols.get("rate", np.zeros(0)),
         elongation=cols.get("elongation", np.zeros(0)),
-        bend_angle_rad=cols.get("rate", np.zeros(0)) * length,
+        bend_angle_rad=tip_angle(cols.get("rate", np.zeros(0)), zones),
         tip_x_mm=np.asarray(tip_x, float),
         tip_y_mm=np.asarray(tip_y, float),
         lumen_area_mm2=cols.get("area", np.zeros(0)),
