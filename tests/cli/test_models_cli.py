@@ -12,6 +12,7 @@ import pytest
 from softcath import design
 from softcath.cli.main import main
 from softcath.fem.section_model import section_model
+from softcath.fem.section_model.end_zones import end_zones
 
 COLUMNS = ["pressure_MPa", "curvature_per_mm", "elongation", "bend_angle_rad", "tip_x_mm", "tip_y_mm"]
 
@@ -48,13 +49,20 @@ def test_analytic_model_section_writes_the_same_columns_from_the_section_model(t
     p = a[:, 0]
     np.testing.assert_allclose(a[:, 1], k * p, rtol=1e-9)
     np.testing.assert_allclose(a[:, 2], e * p, rtol=1e-9)
-    # Tip pose of a constant-curvature arc of length L (1 + eps) (eq. 9), written out here.
-    length = 5.0 * (1 + a[:, 2])
-    theta = a[:, 1] * length
+    # Tip pose (eq. 9 with the end zones), written out here: an arc of length (L - d) (1 + eps),
+    # d = cap plug + Saint-Venant deficit, then straight along its end tangent the deficit
+    # (stretched) and the plug (not).
+    zones = end_zones("paper")
+    stretch = 1 + a[:, 2]
+    theta = a[:, 1] * (5.0 - zones.deficit_mm) * stretch
+    tail = zones.saint_venant_mm * stretch + zones.plug_mm
     pos = p > 0
-    np.testing.assert_allclose(a[pos, 3], theta[pos], rtol=1e-9)
-    np.testing.assert_allclose(a[pos, 4], (1 - np.cos(theta[pos])) / a[pos, 1], rtol=1e-8)
-    np.testing.assert_allclose(a[pos, 5], np.sin(theta[pos]) / a[pos, 1], rtol=1e-8)
+    theta, tail, k = theta[pos], tail[pos], a[pos, 1]
+    x = (1 - np.cos(theta)) / k + tail * np.sin(theta)
+    y = np.sin(theta) / k + tail * np.cos(theta)
+    np.testing.assert_allclose(a[pos, 3], theta, rtol=1e-9)
+    np.testing.assert_allclose(a[pos, 4], x, rtol=1e-8)
+    np.testing.assert_allclose(a[pos, 5], y, rtol=1e-8)
     assert "section model" in capsys.readouterr().out
     assert main(["analytic", "paper", "--pressure", "0:1:5", "--out", str(tmp_path / "paper")]) == 0
     _, b = _read(tmp_path / "paper" / "analytic.csv")
