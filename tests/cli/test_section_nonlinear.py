@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from softcath.analytic.pose import tip_pose
 from softcath.cli.main import main
 from softcath.design.measurement import Measurement, write_measurement_csv
+from softcath.fem.section_model.end_zones import end_zones, tip_pose
 
 
 def test_nonlinear_section_writes_curve_json_csv_png(tmp_path, capsys):
@@ -46,8 +46,9 @@ def test_nonlinear_section_writes_curve_json_csv_png(tmp_path, capsys):
     last = {k: float(v) for k, v in rows[-1].items()}
     # large-bend softening: the finite-strain curvature exceeds the linear gain's at 0.6 MPa
     assert last["curvature_per_mm"] > 1.2 * doc["linear_curvature_per_mm_per_MPa"] * 0.6
-    # eq. 9 on the stretched length: the tip pose is the uniform arc of the reported curvature
-    x, y, _ = tip_pose(last["curvature_per_mm"], doc["length_mm"] * (1 + last["elongation"]))
+    # eq. 9 with the end zones: the arc of the reported curvature over the stretched L - deficit,
+    # then the deficit and the plug straight along its end tangent
+    x, y, _ = tip_pose(last["curvature_per_mm"], last["elongation"], end_zones("paper"))
     assert (last["tip_x_mm"], last["tip_y_mm"]) == pytest.approx((float(x), float(y)), rel=1e-9)
     assert last["lumen_volume_change_mm3"] > 0 and 0 < last["max_strain"] < 2
     assert (out / "section_curve.png").stat().st_size > 10_000
@@ -71,7 +72,7 @@ def test_nonlinear_section_refuses_what_it_cannot_do(tmp_path, capsys, extra, fl
 
 
 def test_nonlinear_section_90_degrees(tmp_path, capsys):
-    """The paper design passes 90 degrees of uniform-arc bend below 1 MPa and says where."""
+    """The paper design's tip passes 90 degrees below 1 MPa and says where."""
     out = tmp_path / "s90"
     assert (
         main(["section", "paper", "--nonlinear", "--pressure", "0.1:0.9:5", "--no-png", "--out", str(out)])
