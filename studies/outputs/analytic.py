@@ -120,7 +120,8 @@ def analytic_run(design, pressures, *, model: str = "paper", load: str | None = 
     Raises
     ------
     DesignError
-        An as-built ``design`` on a tier that answers bonded tips only (``assembly``), or
+        A ``model`` not of :data:`MODELS` (``model``), an as-built ``design`` on a tier that
+        answers bonded tips only (``assembly``), or
         ``pressures`` that give a non-finite response (``pressures``).
     """
     p = np.asarray(pressures, dtype=float)
