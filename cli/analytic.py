@@ -20,6 +20,7 @@ import argparse
 
 import numpy as np
 
+from softcath import models
 from softcath.cli.options import (
     add_assembly,
     add_design,
@@ -31,8 +32,7 @@ from softcath.cli.options import (
     resolve_design,
 )
 from softcath.core.atomic import prepare_out_dir
-from softcath.studies.outputs.analytic import analytic_run
-from softcath.studies.tiers import check_assembly
+from softcath.studies.outputs.analytic import MODELS, analytic_run
 
 HELP = "curvature, elongation, tip pose over a pressure range"
 
@@ -50,7 +50,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--model",
         type=model_name,
-        choices=("paper", "section"),
+        choices=MODELS,
         default="paper",
         help="paper: the paper's formula (default, the reference); section: the 2-D section model",
     )
@@ -61,7 +61,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     p = parse_pressure_range(args.pressure)  # checked before the output folder is made
     d = resolve_design(args)
-    check_assembly("section" if args.model == "section" else "paper", d.assembly)  # before the folder
+    models.get(args.model).check_assembly(d.assembly)  # before the folder
     out = prepare_out_dir(args.out)
     with as_options({"pressures": "--pressure"}):
         a = analytic_run(d, p, model=args.model, load=args.load)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from softcath import analytic, design
+from softcath import analytic, design, models
 from softcath.analytic.calibration import calibrate
 from softcath.cli.options import add_design, add_out, model_name
 from softcath.core.atomic import Outputs, check_finite_json, prepare_out_dir
@@ -74,21 +74,22 @@ def run(args: argparse.Namespace) -> int:
     d = design.resolve(args.design)
     m = _read_measurement(args.measured, args.filter)
     out = prepare_out_dir(args.out)  # after every input is read and checked
-    load = args.load or ("lumen" if args.model == "section" else "cap")
-    if args.model == "section":
-        res = calibrate_section(m, d, free=free, load=load, grid=args.grid)
-
-        def model(dd):
-            return section_model(dd, loads=(load,)).response(m.pressure_MPa, load)
-
-        what = f"section model, {load} load"
-    else:
+    tier = models.get(args.model)
+    load = args.load or tier.default_load
+    if tier.closed_form:  # the formula's gains fit the shape directly
         res = calibrate(m, d, free=free, load=load, grid=args.grid)
 
         def model(dd):
             return analytic.response(dd, m.pressure_MPa, load)
 
         what = f"paper's formula, {load} load"
+    else:  # the section model: space mapping on the formula's gains
+        res = calibrate_section(m, d, free=free, load=load, grid=args.grid)
+
+        def model(dd):
+            return section_model(dd, loads=(load,)).response(m.pressure_MPa, load)
+
+        what = f"section model, {load} load"
     if getattr(res, "usable", True) is False:
         # A calibration that neither converged nor reached the data is not a calibrated design:
         # nothing is written (earlier outputs stay as they were) and the command fails with the
@@ -120,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
         f"mm; NRMSE {res.nrmse_nominal:.4g} -> {res.nrmse_optimized:.4g} (ratio {res.ratio:.3g}); "
         f"{inner.starts_at_optimum}/{inner.starts} starts at the optimum"
     )
-    if args.model == "section":
+    if not tier.closed_form:  # the space mapping's iterations and gains
         g, dg = res.gains_model, res.gains_data
         print(
             f"{res.iterations} space-mapping iteration(s), "

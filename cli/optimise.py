@@ -16,6 +16,7 @@ import argparse
 import contextlib
 from pathlib import Path
 
+from softcath import models
 from softcath.cli.options import (
     add_design,
     add_out,
@@ -29,7 +30,7 @@ from softcath.core.atomic import prepare_out_dir
 from softcath.design.errors import DesignError
 from softcath.design.reference import unit_of
 from softcath.fem.limits import check_workers
-from softcath.studies.optimise import check_search, make_problem, make_robustness
+from softcath.studies.optimise import MODELS, check_search, make_problem, make_robustness
 from softcath.studies.outputs.optimum import optimum_run
 from softcath.studies.predict import resolve_ranges
 from softcath.studies.predict.ranges import base_table
@@ -62,7 +63,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--model",
         default="section",
         type=model_name,
-        choices=("paper", "section", "section-nonlinear"),
+        choices=MODELS,
         help="model tier evaluating every candidate (default section)",
     )
     p.add_argument(
@@ -105,7 +106,7 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args.workers, param="--workers")
     pressures = parse_pressure_list(args.pressures, param="--pressures")
     table = base_table(args.design)
-    load = args.load or ("cap" if args.model == "paper" else "lumen")
+    load = args.load or models.get(args.model).default_load
     with _as_options():
         problem = make_problem(
             table,

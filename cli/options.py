@@ -287,8 +287,12 @@ def _robust(args) -> bool:
     return getattr(args, "robust", None) is not None
 
 
-def _fem_tier(args) -> bool:
-    return args.model == "fem" or "fem" in str(getattr(args, "compare", "")).replace(" ", "").split(",")
+def _slow_tier(args) -> bool:
+    """Whether ``--model`` or ``--compare`` names a slow linear tier (the 3-D FEM: its own sample size)."""
+    from softcath import models  # the library loads when a command runs, not for --help
+
+    named = [args.model, *str(getattr(args, "compare", "")).replace(" ", "").split(",")]
+    return any(n in models.linear_names() and models.get(n).slow for n in named)
 
 
 #: Options that act only together with another: command -> ((dests, active(args), why), ...).
@@ -300,7 +304,7 @@ _ACTS_ONLY_WITH: dict[str, tuple] = {
     ),
     "predict": (
         (("curve_samples",), lambda a: a.nonlinear, "has no effect without --nonlinear"),
-        (("fem_samples",), _fem_tier, "has no effect without the fem tier (--model fem or --compare fem)"),
+        (("fem_samples",), _slow_tier, "has no effect without the fem tier (--model fem or --compare fem)"),
     ),
     "fem": (
         (

@@ -25,7 +25,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from softcath import design
+from softcath import design, models
 from softcath.cli.options import (
     PRESSURE_SYNTAX,
     add_design,
@@ -43,6 +43,7 @@ from softcath.fem.limits import check_work_seconds, finite_strain_curve_seconds
 from softcath.studies.model_validity import check_measured_pressures
 from softcath.studies.outputs.predict import prediction_run
 from softcath.studies.predict.curve_band import MAX_CURVE_SAMPLES
+from softcath.studies.predict.propagate import TIERS
 from softcath.studies.predict.workflow import check_predict_inputs
 
 #: The library's parameter names as this command's options.
@@ -64,7 +65,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--model",
         type=model_name,
-        choices=("paper", "section", "fem"),
+        choices=TIERS,
         default="section",
         help="model tier (default section)",
     )
@@ -209,12 +210,11 @@ def _print_tiers(tiers, doc: dict) -> None:
 
 def _compare(text: str) -> tuple[str, ...]:
     """``--compare TIER,TIER``: each a tier this command runs (the same names as ``--model``)."""
-    choices = ("paper", "section", "fem")
     tiers = tuple(model_name(t.strip()) for t in text.split(",") if t.strip())
     for t in tiers:
-        if t not in choices:
+        if t not in TIERS:
             raise DesignError(
-                "--compare", text, f"{t!r} is not a tier of predict; give some of {', '.join(choices)}"
+                "--compare", text, f"{t!r} is not a tier of predict; give some of {', '.join(TIERS)}"
             )
     return tiers
 
@@ -223,9 +223,11 @@ def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
     """Check the --nonlinear options before any work; the measurement read, or None."""
     if args.measured is not None and not args.nonlinear:
         raise DesignError("--measured", str(args.measured), "needs --nonlinear")
-    if args.nonlinear and args.model != "section":
+    curve_tiers = _curve_tiers()
+    if args.nonlinear and args.model not in curve_tiers:
+        counterparts = " or ".join(models.get(curve_tiers[n]).label for n in curve_tiers)
         raise DesignError(
-            "--model", args.model, "must be section with --nonlinear (the finite-strain section model)"
+            "--model", args.model, f"must be {' or '.join(curve_tiers)} with --nonlinear ({counterparts})"
         )
     if not args.nonlinear:
         return None
@@ -238,6 +240,15 @@ def _nonlinear_inputs(args: argparse.Namespace, pressures=None):
     top = max(pressures or [0.0])
     check_measured_pressures(m.pressure_MPa, top, param="--measured", value=str(args.measured))
     return m
+
+
+def _curve_tiers() -> dict[str, str]:
+    """Tier -> its finite-strain counterpart, for the tiers whose counterpart gives ``--nonlinear``'s bands.
+
+    The bands are many finite-strain curves: a counterpart fast enough for a sample (not slow).
+    """
+    pairs = {n: models.get(n).finite_strain_tier for n in TIERS}
+    return {n: fs for n, fs in pairs.items() if fs is not None and not models.get(fs).slow}
 
 
 def _check_curve_work(args: argparse.Namespace, pressures) -> None:

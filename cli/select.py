@@ -19,10 +19,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from softcath import models
 from softcath.cli.options import add_out, add_seed, as_options, model_name
 from softcath.design.errors import DesignError
 from softcath.design.reference import unit_of
 from softcath.fem.limits import check_workers
+from softcath.studies.optimise import MODELS as SEARCH_MODELS
 from softcath.studies.outputs.selection import RobustSettings, selection_run
 from softcath.studies.selection import MODEL_NAMES, SelectionError
 from softcath.studies.selection.criteria import parse_constraint, parse_objective, without_text
@@ -56,7 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--model",
         default=None,
         type=model_name,
-        choices=("paper", "section", "section-nonlinear", "fem"),
+        choices=tuple(n for n in models.names() if n in MODEL_NAMES),
         help="model behind bend_angle_deg, max_strain, ... (default: section-nonlinear, then section, if the "
         "sweep has it, else paper)",
     )
@@ -106,7 +108,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--robust-model",
         default=None,
         type=model_name,
-        choices=("paper", "section", "section-nonlinear"),
+        choices=SEARCH_MODELS,
         help="model of the re-evaluation (default: section; paper for a paper selection)",
     )
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")

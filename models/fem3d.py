@@ -199,4 +199,5 @@ FEM = FemTier(
         "poisson_ratio": "the 3-D FEM caps Poisson ratios at 0.49 (displacement-only P2 locks above)"
     },
     seconds_per_design=120.0,
+    finite_strain_tier="fem-nonlinear",
 )

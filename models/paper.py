@@ -63,4 +63,5 @@ PAPER = PaperTier(
     load_notes={"lumen": "paper tier, lumen load: the formula's cap gain times (1 - 2 nu)"},
     batched=True,
     seconds_per_design=1e-4,
+    closed_form=True,
 )

@@ -105,4 +105,6 @@ SECTION = SectionTier(
     dof_seconds=1.05e-5,
     batched=True,
     seconds_per_design=0.2,
+    section_mesh=True,
+    finite_strain_tier="section-nonlinear",
 )

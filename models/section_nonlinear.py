@@ -77,4 +77,5 @@ SECTION_NONLINEAR = SectionNonlinearTier(
     # tangent twice the linear model's size (~1 s for the paper section), 30x the section's cost
     dof_seconds=30.0 * 1.05e-5,
     seconds_per_design=1.0,
+    section_mesh=True,
 )

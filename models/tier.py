@@ -78,6 +78,17 @@ class Tier:
     batched
         Whether :meth:`responses` shares work between designs (then a sweep gives it many
         designs a task) rather than solving them one by one.
+    closed_form
+        Whether the tier is a closed-form formula (the paper's eq. 7): no mesh and no solve, it
+        always runs beside the others, and it is defined for its default load (its other
+        loads are variants of it).
+    section_mesh
+        Whether it solves on the 2-D section mesh (the section models): a sweep's
+        ``[sweep.section]`` table is its, and its cost scales with the section's degrees of
+        freedom (:attr:`dof_seconds`).
+    finite_strain_tier
+        The name of its finite-strain counterpart (the same model without the small-rotation
+        assumption), or ``None``: what a large bend on this tier is re-checked with.
     """
 
     name: str
@@ -95,6 +106,9 @@ class Tier:
     dof_seconds: float = 0.0
     seconds_per_design: float = math.inf
     batched: bool = False
+    closed_form: bool = False
+    section_mesh: bool = False
+    finite_strain_tier: str | None = None
 
     @property
     def slow(self) -> bool:

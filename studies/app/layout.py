@@ -186,7 +186,7 @@ def build(session: Session):
             pin_text.object = html.escape(session.pinned_label) if session.pinned else "nothing pinned"
         if what == "measured":
             figs.show_measured(session.measured)
-        if what == "fem":
+        if what == "fem-check":  # the 3-D FEM check's panel
             fem_text.object = _fem_html(session)
             running = session.fem.poll().state == "running"
             fem_busy.visible = fem_busy.active = running
@@ -199,7 +199,7 @@ def build(session: Session):
 
     session.listeners.append(redraw)
     session.recompute()
-    for what in ("pinned", "fem", "measured"):
+    for what in ("pinned", "fem-check", "measured"):
         redraw(what)
 
     legend_note = pn.pane.HTML(

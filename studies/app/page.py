@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from softcath import models
 from softcath.core.errors import SoftcathError
 from softcath.core.limits import check_pressure
 from softcath.studies.app.curves import TierCurve, finite_strain_curve, formula_curve, linear_section_curve
@@ -211,7 +212,7 @@ class Session:
         view = self.fem.poll()
         if view != before:
             self._fem_view = view
-            self._tell("fem")
+            self._tell("fem-check")
 
     # --- compare, upload, 3-D check ------------------------------------------------------------------
     def pin(self) -> None:
@@ -262,5 +263,5 @@ class Session:
 
     def linear_at(self, pressure: float) -> float:
         """The linear section model's curvature at ``pressure`` (NaN without it): the 3-D check's peer."""
-        c = next((c for c in self.fast if c.tier == "section"), None)
+        c = next((c for c in self.fast if models.get(c.tier).section_mesh), None)  # not the formula
         return math.nan if c is None else c.at(pressure, "curvature_per_mm")

@@ -18,22 +18,33 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath import analytic
+from softcath import analytic, models
 from softcath.analytic import BeamResponse
 from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.fem.section_model import section_model
 from softcath.studies.model_validity import check_finite_columns, warn_linear_range
 from softcath.studies.outputs.tables import range_text, write_rows
 from softcath.studies.plots import analytic_plot
-from softcath.studies.tiers import check_assembly
 
-__all__ = ["COLUMNS", "DEFAULT_LOAD", "AnalyticRun", "analytic_run", "load_and_reason"]
+__all__ = ["COLUMNS", "DEFAULT_LOAD", "MODELS", "AnalyticRun", "analytic_run", "load_and_reason"]
 
-#: The load each model takes unless one is asked for, and why (written to ``analytic.json``).
-DEFAULT_LOAD = {
-    "paper": ("cap", "the paper's formula is defined for the cap load, the end-cap force"),
-    "section": ("lumen", "the real load, lumen wall + cap"),
+#: The models a run takes: the closed form (the paper's formula) and the linear section model.
+MODELS = tuple(t.name for t in models.tiers() if t.closed_form or (t.section_mesh and t.linear))
+#: Why a model runs under its own load: the formula's load by definition, or the real one.
+_OWN_LOAD_REASON = {
+    True: "the paper's formula is defined for the cap load, the end-cap force",
+    False: "the real load, lumen wall + cap",
 }
+#: Why a load other than the model's own, as asked: the formula's lumen variant, or the cap load alone.
+_ASKED_LOAD_REASON = {
+    True: (
+        "as asked; the paper's formula is defined for the cap load, its lumen variant is the "
+        "wall effect alone"
+    ),
+    False: "as asked: the paper's end-cap force alone",
+}
+#: The load each model takes unless one is asked for, and why (written to ``analytic.json``).
+DEFAULT_LOAD = {n: (models.get(n).default_load, _OWN_LOAD_REASON[models.get(n).closed_form]) for n in MODELS}
 #: ``analytic.csv``'s columns and their units.
 COLUMNS = {
     "pressure_MPa": "MPa",
@@ -52,7 +63,7 @@ class AnalyticRun:
     Attributes
     ----------
     design_name, model, load, load_reason
-        The design, ``"paper"`` or ``"section"``, the load it ran under and why.
+        The design, the model's tier name (one of :data:`MODELS`), the load it ran under and why.
     what
         The model in words, with its load (and, for the section model, its ratio to the formula).
     response
@@ -76,7 +87,7 @@ class AnalyticRun:
         return {
             "design": self.design_name,
             "model": self.model,
-            "tier": "paper" if self.model == "paper" else "section",
+            "tier": self.model,
             "load": self.load,
             "load_reason": self.load_reason,
             "columns": dict(COLUMNS),
@@ -94,21 +105,14 @@ class AnalyticRun:
 
 def load_and_reason(model: str, given: str | None) -> tuple[str, str]:
     """The load ``model`` runs under and why: the one asked for, else the model's own."""
-    if given is None:
-        return DEFAULT_LOAD[model]
-    default, why = DEFAULT_LOAD[model]
-    if given == default:
-        return given, why
-    if model == "paper":  # the formula's lumen variant is the wall effect alone
-        return given, (
-            "as asked; the paper's formula is defined for the cap load, its lumen variant is the "
-            "wall effect alone"
-        )
-    return given, "as asked: the paper's end-cap force alone"
+    tier = models.get(model, allowed=MODELS)
+    if given is None or given == tier.default_load:
+        return tier.default_load, _OWN_LOAD_REASON[tier.closed_form]
+    return given, _ASKED_LOAD_REASON[tier.closed_form]
 
 
 def analytic_run(design, pressures, *, model: str = "paper", load: str | None = None) -> AnalyticRun:
-    """``design``'s response at ``pressures`` [MPa] on ``model`` (``"paper"`` or ``"section"``).
+    """``design``'s response at ``pressures`` [MPa] on ``model`` (one of :data:`MODELS`).
 
     ``load`` (``"cap"``/``"lumen"``) overrides the model's own (:data:`DEFAULT_LOAD`). Warns
     (log) when the response leaves the linear range.
@@ -116,19 +120,22 @@ def analytic_run(design, pressures, *, model: str = "paper", load: str | None = 
     Raises
     ------
     DesignError
-        An as-built ``design`` on a tier that answers bonded tips only (``assembly``), or
+        A ``model`` not of :data:`MODELS` (``model``), an as-built ``design`` on a tier that
+        answers bonded tips only (``assembly``), or
         ``pressures`` that give a non-finite response (``pressures``).
     """
     p = np.asarray(pressures, dtype=float)
-    check_assembly("section" if model == "section" else "paper", design.assembly)
+    tier = models.get(model, allowed=MODELS)
+    model = tier.name
+    tier.check_assembly(design.assembly)
     ld, why = load_and_reason(model, load)
-    if model == "section":
+    if tier.closed_form:
+        r = analytic.response(design, p, load=ld)
+        what = f"paper's formula ({ld} load)"
+    else:  # the linear section-mesh tier of MODELS: the section model
         sm = section_model(design, loads=(ld,))
         r = sm.response(p, ld)
         what = f"section model ({ld} load, {sm.fem_formula_ratio[ld]:.3g}x the paper's formula)"
-    else:
-        r = analytic.response(design, p, load=ld)
-        what = f"paper's formula ({ld} load)"
     values = (r.pressure, r.curvature, r.elongation, r.bend_angle, r.tip_x, r.tip_y)
     check_finite_columns(dict(zip(COLUMNS, values, strict=True)), param="pressures", value=range_text(p))
     warn_linear_range(p, r.bend_angle, elongation=r.elongation, model=f"the {what.split(' (')[0]} (linear)")

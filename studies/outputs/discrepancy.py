@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from softcath import design as design_room
+from softcath import models
 from softcath.core.atomic import Outputs, prepare_out_dir, staged_dir, unstage
 from softcath.design.errors import DataError
 from softcath.studies.discrepancy import DiscrepancyResult, run_workflow, write_report
@@ -49,7 +50,7 @@ def discrepancy_run(
         No data where the reference needs it.
     """
     fem_fn = None
-    if reference == "fem" and data is None:
+    if data is None and reference in models.TIERS:  # a model as the reference (the 3-D FEM) is solved
         fem_fn = fem_reference()
         if fem_fn is None:
             raise DataError(

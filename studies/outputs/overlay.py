@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import models
 from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.core.plotting import pyplot
 from softcath.fem.section_model import section_model
@@ -168,9 +169,10 @@ def overlay(
         for d, src in zip(designs, sources, strict=True)
     ]
     p = np.asarray(pressures, dtype=float)
+    linear = models.get(tier, parameter="tier", allowed=TIER_LABEL).linear
     curves = []
     for label, d, src in zip(labels, designs, sources, strict=True):
-        if tier == "section-nonlinear":
+        if not linear:  # the finite-strain section model: a walk through the pressures
             c = curve_with_rest(
                 d,
                 sorted({float(x) for x in p}),
@@ -196,15 +198,15 @@ def overlay(
             values = (resp.pressure, resp.curvature, resp.elongation, resp.bend_angle, resp.tip_x, resp.tip_y)
             columns = dict(zip(_CURVE, values, strict=True))
         curves.append(OverlayCurve(label=label, name=d.name, source=str(src), columns=columns))
-    _warn(curves, tier)
+    _warn(curves, linear=linear)
     return Overlay(tier=tier, load=load, curves=tuple(curves))
 
 
-def _warn(curves: list[OverlayCurve], tier: str) -> None:
+def _warn(curves: list[OverlayCurve], *, linear: bool) -> None:
     """The single-design run's validity warnings, each naming its design."""
     for c in curves:
         k = c.columns
-        if tier == "section":
+        if linear:
             model = f"the section model (linear) on {c.label}"
             warn_linear_range(k["pressure_MPa"], k["bend_angle_rad"], elongation=k["elongation"], model=model)
         else:

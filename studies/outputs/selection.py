@@ -167,7 +167,7 @@ def _validity(sel: Selection, df, *, recheck: bool) -> Selection:
 
 def _recheck(sel: Selection, df, sweep_dir, *, workers: int | None) -> Selection:
     """Re-check with the finite-strain section model a bend constraint beyond a linear model's validity."""
-    if sel.model not in ("paper", "section", "fem"):
+    if sel.model not in LINEAR_MODELS:
         return sel
     big = large_bend_constraints(sel, model_columns(df, sel.model))
     if not big:

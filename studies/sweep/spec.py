@@ -161,11 +161,13 @@ class SweepSpec:
 
     @property
     def uses_fem(self) -> bool:
-        return "fem" in self.evaluators or "fem-nonlinear" in self.evaluators
+        """Whether a slow tier runs (the 3-D FEM: minutes a design)."""
+        return any(TIERS[e].slow for e in self.evaluators)
 
     @property
     def uses_section(self) -> bool:
-        return "section" in self.evaluators or "section-nonlinear" in self.evaluators
+        """Whether a tier on the 2-D section mesh runs (``[sweep.section]`` is its table)."""
+        return any(TIERS[e].section_mesh for e in self.evaluators)
 
     @property
     def section_options(self) -> dict:
@@ -212,7 +214,7 @@ class SweepSpec:
         (but not below :data:`SECTION_MIN_CHUNK`)."""
         if self.uses_fem:
             return 1
-        if "section-nonlinear" in self.evaluators:
+        if any(not TIERS[e].linear for e in self.evaluators):  # the finite-strain section model
             return min(self.chunk_size, SECTION_NONLINEAR_CHUNK)
         if not self.uses_section:
             return self.chunk_size
@@ -350,7 +352,7 @@ def _loads_and_evaluators(sweep: dict) -> tuple[tuple[str, ...], tuple[str, ...]
     if not isinstance(evaluators, list) or not evaluators:
         raise DesignError("sweep.evaluators", evaluators, f"must be a non-empty list from {list(EVALUATORS)}")
     evaluators = [tier_name(x, parameter="sweep.evaluators") for x in evaluators]
-    evals = tuple(e for e in EVALUATORS if e in evaluators or e == "paper")
+    evals = tuple(e for e in EVALUATORS if e in evaluators or TIERS[e].closed_form)  # the formula always
     return tuple(x for x in LOADS if x in loads), evals
 
 
