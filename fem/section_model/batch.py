@@ -27,10 +27,20 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import sparse
 
+from softcath.analytic import design_inputs_many, gains_arrays
+from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design
 from softcath.fem.geometry import FILLER, TUBE
+from softcath.fem.limits import check_section_budget
+from softcath.fem.section_model.api import COIL_BENDING, SectionResult, section_model
+from softcath.fem.section_model.coil_models import coil_terms
+from softcath.fem.section_model.element import _rigid_pins
 from softcath.fem.section_model.end_zones import end_zones
+from softcath.fem.section_model.laws import section_laws_from_design
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.solve import LOADS
+from softcath.fem.section_model.strain import silicone_strain_range
+from softcath.fem.section_model.template import log_fallback, morph, section_template
 from softcath.interrupts import raise_pending_stop
 
 __all__ = ["BatchItem", "CHUNK", "TIMERS", "section_models"]
@@ -74,8 +84,6 @@ class _Kernel:
 
     def __init__(self, template) -> None:
         from skfem import CellBasis, ElementTriCCR, ElementVector
-
-        from softcath.fem.section_model.element import _rigid_pins
 
         m = template.mesh
         mesh = m.skfem_mesh()
@@ -343,7 +351,6 @@ def _condense(kernel: _Kernel, ops: dict, ok: np.ndarray, sol: np.ndarray, rhs: 
 def _result(
     d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts, seconds, formula_k
 ):
-    from softcath.fem.section_model.api import SectionResult
 
     ea = float(k_sec[0, 0])
     ybar = float(ops["ybar"][j])
@@ -383,7 +390,6 @@ def _result(
 
 def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts) -> None:
     """Assemble a chunk of designs sharing a template at once and solve each; results in place."""
-    from softcath.analytic import design_inputs_many, gains_arrays
 
     t0 = time.perf_counter()
     kernel = _kernel(members[0][5])
@@ -438,8 +444,6 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
 
 def _solve_alone(d, mesher: str, loads, mesh_size, segments, opts):
     """A design solved by the per-design section model (its :class:`BatchItem` or its exception)."""
-    from softcath.fem.section_model.api import section_model
-    from softcath.fem.section_model.strain import silicone_strain_range
 
     try:
         r = section_model(
@@ -478,13 +482,6 @@ def section_models(
         whose ``assembly`` is not the default bonded tip is solved alone by
         :func:`~softcath.fem.section_model.section_model`, which splits its interfaces).
     """
-    from softcath.design.errors import DesignError
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.limits import check_section_budget
-    from softcath.fem.section_model.api import COIL_BENDING
-    from softcath.fem.section_model.coil_models import coil_terms
-    from softcath.fem.section_model.laws import section_laws_from_design
-    from softcath.fem.section_model.template import log_fallback, morph, section_template
 
     loads = tuple(ld for ld in LOADS if ld in tuple(loads))
     if coil_bending not in COIL_BENDING:

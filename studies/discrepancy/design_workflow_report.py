@@ -8,6 +8,8 @@ import io
 import textwrap
 from pathlib import Path
 
+from softcath.studies.atomic import Outputs, prepare_out_dir
+
 __all__ = ["write_design_report"]
 
 
@@ -57,7 +59,6 @@ def _parity(result) -> str:
 
 def write_design_report(result, out_dir: str | Path) -> Path:
     """Write ``discrepancy.json`` and ``report.html`` into ``out_dir``; return the HTML path."""
-    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     doc = result.to_json()

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.analytic.effects import get
+from softcath.studies.atomic import check_finite_json, prepare_out_dir
 from softcath.studies.discrepancy.maps import Residuals, binned, residuals
 from softcath.studies.discrepancy.workflow import DiscrepancyResult
 
@@ -179,7 +181,6 @@ def _fmt(v) -> str:
 
 def write_report(result: DiscrepancyResult, out_dir) -> Path:
     """Write ``discrepancy.json``, ``report.html`` and PNG figures; returns the HTML path."""
-    from softcath.studies.atomic import check_finite_json, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     record = result.as_dict()
@@ -279,7 +280,6 @@ def _step_rows(result: DiscrepancyResult) -> str:
 
 def _library_rows(result: DiscrepancyResult) -> str:
     """HTML rows describing the candidates of the first step."""
-    from softcath.analytic.effects import get
 
     return "".join(
         f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"

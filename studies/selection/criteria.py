@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.studies.model_validity import MAX_PRESSURE_MPA
 from softcath.studies.selection.expressions import (
     COMPARE,
     MAX_EXPR_CHARS,
@@ -66,7 +67,6 @@ def _split_at(text: str) -> tuple[str, str | None]:
 
 def at_pressure(where: str, text: str) -> float:
     """The pressure of ``at p=VALUE`` in MPa: a finite number within ±100 MPa (the options' rule)."""
-    from softcath.studies.model_validity import MAX_PRESSURE_MPA
 
     value = where.split("=", 1)[1]
     try:
