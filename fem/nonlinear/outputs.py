@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath import analytic
+from softcath.core.plotting import pyplot
 from softcath.fem.export import render_grid_png
 from softcath.fem.nonlinear.convergence import MIN_ESTIMATE_LAYERS
 from softcath.fem.nonlinear.errors import SettingError
@@ -428,10 +429,7 @@ def plot_deformed(curve, path: Path) -> None:
 
 def plot_curve(curve, path: Path) -> None:
     """Bend angle vs pressure: nonlinear FEM, linear FEM, analytic."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     p = np.concatenate([[0.0], curve.pressure])
     fig, ax = plt.subplots(figsize=(5, 3.5))

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
 from softcath.fem.nonlinear.bend import bend_curve
 from softcath.fem.nonlinear.convergence import (
     ASSUMED_ORDER,
@@ -214,10 +215,7 @@ def write_study(study: ConvergenceStudy, out: Path) -> list[str]:
 
 def plot_study(study: ConvergenceStudy, path: Path) -> None:
     """Left: mid-span curvature vs pressure per mesh and extrapolated; right: error vs 1/layers (log-log)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6))
     for m, n in enumerate(study.layers):

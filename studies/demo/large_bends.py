@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath import analytic
+from softcath.core.plotting import pyplot
 from softcath.fem.nonlinear import bend_curve
 from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
 from softcath.fem.section_model import section_model
@@ -38,10 +39,7 @@ def _pressure_for(angle: float, pressure, bend) -> float | None:
 
 def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
     """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from scipy.optimize import brentq
 
     length = float(d.tip.bending_length)

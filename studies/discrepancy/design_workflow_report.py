@@ -8,6 +8,7 @@ import io
 import textwrap
 from pathlib import Path
 
+from softcath.core.plotting import pyplot
 from softcath.studies.atomic import Outputs, prepare_out_dir
 
 __all__ = ["write_design_report"]
@@ -20,10 +21,7 @@ def _png(fig) -> str:
 
 
 def _parity(result) -> str:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     import numpy as np
 
     t = result.table

@@ -26,8 +26,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from softcath.analytic.effects import MEASURED_CANDIDATES
+from softcath.studies.discrepancy import necessity
 from softcath.studies.discrepancy.cross_validation import CVScore, Step, cross_validate
-from softcath.studies.discrepancy.necessity import drop_unneeded
 from softcath.studies.discrepancy.prepare import Prepared
 
 __all__ = ["Step", "CVScore", "cross_validate", "name_effects", "RATE_FAMILY"]
@@ -197,7 +197,7 @@ def name_effects(
         bar.refresh()
         bar.close()
 
-    return drop_unneeded(prep, steps, margin=margin, min_share=min_share, **kw)
+    return necessity.drop_unneeded(prep, steps, margin=margin, min_share=min_share, **kw)
 
 
 def _progress_bar(candidates: Sequence[str], max_effects: int):

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath.analytic.effects import get
+from softcath.core.plotting import pyplot
 from softcath.studies.atomic import check_finite_json, prepare_out_dir
 from softcath.studies.discrepancy.maps import Residuals, binned, residuals
 from softcath.studies.discrepancy.workflow import DiscrepancyResult
@@ -20,10 +21,7 @@ log = logging.getLogger(__name__)
 
 
 def _plot_maps(res: Residuals, title: str, path: Path, static: bool) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(2, 2, figsize=(11, 7.5))
     step = max(1, res.residual.size // 4000)
@@ -88,10 +86,7 @@ def _plot_maps(res: Residuals, title: str, path: Path, static: bool) -> None:
 
 
 def _plot_loops(before: Residuals, after: Residuals, named: str, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     n = len(before.labels)
     cols = min(n, 4)
@@ -133,10 +128,7 @@ def _plot_loops(before: Residuals, after: Residuals, named: str, path: Path) -> 
 
 
 def _plot_candidates(result: DiscrepancyResult, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.ticker import MaxNLocator
 
     k = len(result.candidates)

@@ -12,10 +12,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
 from softcath.design.validation import MAX_MAGNITUDE
 from softcath.models import tiers
-from softcath.studies.model_validity import MAX_PRESSURE_MPA
 from softcath.studies.selection.criteria import (
     Constraint,
     Objective,

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.studies.model_validity import MAX_PRESSURE_MPA
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.studies.selection.expressions import (
     COMPARE,
     MAX_EXPR_CHARS,
@@ -47,7 +47,7 @@ def _split_at(text: str) -> tuple[str, str | None]:
     """``(expression, where)``: ``where`` is p_max, p_min or ``p=VALUE`` with VALUE checked.
 
     VALUE follows the rule of every pressure a command takes (a finite number within
-    ±:data:`~softcath.studies.model_validity.MAX_PRESSURE_MPA` MPa), checked here, before
+    ±:data:`~softcath.core.limits.MAX_PRESSURE_MPA` MPa), checked here, before
     any evaluation.
     """
     if len(text) > MAX_EXPR_CHARS:

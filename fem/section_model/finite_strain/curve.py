@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from softcath import design as design_pkg
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import coil_law, geometry_from_design
 from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
@@ -67,8 +68,8 @@ __all__ = ["CSV_COLUMNS", "SectionCurve", "section_curve", "section_laws", "PRES
 
 log = logging.getLogger(__name__)
 
-#: Largest pressure [MPa] the model accepts: far past any silicone tube's burst.
-PRESSURE_MAX = 100.0
+#: Largest pressure [MPa] the model accepts: the package's one bound (far past any tube's burst).
+PRESSURE_MAX = MAX_PRESSURE_MPA
 
 
 def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: float | None = None) -> dict:

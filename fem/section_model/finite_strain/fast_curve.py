@@ -66,7 +66,7 @@ def template_curve(
     t0
         ``time.perf_counter()`` at the call's start.
     """
-    from softcath.fem.section_model.finite_strain.kernel import lumen
+    from softcath.fem.section_model.finite_strain.kernel import lumen  # numba: heavy, first use
 
     g = geometry_from_design(d)
     check_size(mesh_size, segments)
