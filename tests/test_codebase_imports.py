@@ -29,7 +29,16 @@ def _scan():
                 local.append(f"{relative(path)}:{node.lineno}")
             else:
                 graph[name].update(t for t in targets if t != name)
+                graph[name].update(p for t in targets for p in _packages_run(t, name))
     return graph, local, total
+
+
+def _packages_run(target: str, importer: str) -> list[str]:
+    """The packages whose ``__init__`` importing ``target`` runs (its parents below ``softcath``),
+    but not the importer's own: those are already being initialised."""
+    parts = target.split(".")
+    parents = [".".join(parts[:i]) for i in range(2, len(parts))]
+    return [p for p in parents if not importer.startswith(p + ".") and importer != p]
 
 
 def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
