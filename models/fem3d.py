@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from softcath.fem import check
 from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
@@ -115,11 +116,7 @@ _FIELDS = {
 
 
 def fem_check_function():
-    """``fem.check`` if the FEM package provides it, else ``None``."""
-    try:
-        from softcath.fem import check
-    except ImportError:
-        return None
+    """``fem.check``, the 3-D linear FEM check."""
     return check
 
 

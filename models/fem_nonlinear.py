@@ -12,6 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.analytic.pose import tip_pose
+from softcath.fem.api import check_assembly
+from softcath.fem.nonlinear import bend_curve
 from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 
@@ -34,14 +36,11 @@ class FemNonlinearTier(Tier):
 
     def check_assembly(self, assembly, *, parameter: str = "assembly") -> None:
         """Refuse the sliding interfaces and free base it does not model (the filler it meshes as built)."""
-        from softcath.fem.api import check_assembly
 
         check_assembly(self._assembly(assembly))
 
     def _solve(self, designs, pressures, loads, options):
         import time
-
-        from softcath.fem.nonlinear import bend_curve
 
         n = len(designs)
         positive = np.unique(pressures[pressures > 0])

@@ -34,6 +34,7 @@ _BATCHED_OPTIONS = frozenset({"mesh_size", "mesher", "segments", "coil_modulus",
 
 def _one_by_one(designs, pressures, loads, options) -> tuple[dict, dict]:
     """The sweep's section columns of each design alone (``softcath.fem.section_model.section_model``)."""
+    # the evaluator lives with the sweep, which loads this registry: loaded on first use
     from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
 
     cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}

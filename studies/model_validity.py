@@ -12,11 +12,11 @@ wrong model: the command still answers, and says so on stderr with the way out
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Mapping
 
 import numpy as np
 
+from softcath.core.limits import MAX_PRESSURE_MPA, check_pressure
 from softcath.design.errors import DesignError
 from softcath.models import TIERS, linear_names
 from softcath.models.validity import (
@@ -31,6 +31,7 @@ __all__ = [
     "LINEAR_BEND_LIMIT_DEG",
     "SILICONE_STRAIN_LIMIT",
     "check_finite_columns",
+    "MAX_PRESSURE_MPA",
     "check_pressure",
     "linear_range_warnings",
     "linear_tier_warning",
@@ -44,23 +45,6 @@ __all__ = [
 ]
 
 log = logging.getLogger("softcath.validity")
-
-#: Largest pressure any command accepts, MPa: 100× the 1 MPa where the paper's tip already
-#: bends > 50°; beyond it every model's answer is meaningless (and 1e300 overflows).
-MAX_PRESSURE_MPA = 100.0
-
-
-def check_pressure(values, *, param: str = "pressure") -> np.ndarray:
-    """Refuse non-finite pressures or magnitudes above :data:`MAX_PRESSURE_MPA` (before any solve)."""
-    p = np.atleast_1d(np.asarray(values, dtype=float))
-    for v in p.ravel():
-        if not math.isfinite(v):
-            raise DesignError(param, float(v), "must be a finite pressure in MPa")
-        if abs(v) > MAX_PRESSURE_MPA:
-            raise DesignError(
-                param, float(v), f"must be within ±{MAX_PRESSURE_MPA:g} MPa (no model holds beyond)"
-            )
-    return p
 
 
 def check_finite_columns(columns: Mapping[str, object], *, param: str, value: object) -> None:

@@ -9,8 +9,6 @@ import numpy as np
 from softcath.analytic import composite_section
 from softcath.core.plotting import pyplot
 
-_pyplot = pyplot  # the name studies.demo.prototype imports
-
 
 def analytic_plot(path: Path, response, *, title: str) -> Path:
     """Curvature, elongation and bend angle vs pressure, and the tip path in the bending plane."""

@@ -7,9 +7,7 @@ from tests.codebase_scan import modules, relative
 LIMIT = 500
 #: Modules still over the limit, at their length when this list was made: they may shrink, not
 #: grow. Split one into one-concept modules, then drop it from here.
-OVER = {
-    "fem/section_model/batch.py": 530,
-}
+OVER: dict[str, int] = {}
 
 
 def _lengths() -> dict[str, int]:

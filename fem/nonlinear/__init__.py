@@ -29,6 +29,7 @@ __all__ = [
 def bend_curve(design, pressures, **kwargs):
     """Nonlinear bend-angle-vs-pressure curve of a design (see
     :func:`softcath.fem.nonlinear.bend.bend_curve`)."""
+    # lazy: the section model imports fem.nonlinear.laws, and the 3-D solvers here import it back
     from softcath.fem.nonlinear.bend import bend_curve as _bend_curve
 
     return _bend_curve(design, pressures, **kwargs)

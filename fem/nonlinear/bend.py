@@ -19,10 +19,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from softcath import analytic
 from softcath.design.load_cases import LOADS
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
+from softcath.fem.nonlinear.convergence import default_layers
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
 from softcath.fem.nonlinear.meshes import dofs_of_facets
@@ -290,8 +292,6 @@ def bend_curve(
     p, w = _check_inputs(pressures, load, midspan, substeps)
     choice = None
     if mesh is None and layers is None:
-        from softcath.fem.nonlinear.convergence import default_layers
-
         choice = default_layers(design, float(p[-1]), load=load)
         layers = choice.layers
         log.info("bend curve: %d layers (%s)", layers, choice.to_json())
@@ -347,7 +347,6 @@ def _load_factors(p: np.ndarray, substeps: int):
 
 def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds) -> BendCurve:
     """Post-process the solved load path at the requested pressures into a :class:`BendCurve`."""
-    from softcath import analytic
 
     p_max = float(p[-1])
     lam = np.array([s.load_factor for s in res.steps])

@@ -34,7 +34,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.design import coil_stiffness
+from softcath.fem.mesh import initialize_gmsh
 from softcath.fem.nonlinear.errors import NonlinearError, SettingError
+from softcath.fem.nonlinear.laws import (
+    AnisotropicSVK,
+    isotropic_from_young,
+    transversely_isotropic,
+    yeoh_at_modulus,
+)
+from softcath.fem.tags import tag_facets
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
@@ -84,8 +93,6 @@ def _section_triangles(section, *, size: float, contact: float, curvature_points
     s = section
     init_here = not gmsh.isInitialized()
     if init_here:
-        from softcath.fem.mesh import initialize_gmsh
-
         initialize_gmsh(gmsh)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -259,13 +266,6 @@ def catheter_laws(design, *, hoop_cap: float = HOOP_CAP) -> dict[int, object]:
     radius — which shrinks with the stiffness contrast through the Green-strain
     terms of the coil — stays usable. ``hoop_cap=None`` keeps the steel value.
     """
-    from softcath.design import coil_stiffness
-    from softcath.fem.nonlinear.laws import (
-        AnisotropicSVK,
-        isotropic_from_young,
-        transversely_isotropic,
-        yeoh_at_modulus,
-    )
 
     silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
     e_max = max(m.youngs_modulus for m in silicones)
@@ -305,7 +305,6 @@ def from_tip_mesh(tip_mesh) -> CatheterMesh:
     Lets the finite-strain solver run on exactly the mesh of the linear check
     (quadratic ``MeshTet2`` with curved boundary edges when the mesher made them).
     """
-    from softcath.fem.tags import tag_facets
 
     mesh = tip_mesh.skfem_mesh()
     tags = tag_facets(mesh, tip_mesh.geometry)

@@ -24,7 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath import design as design_pkg
+from softcath.design.errors import DesignError
 from softcath.fem.nonlinear.errors import SettingError
+from softcath.fem.section_model.api import section_response
+from softcath.fem.section_model.finite_strain import section_curve
 
 __all__ = [
     "DEG_PER_LAYER",
@@ -116,9 +120,6 @@ def default_layers(design, pressure: float, *, load: str = "lumen") -> LayerChoi
     rule errs on the fine side); when that model does not converge, from the linear
     section model (its curvature times the stretched length).
     """
-    from softcath import design as design_pkg
-    from softcath.design.errors import DesignError
-    from softcath.fem.section_model.finite_strain import section_curve
 
     length = float(design_pkg.resolve(design).tip.bending_length)
     try:
@@ -126,8 +127,6 @@ def default_layers(design, pressure: float, *, load: str = "lumen") -> LayerChoi
         angle = float(curve.bend_rate_per_mm[-1]) * length
         source = "finite-strain section model"
     except DesignError as exc:  # the section Newton failed: the linear model still bounds the order
-        from softcath.fem.section_model.api import section_response
-
         log.info("layer choice: finite-strain section model failed (%s); linear section model", exc)
         r = section_response(design, pressure, load=load)
         angle = float(r.curvature) * float(r.arc_length)

@@ -20,8 +20,14 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import analytic
+from softcath.core.plotting import pyplot
+from softcath.fem.export import render_grid_png
 from softcath.fem.nonlinear.convergence import MIN_ESTIMATE_LAYERS
 from softcath.fem.nonlinear.errors import SettingError
+from softcath.fem.nonlinear.post import max_principal_strain
+from softcath.fem.nonlinear.reference import reference_curve
+from softcath.fem.nonlinear.study import convergence_study, write_study
 
 __all__ = ["NonlinearSettings", "run_check", "write_outputs"]
 
@@ -141,8 +147,6 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
 def _solve_with_error(design, s: NonlinearSettings, out: Path):
     """The sweep's curve, its error estimate (None below ``MIN_ESTIMATE_LAYERS`` layers), the study's
     summary lines and the tip angle's estimate (None from a three-mesh study or without a companion)."""
-    from softcath.fem.nonlinear.reference import reference_curve
-    from softcath.fem.nonlinear.study import convergence_study, write_study
 
     opts = {
         "load": s.load,
@@ -180,7 +184,6 @@ def _finite_or_none(x) -> float | None:
 
 def add_linear_check_keys(path: Path, curve, design, seconds: float) -> None:
     """Give fem.json the keys of the linear check (``softcath fem``) at the final pressure."""
-    from softcath import analytic
 
     doc = json.loads(path.read_text(encoding="utf-8"))
     p = float(curve.pressure[-1])
@@ -393,8 +396,6 @@ def deformed_grid(curve, step: int = -1):
     """
     import pyvista as pv
 
-    from softcath.fem.nonlinear.post import max_principal_strain
-
     model = curve.model
     mesh = model.cmesh.mesh
     nv = mesh.p.shape[1]  # skfem numbers the P2 vertex DOFs first
@@ -416,7 +417,6 @@ def plot_deformed(curve, path: Path) -> None:
     Rendered by :func:`softcath.fem.export.render_grid_png` (pyvista off-screen): the deformed half
     x >= 0 over the undeformed ghost, seen from +x.
     """
-    from softcath.fem.export import render_grid_png
 
     render_grid_png(
         deformed_grid(curve),
@@ -429,10 +429,7 @@ def plot_deformed(curve, path: Path) -> None:
 
 def plot_curve(curve, path: Path) -> None:
     """Bend angle vs pressure: nonlinear FEM, linear FEM, analytic."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     p = np.concatenate([[0.0], curve.pressure])
     fig, ax = plt.subplots(figsize=(5, 3.5))

@@ -16,12 +16,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.fem.nonlinear.bend import bend_curve
 from softcath.fem.nonlinear.convergence import (
     ASSUMED_ORDER,
     MIN_ESTIMATE_LAYERS,
     coarse_layers,
     richardson_error,
 )
+from softcath.fem.nonlinear.errors import SettingError
 
 log = logging.getLogger(__name__)
 
@@ -171,7 +173,6 @@ def estimate_error(
 ) -> ErrorEstimate:
     """The :class:`ErrorEstimate` of ``curve`` from ``coarse``, both :class:`~fem.nonlinear.bend.BendCurve`
     with ``layers`` set, at the same pressures."""
-    from softcath.fem.nonlinear.errors import SettingError
 
     if curve.layers is None or coarse.layers is None:
         raise SettingError("layers", None, "both curves need their layer counts (meshed by bend_curve)")
@@ -195,7 +196,6 @@ def estimate_error(
 def estimate_tip(curve, coarse, *, length: float) -> TipEstimate:
     """The :class:`TipEstimate` of ``curve`` from ``coarse`` (both with ``layers`` set, same pressures),
     for a bending length ``length`` [mm]."""
-    from softcath.fem.nonlinear.errors import SettingError
 
     if curve.layers is None or coarse.layers is None or not coarse.layers < curve.layers:
         raise SettingError("layers", (curve.layers, coarse.layers), "must be known, coarse < fine")
@@ -233,7 +233,6 @@ def reference_curve(design, pressures, *, layers: int | None = None, **options) 
     **options
         Further keyword options of ``bend_curve`` (not ``mesh``: the layers must be known).
     """
-    from softcath.fem.nonlinear.bend import bend_curve
 
     curve = bend_curve(design, pressures, layers=layers, **options)
     if curve.layers < MIN_ESTIMATE_LAYERS:

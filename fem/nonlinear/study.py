@@ -20,7 +20,15 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.fem.nonlinear.convergence import ASSUMED_ORDER, MIN_ESTIMATE_LAYERS, extrapolate, observed_order
+from softcath.core.plotting import pyplot
+from softcath.fem.nonlinear.bend import bend_curve
+from softcath.fem.nonlinear.convergence import (
+    ASSUMED_ORDER,
+    MIN_ESTIMATE_LAYERS,
+    default_layers,
+    extrapolate,
+    observed_order,
+)
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.reference import ErrorEstimate, estimate_error
 
@@ -161,13 +169,10 @@ def convergence_study(design, pressures, *, layers: int | None = None, **options
     **options
         Further keyword options of ``bend_curve`` (not ``mesh``).
     """
-    from softcath.fem.nonlinear.bend import bend_curve
 
     if "mesh" in options:
         raise SettingError("mesh", "given", "a convergence study meshes its own layers")
     if layers is None:
-        from softcath.fem.nonlinear.convergence import default_layers
-
         p = np.atleast_1d(np.asarray(pressures, float))
         layers = default_layers(design, float(p[-1]), load=options.get("load", "lumen")).layers
     curves, seconds = [], []
@@ -210,10 +215,7 @@ def write_study(study: ConvergenceStudy, out: Path) -> list[str]:
 
 def plot_study(study: ConvergenceStudy, path: Path) -> None:
     """Left: mid-span curvature vs pressure per mesh and extrapolated; right: error vs 1/layers (log-log)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6))
     for m, n in enumerate(study.layers):

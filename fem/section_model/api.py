@@ -17,11 +17,18 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from softcath import design as design_pkg
+from softcath.analytic import gains, response_from_gains
 from softcath.design.errors import DesignError
+from softcath.fem.adapter import geometry_from_design
 from softcath.fem.geometry import TUBE
-from softcath.fem.section_model.end_zones import EndZones, end_zones
-from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
-from softcath.fem.section_model.solve import LOADS
+from softcath.fem.section_model.as_built import as_built_operator, summary
+from softcath.fem.section_model.coil_models import coil_terms
+from softcath.fem.section_model.element import assemble
+from softcath.fem.section_model.end_zones import EndZones, end_zones, tip_pose
+from softcath.fem.section_model.laws import section_laws_from_design
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
+from softcath.fem.section_model.solve import LOADS, solve
 
 __all__ = ["SectionResult", "section_model", "section_response", "COIL_BENDING"]
 
@@ -109,9 +116,6 @@ class SectionResult:
         """
         from dataclasses import replace
 
-        from softcath.analytic import response_from_gains
-        from softcath.fem.section_model.end_zones import tip_pose
-
         k, e = self.gains(load)
         r = response_from_gains(k, e, self.length_mm, pressure)
         if self.end_zones is None:
@@ -172,11 +176,6 @@ def section_model(
     keep_fields
         Keep the mesh, operator and displacement fields (for pictures).
     """
-    from softcath import design as design_pkg
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.section_model.coil_models import coil_terms
-    from softcath.fem.section_model.laws import section_laws_from_design
-    from softcath.fem.section_model.mesh import catheter_section_mesh
 
     _check_coil_options(coil_bending, coil_modulus)
     d = design_pkg.resolve(design)
@@ -231,8 +230,6 @@ class _SolvedSection:
 def _solve_section(d, mesh, laws, loads: Sequence[str], extra_bending: float) -> _SolvedSection:
     """Assemble and solve the section (bonded tip, or the tip as built when its assembly is not the
     default)."""
-    from softcath.fem.section_model.element import assemble
-    from softcath.fem.section_model.solve import solve
 
     if d.assembly.is_default:
         op = assemble(mesh, laws)
@@ -242,8 +239,6 @@ def _solve_section(d, mesh, laws, loads: Sequence[str], extra_bending: float) ->
         kappa = {ld: float(s.strains[2]) for ld, s in sol.loads.items()}
         eps = {ld: float(s.strains[0] + s.strains[2] * op.axial_centroid_y) for ld, s in sol.loads.items()}
     else:  # the tip as built (softcath.fem.section_model.as_built)
-        from softcath.fem.section_model.as_built import as_built_operator, summary
-
         mesh, op, sol = as_built_operator(mesh, laws, d.assembly, loads, extra_bending=extra_bending)
         sm = summary(op, sol)
         K, ei, ei_lat, kappa, eps = (
@@ -269,7 +264,6 @@ def _section_result(
     keep_fields: bool,
 ) -> SectionResult:
     """The :class:`SectionResult` of a solved section, with the gains relative to the paper's formula."""
-    from softcath.analytic import gains
 
     mesh, op, sol, K, kappa = solved.mesh, solved.op, solved.sol, solved.K, solved.kappa
     ea = float(K[0, 0])

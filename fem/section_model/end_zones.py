@@ -62,6 +62,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath import design as design_pkg
+from softcath.analytic.pose import tip_pose as arc_pose
 from softcath.design.errors import DesignError
 
 __all__ = ["C_SAINT_VENANT", "EndZones", "end_zones", "tip_angle", "tip_pose", "tip_pose_arrays"]
@@ -135,7 +137,6 @@ class EndZones:
 
 def end_zones(design) -> EndZones:
     """The :class:`EndZones` of ``design`` (a ``TipDesign``, preset name or TOML path)."""
-    from softcath import design as design_pkg
 
     d = design_pkg.resolve(design)
     return EndZones(
@@ -190,7 +191,6 @@ def tip_pose_arrays(
     ``length``, ``plug`` and ``saint_venant`` are the :class:`EndZones` fields [mm] (not checked here:
     build them from checked :class:`EndZones`).
     """
-    from softcath.analytic.pose import tip_pose as arc_pose
 
     kappa = np.asarray(curvature, float)
     stretch = 1.0 + np.asarray(elongation, float)

@@ -4,27 +4,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath import analytic, design
+from softcath.analytic.calibration import calibrate
+from softcath.design.measurement import read_measurement_csv
+from softcath.studies.atomic import Outputs, prepare_out_dir
 from softcath.studies.demo.context import DemoContext, SectionOutput, unavailable
+from softcath.studies.plots import calibration_plot
 from softcath.studies.report.html_blocks import esc, figure, fmt, table
 
 __all__ = ["section_calibration"]
 
 
 def section_calibration(ctx: DemoContext) -> SectionOutput:
-    try:
-        from softcath.analytic.calibration import calibrate
-        from softcath.design.measurement import read_measurement_csv
-    except ImportError as exc:
-        return unavailable("the eq. 8 calibration", str(exc))
     if not ctx.data_csv.is_file():
         return unavailable("the eq. 8 calibration", f"bundled data {ctx.data_csv} missing")
-    from softcath import analytic, design
-    from softcath.studies.plots import calibration_plot
 
     d = ctx.design
     m = read_measurement_csv(ctx.data_csv)
     res = calibrate(m, d, load="cap")
-    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     cal_dir = prepare_out_dir(ctx.out_dir / "calibration", param="demo calibration folder")
     with Outputs(cal_dir) as o:

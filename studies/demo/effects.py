@@ -4,17 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from softcath.studies.demo.context import DemoContext, SectionOutput, unavailable
+from softcath.studies.demo.context import DemoContext, SectionOutput
+from softcath.studies.discrepancy import run_workflow, write_report
 from softcath.studies.report.html_blocks import Markup, esc, fmt, table
 
 __all__ = ["section_effects"]
 
 
 def section_effects(ctx: DemoContext) -> SectionOutput:
-    try:
-        from softcath.studies.discrepancy import run_workflow, write_report
-    except ImportError as exc:
-        return unavailable("the missing-effect workflow", str(exc))
     eff_dir = ctx.out_dir / "effects"
     eff_dir.mkdir(exist_ok=True)
     result = run_workflow(ctx.data_csv, design=ctx.design)

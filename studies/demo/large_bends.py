@@ -5,7 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput, unavailable
+from softcath import analytic
+from softcath.core.plotting import pyplot
+from softcath.fem.nonlinear import bend_curve
+from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
+from softcath.fem.section_model import section_model
+from softcath.fem.section_model.finite_strain import section_curve
+from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput
 from softcath.studies.report.html_blocks import figure, fmt, table
 
 __all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SECTION_CURVE_PRESSURES_MPA", "section_large_bends"]
@@ -33,15 +39,8 @@ def _pressure_for(angle: float, pressure, bend) -> float | None:
 
 def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
     """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from scipy.optimize import brentq
-
-    from softcath import analytic
-    from softcath.fem.section_model import section_model
-    from softcath.fem.section_model.finite_strain import section_curve
 
     length = float(d.tip.bending_length)
     fine = np.linspace(0.0, DEMO_SECTION_CURVE_PRESSURES_MPA[-1], 101)
@@ -79,11 +78,6 @@ def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
 def section_large_bends(ctx: DemoContext) -> SectionOutput:
     if not ctx.fem:
         return _three_tiers_only(ctx)
-    try:
-        from softcath.fem.nonlinear import bend_curve
-        from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
-    except ImportError as exc:
-        return unavailable("the finite-strain FEM", f"fem.nonlinear is not importable: {exc}")
     d = ctx.design
     c = bend_curve(d, DEMO_LARGE_BEND_PRESSURES_MPA, load="lumen")
     f1, f2 = ctx.out_dir / "large_bends_curve.png", ctx.out_dir / "large_bends_tip.png"

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath import analytic
 from softcath.studies.demo.context import DEMO_PRESSURES_MPA, DemoContext, SectionOutput
+from softcath.studies.plots import analytic_plot, section_plot
 from softcath.studies.report.html_blocks import esc, figure, fmt, table
 
 __all__ = ["section_model"]
 
 
 def section_model(ctx: DemoContext) -> SectionOutput:
-    from softcath import analytic
-    from softcath.studies.plots import analytic_plot, section_plot
 
     d = ctx.design
     cs = analytic.composite_section(d)

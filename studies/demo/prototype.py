@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
 from softcath.studies.demo.context import DemoContext, SectionOutput
 from softcath.studies.discrepancy.model_bank import ModelBank
 from softcath.studies.discrepancy.physical import predict
 from softcath.studies.discrepancy.prototype import explain_prototype
-from softcath.studies.plots import _pyplot
 from softcath.studies.report.html_blocks import esc, fmt, table
 
 __all__ = ["section_prototype", "HIDDEN", "DEMO_CANDIDATES"]
@@ -80,7 +80,7 @@ def section_prototype(ctx: DemoContext) -> SectionOutput:
 
 
 def _figure(path, bank: ModelBank, measured: dict, record: dict) -> None:
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     p = np.linspace(0.0, float(measured["pressure_MPa"].max()), 60)
     ax.plot(measured["pressure_MPa"], measured["curvature_per_mm"], "ko", label="synthetic prototype")

@@ -9,8 +9,13 @@ from pathlib import Path
 import numpy as np
 
 from softcath import models
+from softcath.studies.atomic import prepare_out_dir, write_text
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DEMO_PRESSURES_MPA, DemoContext, SectionOutput
+from softcath.studies.report import design_of, write_report
 from softcath.studies.report.html_blocks import esc, fmt, note, table
+from softcath.studies.selection import select, write_selection
+from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
+from softcath.studies.sweep.results import read_results
 
 __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 
@@ -45,13 +50,8 @@ max_strain = {DEMO_MAX_STRAIN}
 
 
 def section_sweep(ctx: DemoContext) -> SectionOutput:
-    from softcath.studies.report import write_report
-    from softcath.studies.selection import select, write_selection
-    from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
-    from softcath.studies.sweep.results import read_results
 
     check = fem_check_function() if ctx.fem else None
-    from softcath.studies.atomic import prepare_out_dir, write_text
 
     sdir = prepare_out_dir(ctx.out_dir / "sweep", param="demo sweep folder")
     spec_path = write_text(sdir / "spec.toml", demo_sweep_spec())
@@ -94,7 +94,6 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
     if check is None:
         why = "switched off with --no-fem" if not ctx.fem else "fem.check is not importable"
         return note(f"<b>Not run:</b> the 3-D FEM check of the chosen design ({esc(why)}).")
-    from softcath.studies.report import design_of
 
     did = sel.ranked[0]["design_id"]
     p = DEMO_SELECT_PRESSURE_MPA

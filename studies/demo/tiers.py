@@ -14,8 +14,15 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import analytic
 from softcath.design.load_cases import LOADS
+from softcath.fem.export import to_grid
+from softcath.fem.html_view import surface_of_grid, tip_view_fragment
+from softcath.fem.section_model import section_model
+from softcath.studies.demo.context import SectionOutput
+from softcath.studies.report.figures import _plt, _save
 from softcath.studies.report.html_blocks import figure, fmt, note, table
+from softcath.studies.sweep.evaluators import fem_check_function, fem_records
 
 __all__ = ["NU_SWEEP", "section_tiers", "nu_plot", "tip_view"]
 
@@ -28,7 +35,6 @@ VIEW_PRESSURE_MPA = 0.5
 
 def nu_plot(path: Path, nus, kappa: dict, *, formula: float, fem: dict | None, fem_nu: float) -> Path:
     """κ/p against silicone ν (x: 0.5 − ν, log scale), section model per load, FEM points, the formula."""
-    from softcath.studies.report.figures import _plt, _save
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
@@ -59,8 +65,6 @@ def tip_view(result, *, load: str = "lumen", pressure: float = VIEW_PRESSURE_MPA
     solution = getattr(result, "solution", None)
     if solution is None or load not in getattr(solution, "unit", {}):
         return ""
-    from softcath.fem.export import to_grid
-    from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 
     view = surface_of_grid(to_grid(solution, load, pressure))
     return "<h3 id='fem-3d'>The deformed tip in 3-D</h3>" + tip_view_fragment(
@@ -72,9 +76,6 @@ def tip_view(result, *, load: str = "lumen", pressure: float = VIEW_PRESSURE_MPA
 
 def section_tiers(ctx):
     """Demo section: the three tiers on ``ctx.design``, and κ/p against ν (see module docstring)."""
-    from softcath import analytic
-    from softcath.fem.section_model import section_model
-    from softcath.studies.demo.context import SectionOutput
 
     d = ctx.design
     k_f, e_f = analytic.gains(d, "cap")
@@ -102,7 +103,6 @@ def section_tiers(ctx):
 
 def _run_fem_tier(d, enabled: bool):
     """The 3-D FEM at 1 MPa: per-load records, seconds, why it did not run (or ``""``) and its result."""
-    from softcath.studies.sweep.evaluators import fem_check_function, fem_records
 
     fem, fem_seconds, why, result = None, None, "", None
     if not enabled:
@@ -193,7 +193,6 @@ def _tiers_facts(sm, fem: dict | None, fem_seconds: float | None) -> str:
 def _nu_dependence(d, out_dir: Path, k_f: float, fem: dict | None) -> tuple[str, Path, dict]:
     """κ/p against the silicone's ν from the section model: the HTML (figure and text), the figure's
     path and the curvatures per load."""
-    from softcath.fem.section_model import section_model
 
     kappa = {ld: [] for ld in LOADS}
     for nu in NU_SWEEP:

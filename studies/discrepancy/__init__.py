@@ -11,12 +11,12 @@ See :mod:`softcath.studies.discrepancy.naming` for the method and
 
 from __future__ import annotations
 
+from softcath.studies.discrepancy.report import write_report as _write
 from softcath.studies.discrepancy.workflow import DiscrepancyResult, run_workflow
 
 
 def write_report(result: DiscrepancyResult, out_dir):
     """Write ``discrepancy.json``, ``report.html`` and its PNG figures into ``out_dir``."""
-    from softcath.studies.discrepancy.report import write_report as _write
 
     return _write(result, out_dir)
 

@@ -39,9 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import analytic
 from softcath.design.errors import DataError
 from softcath.models import LOADS
 from softcath.models import responses as tier_responses
+from softcath.studies.sweep.results import read_results
+from softcath.studies.sweep.variants import build_variant
 
 __all__ = ["INGREDIENTS", "DesignCase", "DesignWorkflowResult", "load_sweep_cases", "run_design_workflow"]
 
@@ -76,10 +79,6 @@ def load_sweep_cases(sweep_dir: str | Path, *, reference: str = "fem") -> list[D
     import json
 
     import pandas as pd
-
-    from softcath import analytic
-    from softcath.studies.sweep.results import read_results
-    from softcath.studies.sweep.variants import build_variant
 
     ref_col = _REFERENCE_COLUMNS.get(reference)
     if ref_col is None:

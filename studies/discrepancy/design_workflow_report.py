@@ -8,6 +8,9 @@ import io
 import textwrap
 from pathlib import Path
 
+from softcath.core.plotting import pyplot
+from softcath.studies.atomic import Outputs, prepare_out_dir
+
 __all__ = ["write_design_report"]
 
 
@@ -18,10 +21,7 @@ def _png(fig) -> str:
 
 
 def _parity(result) -> str:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     import numpy as np
 
     t = result.table
@@ -57,7 +57,6 @@ def _parity(result) -> str:
 
 def write_design_report(result, out_dir: str | Path) -> Path:
     """Write ``discrepancy.json`` and ``report.html`` into ``out_dir``; return the HTML path."""
-    from softcath.studies.atomic import Outputs, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     doc = result.to_json()

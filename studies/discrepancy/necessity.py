@@ -16,6 +16,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Sequence
 
+from softcath.studies.discrepancy.cross_validation import Step, cross_validate
 from softcath.studies.discrepancy.prepare import Prepared
 
 __all__ = ["drop_unneeded"]
@@ -31,7 +32,6 @@ def drop_unneeded(
     The returned list keeps the needed naming steps and ends with a stop step whose
     baseline is the reduced model and whose ``extra["not_needed"]`` lists the dropped effects.
     """
-    from softcath.studies.discrepancy.naming import Step, cross_validate
 
     named = [s.named for s in steps if s.named]
     if len(named) < 2:

@@ -15,7 +15,7 @@ from softcath.analytic.effects.fit import Segment
 from softcath.design.errors import DataError
 from softcath.design.measurement import Measurement
 from softcath.hardware.filtering import PAPER_FILTER
-from softcath.studies.discrepancy.prepare import MIN_RUN_SAMPLES, Prepared, RunInfo
+from softcath.studies.discrepancy.prepared import MIN_RUN_SAMPLES, Prepared, RunInfo
 
 __all__ = ["TIME_DEPENDENT", "is_quasi_static", "prepare_quasi_static", "candidates_for"]
 

@@ -9,6 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.analytic.effects import get
+from softcath.core.plotting import pyplot
+from softcath.studies.atomic import check_finite_json, prepare_out_dir
 from softcath.studies.discrepancy.maps import Residuals, binned, residuals
 from softcath.studies.discrepancy.workflow import DiscrepancyResult
 
@@ -18,10 +21,7 @@ log = logging.getLogger(__name__)
 
 
 def _plot_maps(res: Residuals, title: str, path: Path, static: bool) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(2, 2, figsize=(11, 7.5))
     step = max(1, res.residual.size // 4000)
@@ -86,10 +86,7 @@ def _plot_maps(res: Residuals, title: str, path: Path, static: bool) -> None:
 
 
 def _plot_loops(before: Residuals, after: Residuals, named: str, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     n = len(before.labels)
     cols = min(n, 4)
@@ -131,10 +128,7 @@ def _plot_loops(before: Residuals, after: Residuals, named: str, path: Path) -> 
 
 
 def _plot_candidates(result: DiscrepancyResult, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.ticker import MaxNLocator
 
     k = len(result.candidates)
@@ -179,7 +173,6 @@ def _fmt(v) -> str:
 
 def write_report(result: DiscrepancyResult, out_dir) -> Path:
     """Write ``discrepancy.json``, ``report.html`` and PNG figures; returns the HTML path."""
-    from softcath.studies.atomic import check_finite_json, prepare_out_dir
 
     out = prepare_out_dir(out_dir)
     record = result.as_dict()
@@ -279,7 +272,6 @@ def _step_rows(result: DiscrepancyResult) -> str:
 
 def _library_rows(result: DiscrepancyResult) -> str:
     """HTML rows describing the candidates of the first step."""
-    from softcath.analytic.effects import get
 
     return "".join(
         f"<tr><td>{html.escape(d['name'])}</td><td>{html.escape(d['meaning'])}</td><td>"

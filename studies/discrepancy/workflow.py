@@ -18,11 +18,14 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from softcath import models
+from softcath import analytic, models
+from softcath import design as design_pkg
+from softcath.analytic.calibration import calibrate
 from softcath.analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from softcath.analytic.effects.fit import ChainFit
-from softcath.design.errors import DataError, DesignError
+from softcath.design.errors import DataError, DesignError, SoftcathError
 from softcath.design.measurement import Measurement, read_measurement_csv
+from softcath.fem.section_model import section_model
 from softcath.studies.discrepancy.naming import name_effects
 from softcath.studies.discrepancy.prepare import Prepared, prepare, prepare_static
 from softcath.studies.discrepancy.quasi_static import candidates_for
@@ -150,8 +153,6 @@ def _resolve_design(design):
     if design is None:
         return None
     if isinstance(design, (str, Path)):
-        from softcath import design as design_pkg
-
         return design_pkg.resolve(str(design))
     return design
 
@@ -163,8 +164,6 @@ def _shape_calibration(prep: Prepared, design) -> dict:
     shape family may not reach the data (``reachable``) and its four shape
     parameters are not identifiable from one curvature gain.
     """
-    from softcath.analytic.calibration import calibrate
-    from softcath.design.errors import SoftcathError
 
     u = np.concatenate([s.pressure_MPa[s.mask] for s in prep.segments])
     y = np.concatenate([s.target[s.mask] for s in prep.segments])
@@ -282,7 +281,6 @@ def _nominal_gain(d) -> float | None:
     """The design's nominal (paper's formula) cap gain, ``None`` without a design."""
     if d is None:
         return None
-    from softcath import analytic
 
     return analytic.gains(d, "cap")[0]
 
@@ -409,7 +407,6 @@ def _fem_reference_points(data, d, fem, pressures_MPa, candidates):
     """
     if d is None:
         raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
-    from softcath import analytic
 
     g_cap = analytic.gains(d, "cap")[0]
     g_lum, g_sec_cap = _lumen_wall_gains(d)
@@ -441,7 +438,6 @@ def _lumen_wall_gains(d) -> tuple[float, float]:
     load on the coil-confined silicone. The one-material (1 - 2 nu) closed form it
     used before has the wrong sign inside a coil (docs/section.md).
     """
-    from softcath.fem.section_model import section_model
 
     r = section_model(d, poisson_cap=0.49)
     return r.curvature_per_mm_per_MPa["lumen"], r.curvature_per_mm_per_MPa["cap"]

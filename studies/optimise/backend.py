@@ -14,7 +14,9 @@ import os
 from collections.abc import Sequence
 
 from softcath.design.errors import DesignError
+from softcath.fem.limits import check_workers
 from softcath.studies.sweep.evaluators import evaluate_task
+from softcath.studies.sweep.runner import _single_threaded_worker
 
 __all__ = ["Backend"]
 
@@ -35,7 +37,6 @@ class Backend:
     def __init__(self, *, workers: int | None = None, scheduler: str | None = None, client=None) -> None:
         if sum(x is not None for x in (workers, scheduler, client)) > 1:
             raise DesignError("backend", (workers, scheduler), "choose one of workers, scheduler, client")
-        from softcath.fem.limits import check_workers
 
         check_workers(workers)
         if scheduler is not None and not str(scheduler).startswith(("tcp://", "tls://", "inproc://")):
@@ -75,8 +76,6 @@ class Backend:
         elif self.workers > 1 and self._client is None:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor
-
-            from softcath.studies.sweep.runner import _single_threaded_worker
 
             method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
             ctx = multiprocessing.get_context(method)

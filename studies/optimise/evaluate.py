@@ -17,13 +17,18 @@ from typing import Any
 
 import numpy as np
 
+from softcath import design
 from softcath.design.errors import DesignError
+from softcath.fem.limits import check_section_budget
+from softcath.fem.section_model.mesh import MESH_SIZE
 from softcath.models import get
 from softcath.studies.model_validity import fail_self_contact
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
+from softcath.studies.predict.sampling import sample_values, unit_sample
 from softcath.studies.selection.criteria import check_columns
+from softcath.studies.sweep.results import add_derived_columns, model_columns
 
 __all__ = [
     "MAX_ROBUST_SAMPLES",
@@ -59,9 +64,6 @@ def estimate_run_seconds(model: str, base_table: dict, *, mesh_size: float | Non
     per_dof = get(model).dof_seconds
     if not per_dof:
         return _FORMULA_SECONDS
-    from softcath import design
-    from softcath.fem.limits import check_section_budget
-    from softcath.fem.section_model.mesh import MESH_SIZE
 
     d = design.from_dict(base_table)
     h = MESH_SIZE if mesh_size is None else mesh_size
@@ -109,7 +111,6 @@ class Robustness:
 def make_robustness(probability: float, ranges: Sequence, *, samples: int = 32, seed: int = 0) -> Robustness:
     """Checked :class:`Robustness`; model-option ranges (``model.*``) are left out (sweep models have
     none)."""
-    from softcath.studies.predict.sampling import sample_values, unit_sample
 
     if isinstance(probability, bool) or not isinstance(probability, (int, float)) or not 0 < probability < 1:
         raise DesignError("robust", probability, "must be a probability in (0, 1), e.g. 0.95")
@@ -185,8 +186,6 @@ def run_variants(problem: Problem, variants: list[dict], backend: Backend, evalu
     ``evaluators`` default to the paper's formula and ``problem``'s; ``model`` to ``problem.model``.
     """
     import pandas as pd
-
-    from softcath.studies.sweep.results import add_derived_columns, model_columns
 
     evaluators = evaluators or sorted({"paper", problem.evaluator})
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))

@@ -12,10 +12,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
 from softcath.design.validation import MAX_MAGNITUDE
 from softcath.models import tiers
-from softcath.studies.model_validity import MAX_PRESSURE_MPA
 from softcath.studies.selection.criteria import (
     Constraint,
     Objective,
@@ -27,6 +27,8 @@ from softcath.studies.selection.criteria import (
 )
 from softcath.studies.selection.expressions import SelectionError
 from softcath.studies.sweep.results import COLUMN_UNITS
+from softcath.studies.sweep.spec import EVALUATORS
+from softcath.studies.sweep.variants import check_path
 from softcath.studies.tiers import check_assembly, tier_name
 
 __all__ = ["MODELS", "Variable", "Problem", "parse_variable", "make_problem"]
@@ -116,7 +118,6 @@ def parse_variable(text: str) -> Variable:
 
 
 def _available_evaluators() -> tuple[str, ...]:
-    from softcath.studies.sweep.spec import EVALUATORS
 
     return tuple(EVALUATORS)
 
@@ -180,7 +181,6 @@ def make_problem(
     section_options: Mapping[str, Any] | None = None,
 ) -> Problem:
     """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
-    from softcath.studies.sweep.variants import check_path
 
     model = tier_name(model, allowed=MODELS)
     if model not in _available_evaluators():

@@ -10,6 +10,7 @@ from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.evaluate import run_variants
 from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
+from softcath.studies.sweep.results import MODEL_COLUMNS
 
 __all__ = ["fem_recheck"]
 
@@ -33,7 +34,6 @@ def fem_recheck(problem: Problem, params: list[dict[str, float]], backend: Backe
     df = run_variants(problem, [dict(p) for p in params], backend, evaluators=evaluators, model="fem")
     ids = list(range(len(params)))
     objs, margins, ok = score_table(df, ids, problem.objectives, problem.constraints)
-    from softcath.studies.sweep.results import MODEL_COLUMNS
 
     own = MODEL_COLUMNS.get(problem.model, {}).get("curvature_per_mm", "curvature_analytic_per_mm")
     out = []

@@ -15,9 +15,11 @@ import itertools
 
 import numpy as np
 
+from softcath.analytic import response
 from softcath.design.errors import DesignError
 from softcath.studies.model_validity import LINEAR_BEND_LIMIT_DEG, LINEAR_TIERS, linear_tier_warning
 from softcath.studies.optimise.problem import Problem
+from softcath.studies.sweep.variants import VariantBuilder
 
 __all__ = ["tier_validity"]
 
@@ -56,8 +58,6 @@ def tier_validity(problem: Problem) -> dict:
     }
     if not out["linear"]:
         return out
-    from softcath.analytic import response
-    from softcath.studies.sweep.variants import VariantBuilder
 
     p = np.asarray(problem.pressures_MPa, float)
     builder = VariantBuilder(problem.base_table)

@@ -7,12 +7,22 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import design
 from softcath.design.errors import DesignError
+from softcath.studies.atomic import write_json
 from softcath.studies.optimise.backend import Backend
-from softcath.studies.optimise.evaluate import Robustness, Scores, evaluate_parameters
+from softcath.studies.optimise.evaluate import (
+    Robustness,
+    Scores,
+    check_work,
+    evaluate_parameters,
+    make_robustness,
+)
 from softcath.studies.optimise.problem import Problem
+from softcath.studies.optimise.recheck import fem_recheck
 from softcath.studies.optimise.result import Optimum, Winner
 from softcath.studies.optimise.search import search
+from softcath.studies.sweep.variants import build_variant
 
 __all__ = ["check_search", "optimise", "write_optimum"]
 
@@ -121,7 +131,6 @@ def check_search(problem: Problem, *, budget: int, seed: int = 0, robust: Robust
     DesignError
         Naming ``budget`` or ``seed`` with its bound.
     """
-    from softcath.studies.optimise.evaluate import check_work
 
     if isinstance(budget, bool) or not isinstance(budget, int) or budget < 10:
         raise DesignError("budget", budget, "must be an integer >= 10")
@@ -175,8 +184,6 @@ def optimise(
     check_search(problem, budget=budget, seed=seed, robust=robust)
     t0 = time.perf_counter()
     if robust is not None and {r.path for r in robust.ranges} & set(problem.paths):
-        from softcath.studies.optimise.evaluate import make_robustness
-
         # a design variable is the optimiser's to choose, not uncertain: its range is left out
         kept = [r for r in robust.ranges if r.path not in problem.paths]
         robust = make_robustness(robust.probability, kept, samples=robust.samples, seed=robust.seed)
@@ -192,8 +199,6 @@ def optimise(
         history = pd.DataFrame(rec.rows)
         winners = _pick(problem, history, outcome.unit, robust is not None)
         if fem_check:
-            from softcath.studies.optimise.recheck import fem_recheck
-
             checks = fem_recheck(problem, [w.parameters for w in winners], backend)
             winners = [Winner(**{**w.__dict__, "fem_check": c}) for w, c in zip(winners, checks, strict=True)]
         name = backend.name
@@ -240,9 +245,6 @@ def write_optimum(optimum: Optimum, problem: Problem, out_dir: str | Path) -> di
     Only feasible winners get a design file; an infeasible search writes its reason
     (``optimum.json``: ``feasible`` false, ``reason``) and the history, no design.
     """
-    from softcath import design
-    from softcath.studies.atomic import write_json
-    from softcath.studies.sweep.variants import build_variant
 
     out = Path(out_dir)
     (out / "designs").mkdir(parents=True, exist_ok=True)

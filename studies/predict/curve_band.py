@@ -21,7 +21,13 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.fem.section_model.finite_strain import section_curve
 from softcath.studies.predict.band import measured_position, percentiles
+from softcath.studies.predict.finite_strain import line_fit
+from softcath.studies.predict.ranges import base_table
+from softcath.studies.predict.sampling import sample_values, split_overrides, unit_sample
+from softcath.studies.predict.workflow import resolve_ranges
+from softcath.studies.sweep.variants import VariantBuilder
 
 __all__ = ["curve_bands", "measured_points", "MAX_CURVE_SAMPLES"]
 
@@ -83,12 +89,6 @@ def curve_bands(
     measured
         A :class:`softcath.design.measurement.Measurement` to place in the bands, or None.
     """
-    from softcath.fem.section_model.finite_strain import section_curve
-    from softcath.studies.predict.finite_strain import line_fit
-    from softcath.studies.predict.ranges import base_table
-    from softcath.studies.predict.sampling import sample_values, unit_sample
-    from softcath.studies.predict.workflow import resolve_ranges
-    from softcath.studies.sweep.variants import VariantBuilder
 
     p = _checked_curve_inputs(samples, pressures)
     t0 = time.perf_counter()
@@ -144,9 +144,6 @@ def _sample_curves(builder, values: list[dict], p: np.ndarray, load: str, progre
     variant failed) and the failure reasons."""
     from tqdm import tqdm
 
-    from softcath.fem.section_model.finite_strain import section_curve
-    from softcath.studies.predict.sampling import split_overrides
-
     kappa = np.full((len(values), p.size), np.nan)
     angle = np.full((len(values), p.size), np.nan)
     errors: list[str] = []
@@ -180,7 +177,6 @@ def _pressure_points(p: np.ndarray, kappa: np.ndarray, angle: np.ndarray, nomina
 
 def _place(measured, p: np.ndarray, kappa: np.ndarray) -> dict:
     """The measured curve point by point in the bands, and its own line fit."""
-    from softcath.studies.predict.finite_strain import line_fit
 
     pts = measured_points(measured.pressure_MPa, measured.curvature_per_mm, p)
     for j, pt in enumerate(pts):

@@ -14,7 +14,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from softcath import design
 from softcath.design.errors import DesignError
+from softcath.fem.nonlinear import bend_curve
 
 __all__ = ["line_fit", "finite_strain_point"]
 
@@ -38,8 +40,6 @@ def finite_strain_point(
 ) -> dict:
     """The nominal design's finite-strain bend curve at ``pressures`` [MPa] and its line-fit gain
     (JSON-ready)."""
-    from softcath import design
-    from softcath.fem.nonlinear import bend_curve
 
     t0 = time.perf_counter()
     c = bend_curve(design.resolve(design_ref), list(pressures), load=load, progress=progress)

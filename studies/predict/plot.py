@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
 from softcath.studies.tiers import TIERS
 
 __all__ = ["band_picture", "curve_band_picture"]
@@ -22,10 +23,7 @@ def band_picture(
 ) -> Path:
     """Write the band picture of ``tiers`` (``TierPrediction``) to ``path``; ``points``: extra labelled
     gains."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     points = dict(points or {})
     rows = len(tiers) + len(points)
@@ -74,10 +72,7 @@ def band_picture(
 def curve_band_picture(nonlinear: Mapping, path: str | Path, *, measured=None, title: str = "") -> Path:
     """Curvature against pressure: the finite-strain section model's p5-p95 band, p50 and nominal,
     the measured points and their per-pressure medians (``nonlinear``: ``curve_bands``'s document)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     pts = nonlinear["pressures"]
     p = np.array([pt["pressure_MPa"] for pt in pts])

@@ -25,7 +25,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from softcath import design
+from softcath.design import presets
 from softcath.design.errors import DesignError
+from softcath.studies.sweep.variants import build_variant, check_path
 
 __all__ = [
     "MODEL_OPTIONS",
@@ -208,8 +211,6 @@ def parse_vary(text: str, known: dict[str, tuple[Range, bool]]) -> Range:
 
 def base_table(design_ref: str | Path) -> dict:
     """The base design's TOML tables exactly as written (so dotted paths match the file)."""
-    from softcath import design
-    from softcath.design import presets
 
     if isinstance(design_ref, str) and design_ref in presets.names():
         table = tomllib.loads(presets.text(design_ref))
@@ -233,7 +234,6 @@ def base_table(design_ref: str | Path) -> dict:
 
 def check_ranges(ranges: list[Range], table: dict) -> None:
     """Refuse unknown or repeated paths, and bounds the design itself rejects (each end, others nominal)."""
-    from softcath.studies.sweep.variants import build_variant, check_path
 
     seen = set()
     for r in ranges:

@@ -6,7 +6,10 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
+from softcath import design
 from softcath.design.errors import DesignError
+from softcath.fem.limits import check_section_budget, estimate_section_seconds
+from softcath.fem.section_model.mesh import MESH_SIZE
 from softcath.models import get
 from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
 from softcath.studies.predict.ranges import (
@@ -100,9 +103,6 @@ def resolve_ranges(
 
 def _check_section_work(table: dict, samples: int) -> None:
     """Refuse a section tier whose estimated time (samples x one solve of the nominal section) is too long."""
-    from softcath import design
-    from softcath.fem.limits import check_section_budget, estimate_section_seconds
-    from softcath.fem.section_model.mesh import MESH_SIZE
 
     d = design.from_dict(table)
     dofs = check_section_budget(coil_outer_radius=d.coil.outer_diameter / 2, mesh_size=MESH_SIZE)

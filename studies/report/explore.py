@@ -18,8 +18,12 @@ from pathlib import Path
 import numpy as np
 
 from softcath.design.reference import with_unit
+from softcath.studies.report import figures
 from softcath.studies.report import interactive as ia
 from softcath.studies.report.html_blocks import esc, fmt, note, page
+from softcath.studies.report.sweep_folder import design_of
+from softcath.studies.sweep.results import MODEL_COLUMNS, model_columns
+from softcath.studies.tiers import TIERS
 
 __all__ = ["write_explore"]
 
@@ -71,7 +75,6 @@ def _parity(df, params: list[str]) -> str:
 
 def _selection_tier(df, sel: dict | None) -> str | None:
     """The tier whose values the selection was ranked on, if the sweep has its columns (else None)."""
-    from softcath.studies.sweep.results import MODEL_COLUMNS
 
     if not sel:
         return None
@@ -84,8 +87,6 @@ def _selection_tier(df, sel: dict | None) -> str | None:
 
 def _parallel(df, params: list[str], load: str, tier: str | None = None) -> str:
     """Parameters and results at p_max; with ``tier``, the results are that tier's (the selection's)."""
-    from softcath.studies.sweep.results import model_columns
-    from softcath.studies.tiers import TIERS
 
     if tier is not None:
         df = model_columns(df, tier)
@@ -107,7 +108,6 @@ def _parallel(df, params: list[str], load: str, tier: str | None = None) -> str:
 
 
 def _pareto(sweep_dir: Path, stage: Path, sel: dict) -> str:
-    from softcath.studies.report import design_of, figures
 
     objs = sel["objectives"]
     robust = sel.get("robust")

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.plotting import pyplot
 from softcath.design.reference import with_unit
 from softcath.studies.tiers import TIERS
 
@@ -29,12 +30,7 @@ _FORMULA_CAP = "formula_cap_curvature"
 
 
 def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
+    return pyplot()
 
 
 def _save(fig, path: Path) -> Path:

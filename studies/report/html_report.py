@@ -18,54 +18,17 @@ import numpy as np
 
 from softcath.design.errors import DataError
 from softcath.design.reference import with_unit
+from softcath.studies.atomic import staged_dir
 from softcath.studies.report import figures
+from softcath.studies.report.explore import write_explore
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
+from softcath.studies.report.sweep_folder import _manifest, design_of
+from softcath.studies.sweep.results import read_results
 from softcath.studies.tiers import TIERS
 
 __all__ = ["write_report", "sweep_sections", "design_of"]
 
 log = logging.getLogger(__name__)
-
-
-def _manifest(sweep_dir: Path) -> dict:
-    path = sweep_dir / "sweep.json"
-    if not path.is_file():
-        raise DataError(f"{sweep_dir}: no sweep.json (is this a `softcath sweep` output directory?)")
-    fix = "rerun the sweep into a new --out folder"
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: unreadable sweep manifest ({exc}); {fix}") from None
-    spec = doc.get("spec") if isinstance(doc, dict) else None
-    params = spec.get("parameters") if isinstance(spec, dict) else None
-    if not (
-        isinstance(params, list)
-        and all(isinstance(p, dict) and {"path", "kind"} <= set(p) for p in params)
-        and isinstance(doc.get("base_table"), dict)
-    ):
-        raise DataError(f"{path}: not a sweep manifest (no spec.parameters or base_table); {fix}")
-    return doc
-
-
-def design_of(sweep_dir: str | Path, design_id: int):
-    """Rebuild design ``design_id`` of a sweep (base design + its swept values)."""
-    import pandas as pd
-
-    from softcath.studies.sweep.variants import VariantBuilder
-
-    sweep_dir = Path(sweep_dir)
-    manifest = _manifest(sweep_dir)
-    path = sweep_dir / "designs.csv"
-    try:
-        designs = pd.read_csv(path)
-        row = designs[designs.design_id == design_id].iloc[0]
-    except Exception as exc:  # pandas raises several types for a damaged table
-        raise DataError(
-            f"{path}: cannot be read ({type(exc).__name__}: {' '.join(str(exc).split())[:120]}); "
-            "rerun the sweep into a new --out folder"
-        ) from None
-    variant = {k: v.item() if hasattr(v, "item") else v for k, v in row.items() if k != "design_id"}
-    return VariantBuilder(manifest["base_table"]).build(variant, name=f"design {design_id}")
 
 
 def _selection_html(sweep_dir: Path, fig_dir: Path | None = None, prefix: str = "") -> str:
@@ -167,7 +130,6 @@ def sweep_sections(sweep_dir: str | Path, fig_dir: str | Path, *, prefix: str = 
     Image links are ``prefix + file name`` so the same sections can be placed
     in another page (the demo) whose HTML sits elsewhere.
     """
-    from softcath.studies.sweep.results import read_results
 
     sweep_dir, fig_dir = Path(sweep_dir), Path(fig_dir)
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -400,7 +362,6 @@ def write_report(
     Returns the page's path and its sections ``(title, html)`` with image links
     prefixed by ``prefix``, for embedding the report in another page.
     """
-    from softcath.studies.atomic import staged_dir
 
     sweep_dir = Path(sweep_dir)
     out = sweep_dir / "report" if out is None else Path(out)
@@ -423,8 +384,6 @@ def write_report(
 
 def _explore_link(sweep_dir: Path, stage: Path) -> str:
     """Write the interactive ``explore.html`` beside the page; the link to it."""
-    from softcath.studies.report.explore import write_explore
-    from softcath.studies.sweep.results import read_results
 
     params = [p["path"] for p in _manifest(sweep_dir)["spec"]["parameters"]]
     write_explore(sweep_dir, stage, read_results(sweep_dir), params)

@@ -14,9 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath import analytic, design
 from softcath.design.errors import DataError
 from softcath.design.reference import with_unit
 from softcath.studies.report import interactive as ia
+from softcath.studies.report.figures import _plt, _save, render_design
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table
 
 __all__ = ["write_optimum_report"]
@@ -40,7 +42,6 @@ def _read(out_dir: Path):
 
 
 def _convergence_png(opt: dict, hist, path: Path) -> Path:
-    from softcath.studies.report.figures import _plt, _save
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.4, 3.6))
@@ -64,9 +65,6 @@ def _design_info(out_dir: Path, w: dict, draw: bool, opt: dict) -> dict:
     image = ""
     src = out_dir / "designs" / f"{w['name']}.toml"
     if draw and src.is_file():
-        from softcath import analytic, design
-        from softcath.studies.report.figures import render_design
-
         d = design.load(src)
         p_max = max(opt["pressures_MPa"])
         kappa = float(np.asarray(analytic.response(d, np.array([p_max]), load="cap").curvature)[0])

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.studies.selection.expressions import (
     COMPARE,
     MAX_EXPR_CHARS,
@@ -46,7 +47,7 @@ def _split_at(text: str) -> tuple[str, str | None]:
     """``(expression, where)``: ``where`` is p_max, p_min or ``p=VALUE`` with VALUE checked.
 
     VALUE follows the rule of every pressure a command takes (a finite number within
-    ±:data:`~softcath.studies.model_validity.MAX_PRESSURE_MPA` MPa), checked here, before
+    ±:data:`~softcath.core.limits.MAX_PRESSURE_MPA` MPa), checked here, before
     any evaluation.
     """
     if len(text) > MAX_EXPR_CHARS:
@@ -66,7 +67,6 @@ def _split_at(text: str) -> tuple[str, str | None]:
 
 def at_pressure(where: str, text: str) -> float:
     """The pressure of ``at p=VALUE`` in MPa: a finite number within ±100 MPa (the options' rule)."""
-    from softcath.studies.model_validity import MAX_PRESSURE_MPA
 
     value = where.split("=", 1)[1]
     try:

@@ -13,7 +13,9 @@ import dataclasses
 import logging
 from pathlib import Path
 
+from softcath import design
 from softcath.design.errors import DataError, DesignError
+from softcath.studies.report.html_report import design_of
 from softcath.studies.selection.ranking import Selection
 from softcath.studies.tiers import TIERS
 
@@ -69,8 +71,6 @@ def chosen_design_files(
         ``selection`` whose ranked entries with a file carry ``design_file`` (the path relative
         to the output folder), and ``{relative path: TOML text}``.
     """
-    from softcath import design
-    from softcath.studies.report.html_report import design_of
 
     files: dict[str, str] = {}
     ranked = []

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from softcath.studies.model_validity import LINEAR_BEND_LIMIT_DEG as _LIMIT
-from softcath.studies.model_validity import LINEAR_TIERS
+from softcath.studies.model_validity import LINEAR_TIERS, linear_tier_warning
 from softcath.studies.selection.criteria import parse_constraint, parse_objective, rows_at
 from softcath.studies.selection.ranking import Selection, pareto_front
 
@@ -70,8 +70,6 @@ def linear_validity_warning(selection: Selection, df, *, rechecked: bool) -> str
     whether the finite-strain re-check of the bend constraints runs (it does not re-check
     other columns such as ``max_strain``).
     """
-    from softcath.studies.model_validity import linear_tier_warning
-
     if selection.model not in LINEAR_MODELS or not selection.ranked:
         return None
     ids = {r["design_id"] for r in selection.ranked}
@@ -106,6 +104,7 @@ def recheck_large_bends(
 
     ``constraints`` are the large-bend constraints that asked for it (reported in ``recheck``).
     """
+    # optimise reads selection's criteria: its package loads on first use
     from softcath.studies.optimise import Backend, Problem, evaluate_parameters
 
     objs = tuple(parse_objective(o) for o in selection.objectives)

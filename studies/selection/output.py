@@ -10,6 +10,7 @@ import json
 from collections.abc import Mapping
 from pathlib import Path
 
+from softcath.studies.atomic import Outputs
 from softcath.studies.selection.ranking import Selection
 
 __all__ = ["write_selection"]
@@ -27,7 +28,6 @@ def write_selection(
     DesignError
         A destination exists and softcath did not write it, or it is an input.
     """
-    from softcath.studies.atomic import Outputs
 
     out = Path(out_dir)
     for name in designs or {}:

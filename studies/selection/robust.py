@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.studies.predict.ranges import chosen_ranges
 from softcath.studies.selection.criteria import parse_constraint, parse_objective
 from softcath.studies.selection.ranking import Selection, pareto_front
 
@@ -33,8 +34,6 @@ def sweep_ranges(
 ) -> list:
     """The uncertain parameters: each ``vary`` item, else the ranges file's (default: the base preset's)
     defaults."""
-    from softcath.studies.predict.ranges import chosen_ranges
-
     ranges = chosen_ranges(base, base_table, vary, ranges_file)
     if ranges is None:
         raise DesignError("ranges", str(base), "the sweep's base design has no ranges file: give ranges")
@@ -61,6 +60,7 @@ def robust_select(
     that value); the result's ``robust`` records P, the samples, the ranges,
     the model and every design's probabilities and percentiles.
     """
+    # optimise reads selection's criteria: its package loads on first use
     from softcath.studies.optimise import MODELS, Problem, make_robustness
 
     # the selection's tier if a search can run it (not the 3-D FEM, not a plain table), else the section model
@@ -69,7 +69,7 @@ def robust_select(
     use = [r for r in ranges if r.path not in swept]
     left_out = [r.path for r in ranges if r.path in swept]
     rob = make_robustness(probability, use, samples=samples, seed=seed)
-    from softcath.studies.optimise.evaluate import check_work
+    from softcath.studies.optimise.evaluate import check_work  # loaded on first use (see above)
 
     # every ranked design's whole sample, estimated before any run
     check_work(model, dict(base_table), len(selection.ranked) * samples, param="samples", value=samples)
@@ -115,6 +115,7 @@ def _robust_scores(problem, designs: list[dict], rob, workers, scheduler, progre
     """Each design's robust score: its whole sample evaluated in one batch (the bar moves per design)."""
     from tqdm import tqdm
 
+    # optimise reads selection's criteria: its package loads on first use
     from softcath.studies.optimise import Backend, evaluate_parameters
 
     scores = []

@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath.design.errors import DataError
+from softcath.design.errors import DataError, DesignError
 from softcath.studies.atomic import write_json
 from softcath.studies.model_validity import SELF_CONTACT_DEG
 from softcath.studies.sweep.section_eval import SECTION_KEYS
@@ -328,7 +328,6 @@ def model_columns(df, model: str):
     without that model's value become NaN (so a selection skips them), and
     ``source`` names the model.
     """
-    from softcath.design.errors import DesignError
 
     if model not in MODEL_COLUMNS:
         raise DesignError("model", model, f"must be one of {', '.join(MODEL_COLUMNS)}")

@@ -17,6 +17,8 @@ import time
 
 import numpy as np
 
+from softcath.fem.section_model.finite_strain import section_curve
+
 __all__ = ["REST_PROBE_MPA", "SECTION_NONLINEAR_KEYS", "curve_with_rest", "section_nonlinear_columns"]
 
 #: Pressure [MPa] walked to when only the rest state is asked for (the walk needs a load to scale);
@@ -43,8 +45,6 @@ def curve_with_rest(design, pressures, **options):
     well and that row is dropped: the rest state is a valid answer, not an error.
     """
     from dataclasses import fields, replace
-
-    from softcath.fem.section_model.finite_strain import section_curve
 
     p = [float(x) for x in np.atleast_1d(np.asarray(pressures, float))]
     if any(x > 0 for x in p):

@@ -28,134 +28,48 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from softcath import design as design_pkg
+from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
+from softcath.fem.adapter import coil_law, geometry_from_design
+from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
+from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
+from softcath.fem.section_model.finite_strain.discretisation import discretise
+from softcath.fem.section_model.finite_strain.fast import Unsupported
+from softcath.fem.section_model.finite_strain.fast_curve import template_curve
+from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
+from softcath.fem.section_model.finite_strain.newton import (
+    LOADS,
+    Loading,
+    Problem,
+    SectionConvergenceError,
+    factorise,
+    load_vector,
+    residual_tangent,
+    walk,
+)
+from softcath.fem.section_model.finite_strain.result import CSV_COLUMNS, SectionCurve
+from softcath.fem.section_model.finite_strain.rows import (
+    CurveFacts,
+    curve_from_rows,
+    progress_callback,
+    rest_row,
+    state_row,
+)
+from softcath.fem.section_model.laws import NU_MAX
+from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
-__all__ = ["SectionCurve", "section_curve", "section_laws", "PRESSURE_MAX"]
+__all__ = ["CSV_COLUMNS", "SectionCurve", "section_curve", "section_laws", "PRESSURE_MAX"]
 
 log = logging.getLogger(__name__)
 
-#: Largest pressure [MPa] the model accepts: far past any silicone tube's burst.
-PRESSURE_MAX = 100.0
-
-#: Columns of ``section.csv`` (the ``analytic.csv`` columns first).
-CSV_COLUMNS = (
-    "pressure_MPa",
-    "curvature_per_mm",
-    "elongation",
-    "bend_angle_rad",
-    "tip_x_mm",
-    "tip_y_mm",
-    "bend_rate_per_mm",
-    "lumen_area_mm2",
-    "lumen_volume_change_mm3",
-    "max_strain",
-    "newton_iterations",
-    "residual",
-)
-
-
-@dataclass(frozen=True)
-class SectionCurve:
-    """Finite-strain response of a design at increasing pressures (arrays over pressure).
-
-    Attributes
-    ----------
-    pressure
-        Lumen pressure [MPa].
-    curvature_per_mm
-        Curvature of the axial-stiffness centroid fibre [1/mm] (positive toward the channel).
-    lateral_curvature_per_mm
-        The same across the plane of symmetry (zero for a symmetric section).
-    bend_rate_per_mm
-        Section turn per unit undeformed length, lambda k_2 [rad/mm].
-    elongation
-        Axial strain of the centroid fibre, lambda (1 + k . x) - 1.
-    bend_angle_rad, tip_x_mm, tip_y_mm
-        Uniform arc over the stretched bending length (paper eq. 9 frame).
-    lumen_area_mm2
-        Deformed lumen area.
-    lumen_volume_change_mm3
-        Volume the syringe adds to the lumen over the bending length.
-    max_strain
-        Largest principal (Biot) strain in the silicones.
-    newton_iterations
-        Newton iterations spent reaching each pressure from the previous one.
-    residual
-        Relative residual of each converged state.
-    linear_curvature_per_mm_per_MPa
-        The small-load slope dkappa/dp (the linear section model's gain on the same laws), or
-        None when not asked for (``linear_gain=False``).
-    """
-
-    design_name: str
-    load: str
-    pressure: np.ndarray
-    curvature_per_mm: np.ndarray
-    lateral_curvature_per_mm: np.ndarray
-    bend_rate_per_mm: np.ndarray
-    elongation: np.ndarray
-    bend_angle_rad: np.ndarray
-    tip_x_mm: np.ndarray
-    tip_y_mm: np.ndarray
-    lumen_area_mm2: np.ndarray
-    lumen_volume_change_mm3: np.ndarray
-    max_strain: np.ndarray
-    newton_iterations: np.ndarray
-    residual: np.ndarray
-    linear_curvature_per_mm_per_MPa: float | None
-    length_mm: float
-    lumen_area_rest_mm2: float
-    dofs: int
-    n_triangles: int
-    mesh_size_mm: float
-    poisson_ratio_silicone: float
-    hoop_cap: float | None
-    seconds: float
-    mesh_seconds: float
-    state: object = field(default=None, repr=False, compare=False)
-
-    def rows(self) -> list[dict[str, float]]:
-        """One dict per pressure with the :data:`CSV_COLUMNS` keys."""
-        cols = {
-            "pressure_MPa": self.pressure,
-            "curvature_per_mm": self.curvature_per_mm,
-            "elongation": self.elongation,
-            "bend_angle_rad": self.bend_angle_rad,
-            "tip_x_mm": self.tip_x_mm,
-            "tip_y_mm": self.tip_y_mm,
-            "bend_rate_per_mm": self.bend_rate_per_mm,
-            "lumen_area_mm2": self.lumen_area_mm2,
-            "lumen_volume_change_mm3": self.lumen_volume_change_mm3,
-            "max_strain": self.max_strain,
-            "newton_iterations": self.newton_iterations,
-            "residual": self.residual,
-        }
-        return [{k: float(v[i]) for k, v in cols.items()} for i in range(self.pressure.size)]
-
-    def to_json(self) -> dict:
-        """Plain-JSON summary (``section.json`` with ``"nonlinear": true``)."""
-        d = asdict(replace(self, state=None))
-        del d["state"]
-        for k, v in d.items():
-            if isinstance(v, np.ndarray):
-                d[k] = v.tolist()
-        d["nonlinear"] = True
-        return d
-
-    def pressure_for_angle(self, angle_rad: float) -> float:
-        """Pressure [MPa] at which the uniform-arc bend reaches ``angle_rad`` (linear
-        interpolation between computed pressures), or NaN if the curve stops short."""
-        keep = self.pressure > 0
-        a = np.concatenate([[0.0], self.bend_angle_rad[keep]])
-        p = np.concatenate([[0.0], self.pressure[keep]])
-        if not np.all(np.diff(a) > 0) or not (0.0 <= angle_rad <= a[-1]):
-            return float("nan")
-        return float(np.interp(angle_rad, a, p))
+#: Largest pressure [MPa] the model accepts: the package's one bound (far past any tube's burst).
+PRESSURE_MAX = MAX_PRESSURE_MPA
 
 
 def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: float | None = None) -> dict:
@@ -173,10 +87,6 @@ def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: flo
         Cap the coils' hoop modulus at this multiple of the stiffest silicone's E, as the
         3-D finite-strain FEM does for its conditioning (None: no cap).
     """
-    from softcath.fem.adapter import coil_law
-    from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
-    from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
-    from softcath.fem.section_model.laws import NU_MAX
 
     if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
         raise DesignError("silicone_poisson", silicone_poisson, f"must be in [0, {NU_MAX}]")
@@ -277,11 +187,6 @@ def section_curve(
     d, p = _check_inputs(design, pressures, load)
     t0 = time.perf_counter()
     if mesher == "template":
-        from softcath.fem.section_model.finite_strain.fast import Unsupported
-        from softcath.fem.section_model.finite_strain.fast_curve import template_curve
-        from softcath.fem.section_model.finite_strain.rows import progress_callback
-        from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
-
         law_map = (
             dict(laws)
             if laws is not None
@@ -340,8 +245,6 @@ def _finish(curve: SectionCurve, error) -> SectionCurve:
 
 def _check_inputs(design, pressures, load):
     """Check the load and pressures and resolve the design; returns (design, pressures)."""
-    from softcath import design as design_pkg
-    from softcath.fem.section_model.finite_strain.newton import LOADS
 
     if load not in LOADS:
         raise DesignError("load", load, f"must be one of {LOADS}")
@@ -378,12 +281,6 @@ def _set_up(
     d, p, load, *, mesh_size, segments, mesher, laws, silicone_poisson, hoop_cap, linear_gain
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.geometry import FILLER, TUBE
-    from softcath.fem.section_model.finite_strain.discretisation import discretise
-    from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
-    from softcath.fem.section_model.finite_strain.newton import Loading, Problem
-    from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
     mesh_size = MESH_SIZE if mesh_size is None else mesh_size
     segments = SEGMENTS if segments is None else segments
@@ -422,8 +319,6 @@ def _set_up(
 
 def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None] | None = None):
     """Newton walk through the positive pressures; returns (states, convergence error or None)."""
-    from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, walk
-    from softcath.fem.section_model.finite_strain.rows import progress_callback
 
     on_state, close = progress_callback(int(setup.positive.size), progress, on_pressure)
     error = None
@@ -439,9 +334,6 @@ def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None]
 
 def _curve(d, load, p, setup: _Setup, states, hoop_cap, t0) -> SectionCurve:
     """The :class:`SectionCurve` of the rest rows and the converged states."""
-    from softcath.fem.geometry import TUBE
-    from softcath.fem.section_model.finite_strain.lumen import lumen_volume
-    from softcath.fem.section_model.finite_strain.rows import CurveFacts, curve_from_rows, rest_row, state_row
 
     disc, wall, rest = setup.disc, setup.wall, setup.rest
     n_zero = p.size - setup.positive.size
@@ -474,7 +366,6 @@ def _centroid(disc, u) -> np.ndarray:
 
 def _linear_gain(problem, q_rest, loading) -> float:
     """dk_2/dfactor at rest (= dkappa/dfactor there): one solve with the rest-state tangent."""
-    from softcath.fem.section_model.finite_strain.newton import factorise, load_vector, residual_tangent
 
     disc = problem.disc
     _, k, _, _ = residual_tangent(problem, q_rest, loading, 0.0)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcath.design.errors import DesignError
+from softcath.fem.section_model.element import _rigid_pins
 
 __all__ = ["Discretisation", "discretise", "N_GLOBAL"]
 
@@ -110,8 +111,6 @@ def discretise(section, laws: Mapping[int, object]) -> Discretisation:
         ``small_strain_tensor`` (``Yeoh``, ``AnisotropicSVK``).
     """
     from skfem import CellBasis, ElementTriCCR, ElementVector
-
-    from softcath.fem.section_model.element import _rigid_pins
 
     labels = np.asarray(section.labels)
     missing = sorted(set(np.unique(labels).tolist()) - set(laws))

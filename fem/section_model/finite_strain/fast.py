@@ -23,7 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL
+from softcath.fem.nonlinear.laws import AnisotropicSVK, Yeoh
+from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, _axial_modulus
+from softcath.fem.section_model.template_kernel import _kernel
 
 __all__ = ["FastTemplate", "FastProblem", "Unsupported", "fast_problem", "fast_template"]
 
@@ -41,8 +43,6 @@ class FastTemplate:
 
     def __init__(self, template) -> None:
         from skfem import CellBasis, ElementTriCCR, ElementVector
-
-        from softcath.fem.section_model.batch import _kernel
 
         k = _kernel(template)  # the linear section model's per-template data (pattern, scatters)
         self.k = k
@@ -79,7 +79,7 @@ class FastTemplate:
         """The retained block's repeated Cholesky (analysis kept, one MKL thread: a 3k-unknown
         block gains little from more, and its answer is then the same in every process)."""
         if self._spd is None:
-            from softcath.fem.section_model.spd_factor import SpdFactor
+            from softcath.fem.section_model.spd_factor import SpdFactor  # numba: heavy, first use
 
             self._spd = SpdFactor(self.k.indptr, self.k.indices, threads=1)  # same bits in every process
         return self._spd
@@ -138,8 +138,6 @@ class FastProblem:
 
 def _laws(labels: np.ndarray, law_map: dict, silicone_labels):
     """Per-triangle law arrays for the kernel; :class:`Unsupported` for a law it does not know."""
-    from softcath.fem.nonlinear.laws import AnisotropicSVK, Yeoh
-    from softcath.fem.section_model.finite_strain.discretisation import _axial_modulus
 
     nel = labels.size
     kind = np.zeros(nel, np.int64)

@@ -19,6 +19,16 @@ from collections.abc import Callable
 
 import numpy as np
 
+from softcath.fem.adapter import geometry_from_design
+from softcath.fem.geometry import FILLER, TUBE
+from softcath.fem.limits import check_section_budget
+from softcath.fem.section_model.finite_strain.fast import Unsupported, fast_problem, fast_template
+from softcath.fem.section_model.finite_strain.fast_walk import linear_rate, rest_state, walk
+from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError
+from softcath.fem.section_model.finite_strain.rows import CurveFacts, curve_from_rows, rest_row, state_row
+from softcath.fem.section_model.mesh import check_size
+from softcath.fem.section_model.template import templated
+
 __all__ = ["template_curve"]
 
 log = logging.getLogger(__name__)
@@ -56,16 +66,7 @@ def template_curve(
     t0
         ``time.perf_counter()`` at the call's start.
     """
-    from softcath.fem.adapter import geometry_from_design
-    from softcath.fem.geometry import FILLER, TUBE
-    from softcath.fem.limits import check_section_budget
-    from softcath.fem.section_model.finite_strain.fast import Unsupported, fast_problem, fast_template
-    from softcath.fem.section_model.finite_strain.fast_walk import linear_rate, rest_state, walk
-    from softcath.fem.section_model.finite_strain.kernel import lumen
-    from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError
-    from softcath.fem.section_model.finite_strain.rows import CurveFacts, curve_from_rows, rest_row, state_row
-    from softcath.fem.section_model.mesh import check_size
-    from softcath.fem.section_model.template import templated
+    from softcath.fem.section_model.finite_strain.kernel import lumen  # numba: heavy, first use
 
     g = geometry_from_design(d)
     check_size(mesh_size, segments)

@@ -71,6 +71,7 @@ def assemble(
     ``stale``: an earlier :class:`Assembly` with a tangent; then the residual alone is
     assembled, condensed with that tangent's bubble maps (a modified Newton step).
     """
+    # numba: heavy, loaded on first use
     from softcath.fem.section_model.finite_strain.kernel import assemble as kernel_assemble
     from softcath.fem.section_model.finite_strain.kernel import lumen
 

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.fem.section_model.element import lumen_edge_elements
+
 __all__ = ["LumenWall", "lumen_wall", "LumenVolume", "lumen_volume"]
 
 
@@ -61,7 +63,6 @@ class LumenWall:
 def lumen_wall(section, disc) -> LumenWall:
     """The lumen wall of ``section`` on the discretisation ``disc``."""
     mesh, basis = disc.mesh, disc.basis
-    from softcath.fem.section_model.element import lumen_edge_elements
 
     t = mesh.t
     elems, which = lumen_edge_elements(section, mesh)

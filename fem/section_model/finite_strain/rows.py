@@ -16,6 +16,7 @@ import numpy as np
 
 from softcath.fem.section_model.end_zones import end_zones, tip_angle
 from softcath.fem.section_model.end_zones import tip_pose as end_zone_pose
+from softcath.fem.section_model.finite_strain.result import SectionCurve
 
 __all__ = ["CurveFacts", "curve_from_rows", "progress_callback", "rest_row", "state_row"]
 
@@ -77,7 +78,6 @@ def poisson(law) -> float:
 
 def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveFacts, state):
     """The :class:`SectionCurve` of ``rows`` (rest rows first) at the first ``len(rows)`` pressures."""
-    from softcath.fem.section_model.finite_strain.curve import SectionCurve
 
     cols = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
     k_c = cols.get("curvature", np.zeros(0))

@@ -19,6 +19,8 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.linalg import splu
 
+from softcath.fem import pardiso
+
 __all__ = ["Pattern", "factorise"]
 
 #: Below this many unknowns SuperLU is used: on the catheter's 4k-DOF sections PARDISO's
@@ -94,7 +96,6 @@ class _SuperLU:
 
 class _Pardiso:
     def __init__(self, pattern: Pattern, k: sparse.csr_matrix) -> None:
-        from softcath.fem import pardiso
 
         self.k = k
         d = k.data
@@ -112,7 +113,6 @@ class _Pardiso:
         self.pattern = pattern
 
     def _lu(self):
-        from softcath.fem import pardiso
 
         h = self.pattern.handles.get(11)
         if h is None:
@@ -138,7 +138,6 @@ def factorise(pattern: Pattern, k: sparse.csr_matrix):
     Valid until the next factorisation on the same pattern (PARDISO keeps one set of
     factors per pattern and matrix type).
     """
-    from softcath.fem import pardiso
 
     if pattern.n >= PARDISO_MIN_DOFS and pardiso.available():
         return _Pardiso(pattern, k)
