@@ -16,13 +16,13 @@ import numpy as np
 
 from softcath import analytic
 from softcath import design as design_pkg
-from softcath.analytic.pose import tip_pose
 from softcath.core.limits import check_pressure
 from softcath.design.assembly import INTERFACES
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import fem_laws_from_design, geometry_from_design, silicone_parameters
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.pipeline import LOADS, TipSolution, run_tip
+from softcath.fem.section_model.end_zones import end_zones, tip_pose
 
 __all__ = ["FemCase", "FemResult", "check", "check_assembly"]
 
@@ -35,6 +35,9 @@ class FemCase:
     elongation dimensionless. ``curvature_variation`` is ``(max - min)/|mean|`` of
     the local curvature along the middle of the tip. ``max_strain`` is the
     largest principal strain in the silicone outside the clamp zone.
+    ``bend_angle_rad`` and the tip position are the tip's: the mid-span fit's arc with the
+    end zones taken off (:mod:`softcath.fem.section_model.end_zones`), as the section tiers
+    give them; ``curvature_rotation_per_mm`` is this mesh's own end rotation over the length.
     ``analytic`` holds the analytic model's ``curvature_per_mm`` and
     ``elongation`` for the same design, pressure and load model, and
     ``ratio_fem_over_analytic`` their ratios (NaN at zero pressure).
@@ -170,7 +173,7 @@ def check(
     )
     cases = []
     for ld in loads:
-        cases.extend(_load_cases(d, sol, ld, p, geometry.length))
+        cases.extend(_load_cases(d, sol, ld, p))
     return _fem_result(
         d,
         sol,
@@ -242,13 +245,14 @@ def _warn_capped_poisson(silicones: dict) -> None:
             )
 
 
-def _load_cases(d, sol: TipSolution, ld: str, p: np.ndarray, length: float) -> list[FemCase]:
+def _load_cases(d, sol: TipSolution, ld: str, p: np.ndarray) -> list[FemCase]:
     """The :class:`FemCase` of each pressure under load ``ld``, with the analytic model alongside."""
     fit = sol.fits[ld]
     ref = analytic.response(d, p, load=ld)
     kappa = fit.curvature_per_mm * p
     eps = fit.elongation * p
-    tx, ty, theta = tip_pose(kappa, length * (1.0 + eps))
+    # the tip's angle and pose from the mid-span fit, as the section tiers give them (end zones off)
+    tx, ty, theta = tip_pose(kappa, eps, end_zones(d))
     cases = []
     for i, pi in enumerate(p):
         a_k, a_e = float(ref.curvature[i]), float(ref.elongation[i])

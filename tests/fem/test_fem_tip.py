@@ -12,6 +12,7 @@ from softcath.fem.adapter import fem_laws_from_design, geometry_from_design
 from softcath.fem.geometry import REGIONS
 from softcath.fem.materials import Isotropic
 from softcath.fem.pipeline import axial_modulus, run_tip
+from softcath.fem.section_model.end_zones import end_zones
 
 NU = 0.3
 
@@ -144,9 +145,15 @@ def test_paper_check_cap_and_lumen(paper):
         "ratio_fem_over_analytic",
     ):
         assert key in doc
-    theta = lum.curvature_per_mm * 5.0 * (1 + lum.elongation)
+    # the tip's angle and pose (end zones off the mid-span arc), written out: an arc over the
+    # stretched L - deficit, then the deficit (stretched) and the plug along its end tangent
+    zones = end_zones(paper)
+    stretch = 1 + lum.elongation
+    theta = lum.curvature_per_mm * (5.0 - zones.deficit_mm) * stretch
+    tail = zones.saint_venant_mm * stretch + zones.plug_mm
     assert lum.bend_angle_rad == pytest.approx(theta, rel=1e-12)
-    assert lum.tip_x_mm == pytest.approx(5.0 * (1 + lum.elongation) * (1 - np.cos(theta)) / theta)
+    x = (1 - np.cos(theta)) / lum.curvature_per_mm + tail * np.sin(theta)
+    assert lum.tip_x_mm == pytest.approx(x, rel=1e-9)
 
 
 def test_check_json_and_linear_scaling_on_a_coarse_mesh(paper):
