@@ -44,6 +44,7 @@ __all__ = [
     "response_from_gains",
 ]
 
+
 def _check_load(load: str) -> None:
     if load not in LOADS:
         raise DesignError("load", load, f"must be one of {', '.join(LOADS)}")
