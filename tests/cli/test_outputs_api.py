@@ -138,12 +138,30 @@ def test_an_overlay_tells_one_name_given_twice_apart_by_its_source(tmp_path):
 
 
 @pytest.mark.slow
+def _same_numbers(a, b, *, rel: float) -> None:
+    """``a == b`` with floats compared to ``rel`` (nested dicts and lists)."""
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys()
+        for k in a:
+            _same_numbers(a[k], b[k], rel=rel)
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b)
+        for x, y in zip(a, b, strict=True):
+            _same_numbers(x, y, rel=rel)
+    elif isinstance(a, float) and isinstance(b, float):
+        assert a == pytest.approx(b, rel=rel, abs=1e-7)  # abs: differences such as curvature_variation
+    else:
+        assert a == b
+
+
 def test_fem_json_is_the_librarys(tmp_path, cli):
     assert cli("fem", "paper", "--pressure", "0.1", "--no-png", "--out", tmp_path / "c").status == 0
     fc = fem_check(design.resolve("paper"), 0.1)
     assert fc.write(tmp_path / "l", picture=False) == ("fem.json", "tip.vtu")
     doc = _json(tmp_path / "l" / "fem.json")
-    assert _json(tmp_path / "c" / "fem.json") == doc
+    # two 3-D solves of one design: the same keys and values up to the solver's rounding
+    # (measured 5e-7 relative between a run that meshes and one that reads the mesh cache)
+    _same_numbers(_json(tmp_path / "c" / "fem.json"), doc, rel=1e-5)
     assert doc["paper_formula"] == paper_formula(design.resolve("paper"), 0.1, fc.case.curvature_per_mm)
 
 
