@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from softcath.core.interrupts import raise_pending_stop
 from softcath.fem import check
-from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 

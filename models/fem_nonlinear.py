@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.analytic.pose import tip_pose
+from softcath.core.interrupts import raise_pending_stop
 from softcath.fem.api import check_assembly
 from softcath.fem.nonlinear import bend_curve
-from softcath.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 
 __all__ = ["FEM_NONLINEAR", "FemNonlinearTier"]

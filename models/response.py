@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from softcath.core.atomic import write_text
+
 __all__ = ["OBSERVABLES", "ResponseBatch", "TipResponse"]
 
 #: The per-pressure observables of a response: field -> (table column, unit).
@@ -152,10 +154,10 @@ class TipResponse:
 
         out = Path(folder)
         out.mkdir(parents=True, exist_ok=True)
-        csv = _atomic_write(out / f"{stem}.csv", self.to_table().to_csv(index=False, float_format="%.17g"))
+        csv = write_text(out / f"{stem}.csv", self.to_table().to_csv(index=False, float_format="%.17g"))
         doc = {**self.to_json(), "table": csv.name}
         text = json.dumps(doc, indent=2, allow_nan=False) + "\n"  # strict JSON: NaN is already null
-        return csv, _atomic_write(out / f"{stem}.json", text)
+        return csv, write_text(out / f"{stem}.json", text)
 
     @classmethod
     def read(cls, path: str | Path) -> TipResponse:
@@ -250,24 +252,6 @@ class ResponseBatch:
             extras={k: np.asarray(v)[i].copy() for k, v in self.extras.items()},
             **values,
         )
-
-
-def _atomic_write(path: Path, text: str) -> Path:
-    """Write ``text`` under a temporary name in the same folder, then rename it over ``path``.
-
-    The rename is atomic on one file system: a reader sees the old file or the whole new one.
-    (The studies' outputs use :mod:`softcath.studies.atomic`, a floor above the models.)
-    """
-    import os
-    import uuid
-
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
 
 
 def _unit_of(name: str) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.interrupts import raise_pending_stop
+from softcath.core.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 

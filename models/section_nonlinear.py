@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath.interrupts import raise_pending_stop
+from softcath.core.interrupts import raise_pending_stop
 from softcath.models.tier import Tier
 
 __all__ = ["SECTION_NONLINEAR", "SectionNonlinearTier", "SECTION_NONLINEAR_FIELDS"]

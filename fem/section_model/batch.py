@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcath.analytic import design_inputs_many, gains_arrays
+from softcath.core.interrupts import raise_pending_stop
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import geometry_from_design
 from softcath.fem.geometry import TUBE
@@ -43,7 +44,6 @@ from softcath.fem.section_model.strain import silicone_strain_range
 from softcath.fem.section_model.template import log_fallback
 from softcath.fem.section_model.template_kernel import _KERNELS as _KERNELS  # the cache, cleared by tests
 from softcath.fem.section_model.template_kernel import _Kernel, _kernel
-from softcath.interrupts import raise_pending_stop
 
 __all__ = ["BatchItem", "CHUNK", "TIMERS", "section_models"]
 

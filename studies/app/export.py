@@ -19,22 +19,12 @@ from softcath import design as design_pkg
 from softcath.core.plotting import pyplot
 from softcath.studies.app.curves import TierCurve
 from softcath.studies.app.shapes import bent_tip, section_shapes
+from softcath.studies.outputs.overlay import COLUMNS as OVERLAY_COLUMNS
 
 __all__ = ["CSV_COLUMNS", "curves_csv", "design_toml", "view_png"]
 
-CSV_COLUMNS = (
-    "design",
-    "tier",
-    "load",
-    "pressure_MPa",
-    "curvature_per_mm",
-    "elongation",
-    "bend_angle_rad",
-    "bend_angle_deg",
-    "tip_x_mm",
-    "tip_y_mm",
-    "max_strain",
-)
+#: The overlay table's columns (one format for curves of several designs), and the strain.
+CSV_COLUMNS = (*OVERLAY_COLUMNS, "max_strain")
 
 
 def design_toml(design) -> str:

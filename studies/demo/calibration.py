@@ -6,8 +6,8 @@ import numpy as np
 
 from softcath import analytic, design
 from softcath.analytic.calibration import calibrate
+from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.design.measurement import read_measurement_csv
-from softcath.studies.atomic import Outputs, prepare_out_dir
 from softcath.studies.demo.context import DemoContext, SectionOutput, unavailable
 from softcath.studies.plots import calibration_plot
 from softcath.studies.report.html_blocks import esc, figure, fmt, table

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from softcath import design
-from softcath.interrupts import raise_pending_stop
-from softcath.studies.atomic import Outputs
+from softcath.core.atomic import Outputs
+from softcath.core.interrupts import raise_pending_stop
 from softcath.studies.demo.context import DemoContext, SectionOutput
 from softcath.studies.report.html_blocks import esc, note, page
 

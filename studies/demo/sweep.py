@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from softcath import models
-from softcath.studies.atomic import prepare_out_dir, write_text
+from softcath.core.atomic import prepare_out_dir, write_text
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DEMO_PRESSURES_MPA, DemoContext, SectionOutput
 from softcath.studies.report import design_of, write_report
 from softcath.studies.report.html_blocks import esc, fmt, note, table

@@ -8,8 +8,8 @@ import io
 import textwrap
 from pathlib import Path
 
+from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.core.plotting import pyplot
-from softcath.studies.atomic import Outputs, prepare_out_dir
 
 __all__ = ["write_design_report"]
 

@@ -276,15 +276,14 @@ def _ambiguity(choice: dict) -> str:
     return text
 
 
-def tip_level_factor(design, *, load: str = "lumen") -> float:
+def tip_level_factor(design) -> float:
     """Tip-level over mid-span curvature of ``design``: its end zones' factor.
 
     What a circle fit over the whole tip sees is the end section's rotation over the
     length, end zones included: (L - deficit) / L, from
     :func:`~softcath.fem.section_model.end_zones.end_zones` (fitted on converged 3-D
-    finite-strain solves; the same under either load, ``load`` is kept for callers).
+    finite-strain solves; the same under either load).
     """
-    del load
     return float(end_zones(design).factor)
 
 

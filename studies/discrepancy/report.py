@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from softcath.analytic.effects import get
+from softcath.core.atomic import check_finite_json, prepare_out_dir
 from softcath.core.plotting import pyplot
-from softcath.studies.atomic import check_finite_json, prepare_out_dir
 from softcath.studies.discrepancy.maps import Residuals, binned, residuals
 from softcath.studies.discrepancy.workflow import DiscrepancyResult
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from softcath import design
+from softcath.core.atomic import write_json
 from softcath.design.errors import DesignError
-from softcath.studies.atomic import write_json
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.evaluate import (
     Robustness,

@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.atomic import staged_dir
 from softcath.design.errors import DataError
 from softcath.design.reference import with_unit
-from softcath.studies.atomic import staged_dir
 from softcath.studies.report import figures
 from softcath.studies.report.explore import write_explore
 from softcath.studies.report.html_blocks import Markup, esc, figure, fmt, note, page, table

@@ -10,7 +10,7 @@ import json
 from collections.abc import Mapping
 from pathlib import Path
 
-from softcath.studies.atomic import Outputs
+from softcath.core.atomic import Outputs
 from softcath.studies.selection.ranking import Selection
 
 __all__ = ["write_selection"]
@@ -21,7 +21,7 @@ def write_selection(
 ) -> Path:
     """Write ``DIR/selection.json`` and ``designs`` (``{relative path: text}``) in one commit.
 
-    Uses :class:`softcath.studies.atomic.Outputs`: either every file is written or none.
+    Uses :class:`softcath.core.atomic.Outputs`: either every file is written or none.
 
     Raises
     ------

@@ -40,8 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softcath.core.atomic import write_json
 from softcath.design.errors import DataError, DesignError
-from softcath.studies.atomic import write_json
 from softcath.studies.model_validity import SELF_CONTACT_DEG
 from softcath.studies.sweep.section_eval import SECTION_KEYS
 
