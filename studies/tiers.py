@@ -9,9 +9,10 @@ The results columns keep their stems (``curvature_analytic_per_mm``,
 
 from __future__ import annotations
 
-from softcath.models import ALIASES, TIERS, Tier, get, names, tier_name
+from softcath.models import ALIASES, TIERS, get, names, tier_name
+from softcath.models import Tier as Tier  # importable here, documented once in softcath.models
 
-__all__ = ["Tier", "TIERS", "ALIASES", "ASSEMBLY_TIERS", "check_assembly", "tier", "tier_name", "tier_names"]
+__all__ = ["TIERS", "ALIASES", "ASSEMBLY_TIERS", "check_assembly", "tier", "tier_name", "tier_names"]
 
 #: The tiers that model an as-built ``[assembly]`` (:attr:`Tier.as_built`); every other tier is one
 #: bonded body and answers only the default assembly.
