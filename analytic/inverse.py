@@ -9,7 +9,7 @@ from softcath.analytic.beam import gains, response
 from softcath.core.errors import DesignError
 from softcath.design import TipDesign
 
-__all__ = ["pressure_for_bend_angle", "pressure_for_tip"]
+__all__ = ["pressure_for_angle_of_gains", "pressure_for_bend_angle", "pressure_for_tip"]
 
 
 def pressure_for_bend_angle(design: TipDesign, angle_rad, *, load: str = "cap") -> np.ndarray:
@@ -18,13 +18,17 @@ def pressure_for_bend_angle(design: TipDesign, angle_rad, *, load: str = "cap") 
     θ(p) = κ_p L₀ p (1 + ε_p p) is quadratic in p; the smallest root with the
     sign of θ is taken in the cancellation-free form p = 2θ / (α + √(α² + 4βθ)).
     """
-    theta = np.asarray(angle_rad, dtype=float)
     k, e = gains(design, load)
+    return pressure_for_angle_of_gains(k, e, angle_rad, length=design.tip.bending_length, name=design.name)
+
+
+def pressure_for_angle_of_gains(k: float, e: float, angle_rad, *, length: float, name=None) -> np.ndarray:
+    """Pressure [MPa] at which a tip of gains ``k`` [1/(mm MPa)], ``e`` [1/MPa] and ``length`` [mm] bends
+    by ``angle_rad`` (see :func:`pressure_for_bend_angle`; ``name`` names the design in a refusal)."""
+    theta = np.asarray(angle_rad, dtype=float)
     if k == 0:
-        raise DesignError(
-            "design", design.name, "has zero bending gain (symmetric section): no pressure bends it"
-        )
-    alpha = k * design.tip.bending_length
+        raise DesignError("design", name, "has zero bending gain (symmetric section): no pressure bends it")
+    alpha = k * length
     beta = alpha * e
     disc = alpha**2 + 4 * beta * theta
     if np.any(disc < 0):

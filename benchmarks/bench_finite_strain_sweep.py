@@ -51,7 +51,7 @@ def _load() -> str:
 
 
 def linear_path(designs) -> None:
-    from softcath.studies.sweep.section_eval import section_blocks_many
+    from softcath.models.section_eval import section_blocks_many
     from softcath.studies.sweep.spec import SECTION_CHUNK
 
     for i in range(0, len(designs), SECTION_CHUNK):
@@ -60,7 +60,7 @@ def linear_path(designs) -> None:
 
 def finite_path(designs) -> list[float]:
     """Runs the finite-strain evaluator; returns the bend angles at 0.6 MPa [deg]."""
-    from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
+    from softcath.models.section_nonlinear_eval import section_nonlinear_columns
 
     out = []
     for d in designs:

@@ -33,8 +33,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from softcath.fem.hyperelastic.laws import neo_hookean  # noqa: E402
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody  # noqa: E402
-from softcath.fem.nonlinear.laws import neo_hookean  # noqa: E402
 from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where  # noqa: E402
 from softcath.fem.nonlinear.newton import solve  # noqa: E402
 from softcath.fem.nonlinear.post import bend_angles  # noqa: E402

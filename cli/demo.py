@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import argparse
 
-from softcath import design
-from softcath.cli.options import add_design, add_out
+from softcath import design, models
+from softcath.cli.options import add_design, add_model_option, add_out
 from softcath.core.atomic import prepare_out_dir
 from softcath.core.errors import DataError, DesignError
 from softcath.design.measurement import read_measurement_csv
 from softcath.studies.demo import SECTIONS, run_demo
+from softcath.studies.demo.runner import OPTION_TIERS
 
 HELP = "run the whole story on the paper's design and write DIR/index.html"
 
@@ -25,6 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", type=int, default=2, help="processes for the sweep (default 2)")
     parser.add_argument("--only", default=None, help="comma-separated section keys to run (default: all)")
     parser.add_argument("--no-fem", action="store_true", help="skip the FEM (a quick look in seconds)")
+    add_model_option(
+        parser,
+        tiers=tuple(models.get(n) for n in OPTION_TIERS),
+        where=" (the paper's formula: every formula number of the demo and its sweep)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -37,6 +43,7 @@ def run(args: argparse.Namespace) -> int:
             raise DesignError("only", bad[0], f"unknown section; choose from {', '.join(keys)}")
     if args.workers < 1:
         raise DesignError("workers", args.workers, "must be an integer >= 1")
+    options = models.parse_tier_options(args.model_option, tiers=OPTION_TIERS)
 
     out = prepare_out_dir(args.out)
     design.resolve(args.design)  # a bad design is refused before any section runs
@@ -49,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
         workers=args.workers,
         only=only,
         fem=not args.no_fem,
+        options=options,
     )
     for s in res.sections:
         print(f"  {s['status']:<11} {s['seconds']:7.1f} s  {s['title']}")

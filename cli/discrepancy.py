@@ -15,7 +15,8 @@ import argparse
 import math
 from pathlib import Path
 
-from softcath.cli.options import add_design, add_out, design_or_data
+from softcath import models
+from softcath.cli.options import add_design, add_model_option, add_out, design_or_data, refuse_model_options
 from softcath.core.atomic import prepare_out_dir
 from softcath.design.errors import DataError, DesignError
 from softcath.studies.discrepancy.design_workflow import load_sweep_cases, run_design_workflow
@@ -49,8 +50,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=("measured", "fem", "prototype"),
         default="measured",
         help="what the model is compared with (default: measured); prototype: which model ingredients "
-        "(tube modulus, filler, nu, coil initial tension, pressure offset, rest curvature, vision bias) "
-        "explain a measured curve of a built design, on the finite-strain section model",
+        "(tube modulus, tube pre-stretch, filler, nu, coil initial tension, pressure offset, rest "
+        "curvature, vision bias) explain a measured curve of a built design, on the finite-strain "
+        "section model",
     )
     parser.add_argument(
         "--tip-factor",
@@ -92,6 +94,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--candidates",
         help="comma-separated candidate effects to try (default: all that the data can judge)",
     )
+    add_model_option(
+        parser,
+        tiers=(models.get("paper"), models.get("fem")),
+        where=" (the paper's formula; the 3-D FEM as --reference fem without data)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -103,13 +110,23 @@ def run(args: argparse.Namespace) -> int:
 
     args.design, args.measured = design_or_data(args.design, args.measured)
     data = args.measured
+    if args.reference == "prototype" or (data is not None and data.is_dir()):
+        refuse_model_options(
+            args,
+            "is not taken with --reference prototype or a sweep folder: the prototype's ingredients set the "
+            "finite-strain section model's laws themselves, and a sweep folder holds its results with the "
+            "sweep's own options",
+        )
     if args.reference == "prototype":
         return _run_prototype(args, out)
     if data is not None and data.is_dir():
         return _run_designs(args)
+    solved = args.reference in models.TIERS and data is None  # a model as the reference (the 3-D FEM)
+    tiers = ("paper", *((args.reference,) if solved else ()))
     result = discrepancy_run(
         data,
         args.design,
+        options=models.parse_tier_options(args.model_option, tiers=tiers),
         reference=args.reference,
         margin=args.margin,
         max_effects=args.max_effects,

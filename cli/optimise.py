@@ -19,6 +19,7 @@ from pathlib import Path
 from softcath import models
 from softcath.cli.options import (
     add_design,
+    add_model_option,
     add_out,
     add_pressure_list,
     add_progress,
@@ -97,6 +98,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--scheduler", default=None, metavar="tcp://HOST:PORT", help="an existing Dask scheduler"
     )
     p.add_argument("--no-fem-check", action="store_true", help="skip the 3-D FEM re-check of the winners")
+    add_model_option(
+        p, tiers=tuple(models.get(n) for n in MODELS), where=" (the --model tier and the paper's formula)"
+    )
     add_progress(p)
     add_out(p)
 
@@ -116,6 +120,7 @@ def run(args: argparse.Namespace) -> int:
             model=args.model,
             load=load,
             pressures=pressures,
+            options=models.parse_tier_options(args.model_option, tiers=sorted({args.model, "paper"})),
         )
         robust = None
         if args.robust is not None:

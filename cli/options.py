@@ -337,3 +337,29 @@ def check_option_effects(args: argparse.Namespace, command: str, defaults: dict)
             value = getattr(args, dest, None)
             if dest in defaults and value != defaults[dest]:
                 raise DesignError(terms.get(dest, dest), value, why)
+
+
+def add_model_option(parser: argparse.ArgumentParser, *, tiers: tuple = (), where: str = "") -> None:
+    """``--model-option [TIER.]NAME=VALUE`` (repeatable): an option of a model tier the command runs.
+
+    ``tiers`` are the registry's :class:`~softcath.models.Tier` objects the command may run;
+    the help lists their :attr:`~softcath.models.Tier.options`, so a tier's new option is
+    offered here without an edit. The command reads the values with
+    :func:`softcath.models.parse_tier_options`.
+    """
+    known = "; ".join(f"{t.name}: {', '.join(t.options) or 'none'}" for t in tiers)
+    parser.add_argument(
+        "--model-option",
+        action="append",
+        default=[],
+        metavar="[TIER.]NAME=VALUE",
+        help="option of a model tier, repeatable; NAME alone sets it on every tier of the command that "
+        f"takes it{where}" + (f" (options: {known})" if known else ""),
+    )
+
+
+def refuse_model_options(args: argparse.Namespace, why: str) -> None:
+    """Refuse ``--model-option`` where the command runs no tier it could reach (``why`` says so)."""
+    given = getattr(args, "model_option", None) or []
+    if given:
+        raise DesignError("--model-option", given[0], why)

@@ -29,6 +29,7 @@ from softcath import design, models
 from softcath.cli.options import (
     PRESSURE_SYNTAX,
     add_design,
+    add_model_option,
     add_out,
     add_progress,
     add_seed,
@@ -137,6 +138,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="CSV",
         help="with --nonlinear: a measurement CSV compared with the bands pressure by pressure",
     )
+    add_model_option(
+        p,
+        tiers=tuple(models.get(n) for n in TIERS),
+        where=" (--model and --compare; the bands' tiers, not the finite-strain curves)",
+    )
     add_progress(p)
     add_out(p)
 
@@ -154,6 +160,7 @@ def run(args: argparse.Namespace) -> int:
             measured_gain=args.measured_gain,
             tiers=(args.model, *compare),
         )
+    options = models.parse_tier_options(args.model_option, tiers=(args.model, *compare))
     out = prepare_out_dir(args.out)
     with as_options({**_OPTIONS, "curve_samples": "--curve-samples"}):
         result = prediction_run(
@@ -172,6 +179,7 @@ def run(args: argparse.Namespace) -> int:
             curve_samples=args.curve_samples,
             measured=measured,
             progress=not args.no_progress,
+            options=options,
         )
     wrote = result.write(out)
     _print_tiers(result.tiers, result.doc)

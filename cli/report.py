@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from softcath.cli.options import add_out
+from softcath.cli.options import add_model_option, add_out, refuse_model_options
 from softcath.core.atomic import prepare_out_dir
 from softcath.core.errors import DataError
 from softcath.studies.report import write_report
@@ -16,12 +16,22 @@ HELP = "write a static HTML report of a sweep directory"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("dir", help="sweep directory (from `softcath sweep`)")
     add_out(parser, required=False, what="report folder (default: DIR/report)")
+    add_model_option(
+        parser,
+        where=": refused, the report draws the sweep's stored results, computed with the sweep's own options "
+        "(its [sweep.options.<tier>] tables, listed in the report)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     import re
     from pathlib import Path
 
+    refuse_model_options(
+        args,
+        "is not taken by report: it draws the sweep's stored results, which hold the sweep's tier options "
+        "(give them to the sweep, as --model-option or [sweep.options.<tier>]; the report lists them)",
+    )
     if not Path(args.dir).is_dir():
         raise DataError(f"{args.dir}: not a sweep directory (run `softcath sweep SPEC --out DIR` first)")
 

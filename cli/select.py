@@ -20,14 +20,21 @@ import argparse
 from pathlib import Path
 
 from softcath import models
-from softcath.cli.options import add_out, add_seed, as_options, model_name
+from softcath.cli.options import (
+    add_model_option,
+    add_out,
+    add_seed,
+    as_options,
+    model_name,
+    refuse_model_options,
+)
 from softcath.design.errors import DesignError
 from softcath.design.reference import unit_of
 from softcath.fem.limits import check_workers
+from softcath.studies.criteria import parse_constraint, parse_objective, without_text
 from softcath.studies.optimise import MODELS as SEARCH_MODELS
 from softcath.studies.outputs.selection import RobustSettings, selection_run
 from softcath.studies.selection import MODEL_NAMES, SelectionError
-from softcath.studies.selection.criteria import parse_constraint, parse_objective, without_text
 
 #: The robust ranking's settings as this command's options.
 _ROBUST_OPTIONS = {
@@ -113,6 +120,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     robust.add_argument("--workers", type=int, default=None, help="local worker processes (default 1)")
     robust.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    add_model_option(
+        robust,
+        tiers=tuple(models.get(n) for n in SEARCH_MODELS),
+        where=" of the re-evaluation (--robust-model and the paper's formula)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -123,8 +135,16 @@ def run(args: argparse.Namespace) -> int:
     check_workers(args.workers, param="--workers")
     _check_expressions(args)
     robust = None
-    if args.robust is not None:
+    if args.robust is None:
+        refuse_model_options(
+            args,
+            "has no effect without --robust: select ranks the sweep's stored results, which hold the "
+            "sweep's own options ([sweep.options.<tier>]); --robust re-evaluates them and takes tier options",
+        )
+    else:
+        tiers = (args.robust_model,) if args.robust_model else SEARCH_MODELS
         robust = RobustSettings(
+            options=models.parse_tier_options(args.model_option, tiers=(*tiers, "paper")),
             probability=args.robust,
             vary=args.vary,
             ranges=args.ranges,

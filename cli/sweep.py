@@ -8,8 +8,10 @@ DIR/results.csv and DIR/results.parquet (one row per design x pressure x load).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
-from softcath.cli.options import add_out, add_progress, as_options
+from softcath import models
+from softcath.cli.options import add_model_option, add_out, add_progress, as_options
 from softcath.core.atomic import folder_lock, prepare_out_dir
 from softcath.studies.sweep import load_spec, run_sweep
 
@@ -27,11 +29,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     backend.add_argument(
         "--scheduler", default=None, metavar="tcp://HOST:PORT", help="run on an existing Dask scheduler"
     )
+    add_model_option(
+        parser,
+        tiers=models.tiers(),
+        where=" of the spec's evaluators (over its [sweep.options.<tier>] tables)",
+    )
     add_progress(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
+    given = models.parse_tier_options(args.model_option, tiers=spec.evaluators)
+    if given:  # over the spec's own tables; the fingerprint then tells the two option sets apart
+        merged = {t: {**spec.options.get(t, {}), **given.get(t, {})} for t in {*spec.options, *given}}
+        spec = dataclasses.replace(spec, options=models.check_tier_options(merged, tiers=spec.evaluators))
     out = prepare_out_dir(args.out)
     options = {"workers": "--workers", "dask_local": "--dask-local", "scheduler": "--scheduler"}
     with folder_lock(out, what="sweep"), as_options(options):  # a second sweep into the folder is refused

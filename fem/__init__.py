@@ -8,7 +8,8 @@ Subpackages, from fastest to fullest:
 - :mod:`~softcath.fem.mesh`: gmsh and TetWild meshes of the as-assembled tip, cached on disk;
 - the 3-D FEM bending check (this package's :func:`check`: linear P2 elasticity with
   homogenised coils, verified against closed forms) and its finite-strain counterpart
-  (:mod:`~softcath.fem.nonlinear`).
+  (:mod:`~softcath.fem.nonlinear`);
+- :mod:`~softcath.fem.hyperelastic`: the finite-strain material laws both finite-strain models share.
 
 >>> from softcath import fem
 >>> r = fem.check("paper", pressures=[0.05], loads=("cap",))   # doctest: +SKIP

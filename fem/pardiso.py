@@ -64,7 +64,7 @@ def available() -> bool:
     return True
 
 
-def _call(fn, pt, mtype, phase, n, data, ia, ja, iparm, b) -> np.ndarray:
+def _call(fn, pt, mtype, phase, n, *, data, ia, ja, iparm, b) -> np.ndarray:
     b = np.asfortranarray(b, dtype=np.float64)
     x = np.zeros_like(b)
     err = ctypes.c_int32(0)
@@ -93,10 +93,10 @@ def _call(fn, pt, mtype, phase, n, data, ia, ja, iparm, b) -> np.ndarray:
     return np.ascontiguousarray(x)
 
 
-def _release(fn, pt, mtype, n, data, ia, ja, iparm, state) -> None:
+def _release(fn, pt, mtype, n, *, data, ia, ja, iparm, state) -> None:
     if state["factorised"]:
         state["factorised"] = False
-        _call(fn, pt, mtype, -1, n, data, ia, ja, iparm, np.zeros(n))
+        _call(fn, pt, mtype, -1, n, data=data, ia=ia, ja=ja, iparm=iparm, b=np.zeros(n))
 
 
 class PardisoHandle:
@@ -128,15 +128,26 @@ class PardisoHandle:
             self.pt,
             self.mtype,
             self.n,
-            self.data,
-            self.ia,
-            self.ja,
-            self.iparm,
-            self._state,
+            data=self.data,
+            ia=self.ia,
+            ja=self.ja,
+            iparm=self.iparm,
+            state=self._state,
         )
 
     def _run(self, phase: int, b: np.ndarray) -> np.ndarray:
-        return _call(self._fn, self.pt, self.mtype, phase, self.n, self.data, self.ia, self.ja, self.iparm, b)
+        return _call(
+            self._fn,
+            self.pt,
+            self.mtype,
+            phase,
+            self.n,
+            data=self.data,
+            ia=self.ia,
+            ja=self.ja,
+            iparm=self.iparm,
+            b=b,
+        )
 
     def factorise(self, data: np.ndarray) -> None:
         """Numerical factorisation of the matrix with these values (in pattern order)."""

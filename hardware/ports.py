@@ -137,6 +137,11 @@ class LineReader:
             self._buf.clear()
         return out
 
+    @property
+    def pending_bytes(self) -> int:
+        """Bytes of a line received so far whose terminator has not arrived yet."""
+        return len(self._buf)
+
     def flush_partial(self) -> bytes:
         """Return and forget the incomplete line in the buffer (empty if none)."""
         rest = bytes(self._buf)

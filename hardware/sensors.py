@@ -124,6 +124,12 @@ class SerialSensor:
                 out.append(Reading(t, self.scale * s.value + self.offset, s.seq))
         return out
 
+    @property
+    def pending_bytes(self) -> int:
+        """Bytes of an unfinished line received so far (0 when closed): counted partial if the
+        device vanishes before its terminator."""
+        return 0 if self._reader is None else self._reader.pending_bytes
+
     def _drop_port(self) -> None:
         if self._reader is not None and self._reader.flush_partial():
             self.decoder.count_partial()

@@ -1,4 +1,7 @@
-"""The model tiers behind one interface: every tier answers a design with a :class:`TipResponse`.
+"""The model tiers behind one interface: every tier answers a design with a ``TipResponse``.
+
+The result type, :class:`~softcath.core.response.TipResponse`, stands on the ground floor;
+it is importable from here as ``softcath.models.TipResponse``.
 
 Five tiers, from the cheapest to the most expensive: ``paper`` (the paper's formula),
 ``section`` (the linear section model), ``section-nonlinear`` (the finite-strain section
@@ -24,6 +27,8 @@ module) and one :func:`register` call, plus its sweep columns if sweeps are to s
 
 from __future__ import annotations
 
+from softcath.core.response import OBSERVABLES, ResponseBatch, TipResponse
+from softcath.models.options import check_tier_options, coerce_option, options_of, parse_tier_options
 from softcath.models.registry import (
     ALIASES,
     TIERS,
@@ -31,12 +36,13 @@ from softcath.models.registry import (
     linear_names,
     names,
     register,
+    registered,
     response,
     responses,
     tier_name,
     tiers,
+    unregister,
 )
-from softcath.models.response import OBSERVABLES, ResponseBatch, TipResponse
 from softcath.models.tier import LOADS, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG, SELF_CONTACT_DEG
 
@@ -50,14 +56,20 @@ __all__ = [
     "TIERS",
     "Tier",
     "TipResponse",
+    "check_tier_options",
+    "coerce_option",
     "get",
     "linear_names",
     "names",
+    "options_of",
+    "parse_tier_options",
     "register",
+    "registered",
     "response",
     "responses",
     "tier_name",
     "tiers",
+    "unregister",
 ]
 
 if __name__ != "softcath.models":  # the bare folder name would load a second copy of every module

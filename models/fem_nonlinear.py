@@ -19,16 +19,18 @@ from softcath.models.tier import Tier
 
 __all__ = ["FEM_NONLINEAR", "FemNonlinearTier"]
 
-#: Response field -> attribute of :class:`softcath.fem.nonlinear.bend.BendCurve`.
-_CURVE = {
-    "curvature_per_mm": "curvature_mid",
-    "tip_curvature_per_mm": "curvature",
-    "elongation": "elongation",
-    "bend_angle_rad": "bend_angle",
-    "tip_x_mm": "tip_x",
-    "tip_y_mm": "tip_y",
-    "max_strain": "max_strain",
-}
+#: The response fields the tier takes from each curve's ``to_response``
+#: (:class:`~softcath.fem.nonlinear.bend.NonlinearFemCurve`); the lumen volume change, which it
+#: does not compute, stays NaN (at rest too).
+_CURVE = (
+    "curvature_per_mm",
+    "tip_curvature_per_mm",
+    "elongation",
+    "bend_angle_rad",
+    "tip_x_mm",
+    "tip_y_mm",
+    "max_strain",
+)
 
 
 class FemNonlinearTier(Tier):
@@ -59,15 +61,15 @@ class FemNonlinearTier(Tier):
                     values[f][i, rest] = {"tip_x_mm": x0, "tip_y_mm": y0}.get(f, 0.0)
                 if positive.size:
                     try:
-                        curve = bend_curve(d, positive, load=load, **options)
+                        curve = bend_curve(d, positive, load=load, **options).to_response(tier=self.name)
                     except Exception as exc:  # a failed Newton walk is this design's error
                         raise_pending_stop()
                         errors[i] = exc
                         for f in _CURVE:
                             values[f][i] = np.nan
                         continue
-                    for f, attr in _CURVE.items():
-                        values[f][i, pos] = np.asarray(getattr(curve, attr), float)[idx[pos]]
+                    for f in _CURVE:
+                        values[f][i, pos] = np.asarray(getattr(curve, f), float)[idx[pos]]
                 seconds[i] = time.perf_counter() - t0
             out[load] = self._batch(
                 designs, pressures, load, values, seconds=seconds, options=options, errors=errors

@@ -8,7 +8,7 @@ import numpy as np
 
 from softcath import analytic
 from softcath.analytic.section import section_arrays
-from softcath.models.response import tip_curvature
+from softcath.core.response import tip_curvature
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 

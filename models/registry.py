@@ -21,15 +21,16 @@ consumer reads the registry, so each offers it without further edits.
 
 from __future__ import annotations
 
+import contextlib
 import logging
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import Any
 
+from softcath.core.response import ResponseBatch, TipResponse
 from softcath.design.errors import DesignError
 from softcath.models.fem3d import FEM
 from softcath.models.fem_nonlinear import FEM_NONLINEAR
 from softcath.models.paper import PAPER
-from softcath.models.response import ResponseBatch, TipResponse
 from softcath.models.section import SECTION
 from softcath.models.section_nonlinear import SECTION_NONLINEAR
 from softcath.models.tier import REGISTERED, Tier
@@ -41,10 +42,12 @@ __all__ = [
     "linear_names",
     "names",
     "register",
+    "registered",
     "response",
     "responses",
     "tier_name",
     "tiers",
+    "unregister",
 ]
 
 log = logging.getLogger(__name__)
@@ -72,6 +75,49 @@ def register(tier: Tier, *, aliases: Iterable[str] = ()) -> Tier:
     TIERS[tier.name] = tier
     ALIASES.update({a: tier.name for a in aliases})
     return tier
+
+
+def unregister(name: str) -> Tier:
+    """Remove the tier called ``name`` (and its old spellings) from the registry; return it.
+
+    Raises
+    ------
+    DesignError
+        No tier of that name is registered.
+    """
+    if name not in TIERS:
+        raise DesignError("tier.name", name, f"is not registered (tiers: {', '.join(TIERS)})")
+    for alias in [a for a, n in ALIASES.items() if n == name]:
+        del ALIASES[alias]
+    return TIERS.pop(name)
+
+
+@contextlib.contextmanager
+def registered(tier: Tier, *, replace: bool = False) -> Iterator[Tier]:
+    """Register ``tier`` for the ``with`` block, then restore the registry as it was.
+
+    ``replace`` lets ``tier`` stand in for the registered tier of its name (in its place in
+    the order), e.g. the same tier with a new option, tried before it is made permanent.
+
+    Raises
+    ------
+    DesignError
+        A tier of that name is registered already and ``replace`` is false.
+    """
+    before = dict(TIERS)
+    if replace and tier.name in TIERS:
+        if not isinstance(tier, Tier):
+            raise DesignError("tier", tier, "must be a softcath.models.Tier")
+        TIERS[tier.name] = tier
+    else:
+        register(tier)
+    try:
+        yield tier
+    finally:
+        TIERS.clear()
+        TIERS.update(before)
+        for alias in [a for a, n in ALIASES.items() if n not in TIERS]:
+            del ALIASES[alias]
 
 
 def get(name: str, *, parameter: str = "model", allowed: Iterable[str] | None = None) -> Tier:

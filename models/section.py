@@ -2,7 +2,7 @@
 
 With the template mesher (the default) the designs go through the batched section models
 (one kernel per template, factorisations reused: the sweep's path,
-:func:`softcath.studies.sweep.section_eval.section_blocks_many`); with ``mesher = "gmsh"``
+:func:`softcath.models.section_eval.section_blocks_many`); with ``mesher = "gmsh"``
 each design is solved alone. The response is linear in pressure; the tip's angle and pose
 take off its end zones (:mod:`softcath.fem.section_model.end_zones`).
 """
@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
+from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns
 from softcath.models.tier import Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
@@ -34,9 +35,6 @@ _BATCHED_OPTIONS = frozenset({"mesh_size", "mesher", "segments", "coil_modulus",
 
 def _one_by_one(designs, pressures, loads, options) -> tuple[dict, dict]:
     """The sweep's section columns of each design alone (``softcath.fem.section_model.section_model``)."""
-    # the evaluator lives with the sweep, which loads this registry: loaded on first use
-    from softcath.studies.sweep.section_eval import SECTION_KEYS, section_columns
-
     cols = {ld: {k: np.full((len(designs), pressures.size), np.nan) for k in SECTION_KEYS} for ld in loads}
     errors: dict[int, Exception] = {}
     for j, d in enumerate(designs):
@@ -56,9 +54,6 @@ class SectionTier(Tier):
     """The linear section model; extras ``section_formula_ratio`` (its curvature over eq. 7's, cap load)."""
 
     def _solve(self, designs, pressures, loads, options):
-        # the batched path lives with the sweep, which loads this registry: loaded on first use
-        from softcath.studies.sweep.section_eval import section_blocks_many
-
         if set(options) <= _BATCHED_OPTIONS:
             cols, errors = section_blocks_many(designs, pressures, loads, options)
         else:  # an option only the single-design model takes (e.g. poisson_cap): one design at a time

@@ -2,7 +2,7 @@
 
 Valid at the large bends a tip is chosen for. Each load walks once through the positive
 pressures; 0 MPa is the rest state and a negative pressure (which the walk does not take)
-is NaN (:func:`softcath.studies.sweep.section_nonlinear_eval.section_nonlinear_columns`).
+is NaN (:func:`softcath.models.section_nonlinear_eval.section_nonlinear_columns`).
 """
 
 from __future__ import annotations
@@ -10,29 +10,19 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
+from softcath.models.section_nonlinear_eval import SECTION_NONLINEAR_KEYS, section_nonlinear_columns
 from softcath.models.tier import Tier
 
 __all__ = ["SECTION_NONLINEAR", "SectionNonlinearTier", "SECTION_NONLINEAR_FIELDS"]
 
-#: Sweep column of the finite-strain section evaluator -> response field.
-SECTION_NONLINEAR_FIELDS = {
-    "curvature_section_nonlinear_per_mm": "curvature_per_mm",
-    "elongation_section_nonlinear": "elongation",
-    "bend_angle_section_nonlinear_rad": "bend_angle_rad",
-    "tip_x_section_nonlinear_mm": "tip_x_mm",
-    "tip_y_section_nonlinear_mm": "tip_y_mm",
-    "max_strain_section_nonlinear": "max_strain",
-    "lumen_volume_change_section_nonlinear_mm3": "lumen_volume_change_mm3",
-}
+#: Sweep column of the finite-strain section evaluator -> response field (the evaluator's own table).
+SECTION_NONLINEAR_FIELDS = SECTION_NONLINEAR_KEYS
 
 
 class SectionNonlinearTier(Tier):
     """The finite-strain section model, design by design (a stalled walk is that design's error)."""
 
     def _solve(self, designs, pressures, loads, options):
-        # the evaluator lives with the sweep, which loads this registry: loaded on first use
-        from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
-
         n = len(designs)
         blocks = {
             ld: {c: np.full((n, pressures.size), np.nan) for c in SECTION_NONLINEAR_FIELDS} for ld in loads
@@ -72,10 +62,14 @@ SECTION_NONLINEAR = SectionNonlinearTier(
     "finite-strain section model",
     "finite-strain section model: valid at large bends, ~1 s a design and load",
     "section_nonlinear",
-    options={"mesh_size": None, "mesher": "template"},
+    # tube_prestretch: the as-built tube's axial stretch from its catalogue state (1: none; above 1
+    # the curve is solved on the reference path)
+    options={"mesh_size": None, "mesher": "template", "tube_prestretch": 1.0},
     # its walk through a few pressures against one linear solve: about fifteen Newton iterations of a
     # tangent twice the linear model's size (~1 s for the paper section), 30x the section's cost
     dof_seconds=30.0 * 1.05e-5,
     seconds_per_design=1.0,
     section_mesh=True,
+    # the tip as built on the reference path (fem.section_model.finite_strain.as_built)
+    as_built=True,
 )

@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
+from softcath.core.response import OBSERVABLES, ResponseBatch, TipResponse, tip_curvature
 from softcath.design.assembly import Assembly
 from softcath.design.errors import DesignError
-from softcath.models.response import OBSERVABLES, ResponseBatch, TipResponse, tip_curvature
 from softcath.models.validity import response_warnings
 
 __all__ = ["LOADS", "REGISTERED", "SLOW_SECONDS", "Tier"]
@@ -57,6 +57,9 @@ class Tier:
         The load it is about unless told (the paper's formula is a cap-load model).
     options
         Option name -> its default: the only options :meth:`response` accepts.
+    option_choices
+        Option name -> the values it may take, for an option with a closed set of values
+        (checked with the others by :meth:`check_options`).
     valid_to_deg
         Bend angle [deg] up to which the tier holds (:mod:`softcath.models.validity`):
         finite for a small-rotation (linear) tier, infinite for a finite-strain one.
@@ -99,6 +102,7 @@ class Tier:
     loads: tuple[str, ...] = LOADS
     default_load: str = "lumen"
     options: Mapping[str, Any] = field(default_factory=dict, compare=False)
+    option_choices: Mapping[str, tuple] = field(default_factory=dict, compare=False)
     valid_to_deg: float = math.inf
     as_built: bool = False
     load_notes: Mapping[str, str] = field(default_factory=dict, compare=False)
@@ -129,7 +133,8 @@ class Tier:
         return load
 
     def check_options(self, options: Mapping[str, Any] | None, *, parameter: str = "options") -> dict:
-        """The options with ``None`` values dropped; an option the tier does not take is refused."""
+        """The options with ``None`` values dropped; an option the tier does not take, or a value
+        outside its :attr:`option_choices`, is refused."""
         given = {k: v for k, v in (options or {}).items() if v is not None}
         unknown = sorted(set(given) - set(self.options))
         if unknown:
@@ -137,6 +142,10 @@ class Tier:
             raise DesignError(
                 f"{parameter}.{unknown[0]}", given[unknown[0]], f"{self.name} accepts the options {accepted}"
             )
+        for k, v in given.items():
+            choices = self.option_choices.get(k)
+            if choices is not None and v not in choices:
+                raise DesignError(f"{parameter}.{k}", v, f"{self.name} takes {', '.join(map(str, choices))}")
         return given
 
     def own_options(self, options: Mapping[str, Any] | None) -> dict:
@@ -188,10 +197,12 @@ class Tier:
         base = Assembly()
         changed = {k: v for k, v in a.to_dict().items() if getattr(base, k) != v}
         modelled = [t for t in REGISTERED.values() if t.as_built]
+        labels = [t.label for t in modelled]
+        names = " and ".join(labels) if len(labels) < 3 else f"{', '.join(labels[:-1])} and {labels[-1]}"
         raise DesignError(
             parameter,
             changed,
-            f"is modelled by {' and '.join(t.label for t in modelled)} only "
+            f"is modelled by {names} only "
             f"({self.label} is one bonded body and would answer another tip); use --model {modelled[0].name}",
         )
 

@@ -21,7 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath import design
 from softcath.design.errors import DesignError
+from softcath.fem.section_model import bend_curve, section_model
+from softcath.fem.section_model.coil_models import model_options
+from softcath.studies.sweep.variants import VariantBuilder
 
 __all__ = ["CoilRanking", "RANKING_MODELS", "COIL_SWEEP", "random_coil_designs", "rank_by_coil_model", "gain"]
 
@@ -79,9 +83,6 @@ def random_coil_designs(n: int, *, seed: int = 0, base="paper", ranges=None, max
     Draws that violate the design's checks (a coil too thin for the tube, a
     channel that does not fit) are redrawn, up to ``max_tries * n`` draws.
     """
-    from softcath import design
-    from softcath.studies.sweep.variants import VariantBuilder
-
     if n < 1:
         raise DesignError("n", n, "must be >= 1")
     ranges = COIL_SWEEP if ranges is None else ranges
@@ -109,9 +110,6 @@ def gain(
 
     ``initial_tension`` [N] (outer coil) and ``pressure`` [MPa] apply to ``coil-bound-tensioned`` only.
     """
-    from softcath.fem.section_model import bend_curve, section_model
-    from softcath.fem.section_model.coil_models import model_options
-
     if model == "coil-bound":
         return float(bend_curve(d, [1.0], load=load, initial_tension=(0.0, 0.0), **options).gain_pivoting)
     if model == "coil-bound-tensioned":

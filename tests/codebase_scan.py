@@ -101,3 +101,12 @@ def _is_type_checking(test: ast.expr) -> bool:
     return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
         isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
     )
+
+
+def public_classes() -> Iterator[tuple[str, str, Path, int]]:
+    """``(class name, module, real path, line)`` of every public class: defined at a module's top,
+    its name not starting with ``_`` (the command line's included)."""
+    for name, path in modules():
+        for node in parsed(path).body:
+            if isinstance(node, ast.ClassDef) and not node.name.startswith("_"):
+                yield node.name, name, path, node.lineno

@@ -15,33 +15,15 @@ MAX_POSITIONAL = 6
 #: lose parameters, not gain them. Make the rest keyword-only (or group them in a small frozen
 #: dataclass), then drop the function from here.
 OVER = {
-    "fem/nonlinear/bend.py::_curve": 8,
-    "fem/nonlinear/newton.py::_newton": 10,
-    "fem/nonlinear/newton.py::_set_up": 8,
-    "fem/pardiso.py::_call": 10,
-    "fem/pardiso.py::_release": 9,
-    "fem/section_model/batch.py::_condense": 7,
-    "fem/section_model/batch.py::_result": 14,
-    "fem/section_model/element.py::_add_projected_volumetric": 9,
+    # numba-compiled kernels take their arrays positionally (nopython mode has no keyword dataclasses)
     "fem/section_model/element_kernel.py::_blocks": 18,
     "fem/section_model/element_kernel.py::_condense": 11,
     "fem/section_model/element_kernel.py::_integrate": 11,
     "fem/section_model/element_kernel.py::_strain_extremes": 9,
-    "fem/section_model/finite_strain/curve.py::_curve": 7,
-    # numba-compiled kernels take their arrays positionally (nopython mode has no keyword dataclasses)
     "fem/section_model/finite_strain/kernel.py::_svk": 8,
     "fem/section_model/finite_strain/kernel.py::_yeoh": 9,
     "fem/section_model/finite_strain/kernel.py::assemble": 28,
     "fem/section_model/finite_strain/kernel.py::lumen": 11,
-    "fem/section_model/finite_strain/residual.py::_volumetric": 10,
-    "studies/discrepancy/naming.py::_clearing": 7,
-    "studies/discrepancy/naming.py::_joint_steps": 10,
-    "studies/discrepancy/naming.py::_score_round": 8,
-    "studies/discrepancy/naming.py::_stop_step": 7,
-    "studies/discrepancy/prepare.py::_segments": 8,
-    "studies/discrepancy/workflow.py::_reference_inputs": 8,
-    "studies/selection/ranking.py::_ranked": 7,
-    "studies/sweep/evaluators.py::_load_columns": 8,
 }
 
 

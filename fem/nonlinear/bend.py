@@ -14,12 +14,17 @@ studies package calls.
 from __future__ import annotations
 
 import logging
+import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
 from softcath import analytic
+from softcath.core.deprecation import renamed_names
+from softcath.core.response import TipResponse
 from softcath.design.load_cases import LOADS
 from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
@@ -39,7 +44,7 @@ from softcath.fem.nonlinear.post import (
     midspan_bend,
 )
 
-__all__ = ["BendCurve", "bend_curve", "departure_angle", "axial_modulus", "needs_mixed", "LOADS"]
+__all__ = ["NonlinearFemCurve", "bend_curve", "departure_angle", "axial_modulus", "needs_mixed", "LOADS"]
 
 log = logging.getLogger(__name__)
 
@@ -49,8 +54,10 @@ MIXED_POISSON = 0.45
 
 
 @dataclass(frozen=True)
-class BendCurve:
-    """Finite-strain response of a design over pressures (arrays indexed like ``pressure``).
+class NonlinearFemCurve:
+    """The 3-D finite-strain FEM's record of a design over pressures (arrays indexed like ``pressure``).
+
+    :meth:`to_response` gives the tiers' one result type, :class:`~softcath.core.response.TipResponse`.
 
     Attributes
     ----------
@@ -91,7 +98,7 @@ class BendCurve:
         Largest principal stretch strain λ_max − 1 in the silicone, more than two
         coil radii from the clamp (as the linear check), at each pressure [-].
     curvature_variation
-        (max − min)/|mean| of the local curvature along the middle of the tip at
+        ``(max − min) / |mean|`` of the local curvature along the middle of the tip at
         each pressure (:func:`~fem.nonlinear.post.curvature_variation`).
     mesh_seconds
         Time spent meshing [s] (0 when a mesh was passed in).
@@ -131,6 +138,50 @@ class BendCurve:
     layers: int | None = None
     layer_choice: object = field(repr=False, compare=False, default=None)
     mixed: bool = False
+
+    def to_response(
+        self,
+        *,
+        tier: str = "fem-nonlinear",
+        warnings: tuple[str, ...] = (),
+        parameters: Mapping[str, Any] | None = None,
+        seconds: float = math.nan,
+    ) -> TipResponse:
+        """This curve as a :class:`~softcath.core.response.TipResponse` (the ``fem-nonlinear`` tier's answer).
+
+        The mid-span curvature is :attr:`curvature_mid`, the tip-level curvature :attr:`curvature`
+        (θ / s); the lumen volume change is not computed (NaN). The linear FEM's and the paper's
+        bend angles, the Newton iterations and the curvature variation go to ``extras``.
+
+        Parameters
+        ----------
+        tier
+            The tier's name in the response.
+        warnings, parameters, seconds
+            The response's validity warnings, parameters used and wall time [s].
+        """
+        return TipResponse(
+            tier=tier,
+            load=self.load,
+            pressures=self.pressure,
+            curvature_per_mm=self.curvature_mid,
+            tip_curvature_per_mm=self.curvature,
+            elongation=self.elongation,
+            bend_angle_rad=self.bend_angle,
+            tip_x_mm=self.tip_x,
+            tip_y_mm=self.tip_y,
+            lumen_volume_change_mm3=np.full(np.shape(self.pressure), np.nan),
+            max_strain=self.max_strain,
+            warnings=tuple(warnings),
+            parameters=dict(parameters or {}),
+            seconds=float(seconds),
+            extras={
+                "linear_bend_angle_rad": self.linear_bend_angle,
+                "analytic_bend_angle_rad": self.analytic_bend_angle,
+                "newton_iterations": self.newton_iterations,
+                "curvature_variation": self.curvature_variation,
+            },
+        )
 
     def departure(self, threshold: float = 0.05) -> dict[str, float | None]:
         """Bend angles [rad] at which linear FEM / analytic depart from the nonlinear curve by
@@ -247,7 +298,7 @@ def bend_curve(
     substeps: int = 1,
     max_iter: int = 20,
     progress: bool = False,
-) -> BendCurve:
+) -> NonlinearFemCurve:
     """Nonlinear bend curve of ``design`` at increasing ``pressures`` [MPa].
 
     Parameters
@@ -314,7 +365,7 @@ def bend_curve(
         max_iter=max_iter,
         progress=progress,
     )
-    curve = _curve(design, p, w, load, cmesh, model, res, mesh_seconds)
+    curve = _curve(design, p, w, load, cmesh, model, res=res, mesh_seconds=mesh_seconds)
     return replace(curve, layers=layers if mesh is None else None, layer_choice=choice, mixed=bool(mixed))
 
 
@@ -345,8 +396,8 @@ def _load_factors(p: np.ndarray, substeps: int):
     return np.concatenate([np.linspace(edges[i], edges[i + 1], substeps + 1)[1:] for i in range(p.size)])
 
 
-def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds) -> BendCurve:
-    """Post-process the solved load path at the requested pressures into a :class:`BendCurve`."""
+def _curve(design, p, w, load, cmesh, model, *, res: NonlinearResult, mesh_seconds) -> NonlinearFemCurve:
+    """Post-process the solved load path at the requested pressures into a :class:`NonlinearFemCurve`."""
 
     p_max = float(p[-1])
     lam = np.array([s.load_factor for s in res.steps])
@@ -377,7 +428,7 @@ def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds)
         res.newton_iterations,
         theta[-1],
     )
-    return BendCurve(
+    return NonlinearFemCurve(
         pressure=p,
         bend_angle=theta,
         curvature=curvature,
@@ -408,3 +459,7 @@ def _curve(design, p, w, load, cmesh, model, res: NonlinearResult, mesh_seconds)
         result=res,
         model=model,
     )
+
+
+#: The old name of the record, before every tier's record had its own.
+__getattr__ = renamed_names(__name__, BendCurve=NonlinearFemCurve)

@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from softcath.fem.hyperelastic.tensors import cofactor, dcofactor, det
 from softcath.fem.nonlinear.errors import NonlinearError
-from softcath.fem.nonlinear.tensors import cofactor, dcofactor, det
 
 __all__ = ["HyperelasticBody", "FollowerPressure", "SparsePattern"]
 
@@ -114,7 +114,7 @@ class HyperelasticBody:
     labels
         Region label per tetrahedron, shape (n_tets,).
     laws
-        Map label -> law (``softcath.fem.nonlinear.laws``).
+        Map label -> law (``softcath.fem.hyperelastic.laws``).
     mixed
         Use the condensed P2–P0 mixed u–p (mean-dilatation) formulation for the
         laws that split off their volumetric part (module docstring).

@@ -35,14 +35,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcath.design import coil_stiffness
-from softcath.fem.mesh import initialize_gmsh
-from softcath.fem.nonlinear.errors import NonlinearError, SettingError
-from softcath.fem.nonlinear.laws import (
+from softcath.fem.hyperelastic.laws import (
     AnisotropicSVK,
     isotropic_from_young,
     transversely_isotropic,
     yeoh_at_modulus,
 )
+from softcath.fem.mesh import initialize_gmsh
+from softcath.fem.nonlinear.errors import NonlinearError, SettingError
 from softcath.fem.tags import tag_facets
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]

@@ -130,7 +130,9 @@ def solve(
         When a step fails after ``max_cutbacks`` halvings.
     """
     targets = _load_targets(steps, load_factors, rtol)
-    problem = _set_up(body, fixed_dofs, fixed_values, loads, method, max_iter, rtol, max_cutbacks)
+    problem = _set_up(
+        body, fixed_dofs, fixed_values, loads, method, max_iter, rtol=rtol, max_cutbacks=max_cutbacks
+    )
     lin = problem.lin
     bar = _progress_bar() if progress else None
     try:
@@ -166,7 +168,7 @@ class _Problem:
     max_cutbacks: int
 
 
-def _set_up(body, fixed_dofs, fixed_values, loads, method, max_iter, rtol, max_cutbacks) -> _Problem:
+def _set_up(body, fixed_dofs, fixed_values, loads, method, max_iter, *, rtol, max_cutbacks) -> _Problem:
     """Constraints, sparsity pattern, linear solver and residual of the problem."""
     fixed, values, free = _constraints(body, fixed_dofs, fixed_values)
     mask, tmpl = body.pattern.restrict(free)
@@ -212,10 +214,10 @@ def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRe
             free,
             problem.mask,
             problem.tmpl,
-            problem.lin,
-            problem.residual,
-            problem.max_iter,
-            problem.rtol,
+            lin=problem.lin,
+            residual=problem.residual,
+            max_iter=problem.max_iter,
+            rtol=problem.rtol,
             fixed=fixed,
             dfixed=dfixed,
             line_search=cutbacks > 0,
@@ -341,7 +343,7 @@ _LS_GROWTH = 100.0
 
 
 def _newton(
-    body, u, lam, free, mask, tmpl, lin, residual, max_iter, rtol, *, fixed, dfixed, line_search=False
+    body, u, lam, free, mask, tmpl, *, lin, residual, max_iter, rtol, fixed, dfixed, line_search=False
 ):
     """Newton iterations in place on ``u``; returns (converged, iterations, residual history).
 

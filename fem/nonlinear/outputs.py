@@ -215,7 +215,7 @@ def write_outputs(
 
     Parameters
     ----------
-    curve : softcath.fem.nonlinear.bend.BendCurve
+    curve : softcath.fem.nonlinear.bend.NonlinearFemCurve
         The finite-strain sweep.
     out : pathlib.Path
         Output folder (created if missing).

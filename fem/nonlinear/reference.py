@@ -38,7 +38,7 @@ __all__ = [
     "DEFICIT_ORDER",
 ]
 
-#: The quantity whose error is estimated (a ``BendCurve`` attribute and its output name).
+#: The quantity whose error is estimated (a ``NonlinearFemCurve`` attribute and its output name).
 QUANTITY = ("curvature_mid", "curvature_mid_per_mm")
 
 
@@ -171,8 +171,10 @@ def _none(x) -> float | None:
 def estimate_error(
     curve, coarse, *, order: float = ASSUMED_ORDER, order_source: str = "assumed"
 ) -> ErrorEstimate:
-    """The :class:`ErrorEstimate` of ``curve`` from ``coarse``, both :class:`~fem.nonlinear.bend.BendCurve`
-    with ``layers`` set, at the same pressures."""
+    """The :class:`ErrorEstimate` of ``curve`` from ``coarse`` (two ``NonlinearFemCurve`` records).
+
+    Both need ``layers`` set and the same pressures.
+    """
 
     if curve.layers is None or coarse.layers is None:
         raise SettingError("layers", None, "both curves need their layer counts (meshed by bend_curve)")

@@ -71,7 +71,7 @@ class ConvergenceStudy:
         Richardson extrapolation of the mid-span curvature per pressure (observed order; NaN when
         the order is not defined).
     curves
-        The three ``BendCurve`` objects; not serialised.
+        The three ``NonlinearFemCurve`` records; not serialised.
     """
 
     pressure: np.ndarray

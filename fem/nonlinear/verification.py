@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from softcath.fem.hyperelastic.laws import isotropic_from_young, neo_hookean
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from softcath.fem.nonlinear.laws import isotropic_from_young, neo_hookean
 from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where, hollow_cylinder
 from softcath.fem.nonlinear.newton import NonlinearResult, solve
 from softcath.fem.nonlinear.post import bend_angles

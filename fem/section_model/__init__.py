@@ -16,13 +16,14 @@ symbolic factorisation reused), ``picture`` (the deformed section coloured by
 axial stress), ``coil_models``
 (coil homogenisations against the resolved wire), ``fibres`` and
 ``bilinear`` (coil-bound compression and initial tension:
-:func:`bend_curve`).
+:func:`bend_curve`, whose record is :class:`BilinearCoilCurve`).
 """
 
 from __future__ import annotations
 
+from softcath.core.deprecation import renamed_names
 from softcath.fem.section_model.api import COIL_BENDING, SectionResult, section_model, section_response
-from softcath.fem.section_model.bilinear import BendCurve, bend_curve
+from softcath.fem.section_model.bilinear import BilinearCoilCurve, bend_curve
 from softcath.fem.section_model.coil_models import COIL_MODELS
 from softcath.fem.section_model.solve import LOADS
 
@@ -30,9 +31,13 @@ __all__ = [
     "COIL_BENDING",
     "COIL_MODELS",
     "LOADS",
-    "BendCurve",
+    "BilinearCoilCurve",
     "SectionResult",
     "bend_curve",
     "section_model",
     "section_response",
 ]
+
+
+#: The old name of the bilinear-coil record.
+__getattr__ = renamed_names(__name__, BendCurve=BilinearCoilCurve)

@@ -105,7 +105,7 @@ def _solve_all(kernel: _Kernel, ops: dict) -> tuple[list, np.ndarray]:
     return solved, rhs
 
 
-def _condense(kernel: _Kernel, ops: dict, ok: np.ndarray, sol: np.ndarray, rhs: np.ndarray, loads, extra):
+def _condense(kernel: _Kernel, ops: dict, ok: np.ndarray, sol: np.ndarray, rhs: np.ndarray, loads, *, extra):
     """Section stiffnesses, global strains, lumen area changes and silicone strains of designs ``ok``.
 
     ``sol`` and ``rhs`` (len(ok), n_free, 4); ``extra`` the coils' bending stiffness added
@@ -145,7 +145,7 @@ def _condense(kernel: _Kernel, ops: dict, ok: np.ndarray, sol: np.ndarray, rhs: 
 
 
 def _result(
-    d, laws, mesh, ops, j, k_sec, out, backward, kernel, mesh_size, segments, opts, seconds, formula_k
+    d, laws, mesh, ops, j, k_sec, *, out, backward, kernel, mesh_size, segments, opts, seconds, formula_k
 ):
 
     ea = float(k_sec[0, 0])
@@ -208,14 +208,20 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
         extra = np.array([members[j][3] for j in ok])
         sol = np.stack([solved[j][0] for j in ok])
         try:
-            condensed = _condense(kernel, ops, ok, sol, rhs[ok], loads, extra)
+            condensed = _condense(kernel, ops, ok, sol, rhs[ok], loads, extra=extra)
         except Exception:  # one design's failure (a singular section stiffness) is its own
             raise_pending_stop()
             condensed = []
             for c, j in enumerate(ok):
                 try:
                     condensed += _condense(
-                        kernel, ops, ok[c : c + 1], sol[c : c + 1], rhs[j : j + 1], loads, extra[c : c + 1]
+                        kernel,
+                        ops,
+                        ok[c : c + 1],
+                        sol[c : c + 1],
+                        rhs[j : j + 1],
+                        loads,
+                        extra=extra[c : c + 1],
                     )
                 except Exception as exc:
                     raise_pending_stop()
@@ -229,9 +235,21 @@ def _solve_chunk(members: list, results: list, loads, mesh_size, segments, opts)
             k_sec, out = done
             try:
                 r = _result(
-                    d, laws, mesh, ops, j, k_sec, out, solved[j][1], kernel, mesh_size, segments, opts,
-                    share + mesh.seconds, float(formula_k[j]),
-                )  # fmt: skip
+                    d,
+                    laws,
+                    mesh,
+                    ops,
+                    j,
+                    k_sec,
+                    out=out,
+                    backward=solved[j][1],
+                    kernel=kernel,
+                    mesh_size=mesh_size,
+                    segments=segments,
+                    opts=opts,
+                    seconds=share + mesh.seconds,
+                    formula_k=float(formula_k[j]),
+                )
                 results[i] = BatchItem(r, {ld: v[2] for ld, v in out.items()})
             except Exception as exc:
                 raise_pending_stop()

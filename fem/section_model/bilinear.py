@@ -35,6 +35,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from softcath import design as design_pkg
+from softcath.analytic.pose import tip_pose
+from softcath.core.deprecation import renamed_names
+from softcath.core.response import TipResponse
 from softcath.design import coil_stiffness
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import geometry_from_design
@@ -46,14 +49,16 @@ from softcath.fem.section_model.laws import section_laws_from_design
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 from softcath.fem.section_model.solve import solve
 
-__all__ = ["BendCurve", "bend_curve", "annulus_fibres", "PLACEMENTS"]
+__all__ = ["BilinearCoilCurve", "bend_curve", "annulus_fibres", "PLACEMENTS"]
 
 PLACEMENTS = ("resolved", "annulus")
 
 
 @dataclass(frozen=True)
-class BendCurve:
-    """Curvature against pressure of one design with bilinear coils.
+class BilinearCoilCurve:
+    """The bilinear-coil section model's record: curvature against pressure of one design.
+
+    :meth:`to_response` gives the tiers' one result type, :class:`~softcath.core.response.TipResponse`.
 
     Attributes
     ----------
@@ -96,6 +101,62 @@ class BendCurve:
     initial_tension: tuple[float, float]
     compression_modulus: tuple[float, float]
     seconds: float
+
+    def to_response(
+        self,
+        *,
+        length_mm: float,
+        tier: str = "section",
+        warnings: tuple[str, ...] = (),
+        seconds: float | None = None,
+    ) -> TipResponse:
+        """This curve as a :class:`~softcath.core.response.TipResponse`: a uniform arc (eq. 9).
+
+        The arc is the bending length ``length_mm`` stretched by the curve's elongation, its
+        curvature the section's (mid-span and tip-level alike); the lumen volume change and the
+        strain are not computed (NaN). The lateral curvature, the Newton iterations and each
+        coil's closed share go to ``extras``; the coil law to ``parameters``.
+
+        Parameters
+        ----------
+        length_mm
+            Bending length of the design [mm] (the curve keeps the design's name only).
+        tier
+            The tier's name in the response.
+        warnings, seconds
+            The response's validity warnings and wall time [s] (default: the curve's own).
+        """
+        if not (np.isfinite(length_mm) and length_mm > 0):
+            raise DesignError("length_mm", length_mm, "must be a positive bending length [mm]")
+        tip_x, tip_y, theta = tip_pose(self.curvature, length_mm * (1.0 + self.elongation))
+        nan = np.full(np.shape(self.pressure), np.nan)
+        return TipResponse(
+            tier=tier,
+            load=self.load,
+            pressures=self.pressure,
+            curvature_per_mm=self.curvature,
+            tip_curvature_per_mm=self.curvature,
+            elongation=self.elongation,
+            bend_angle_rad=theta,
+            tip_x_mm=tip_x,
+            tip_y_mm=tip_y,
+            lumen_volume_change_mm3=nan,
+            max_strain=nan.copy(),
+            warnings=tuple(warnings),
+            parameters={
+                "design": self.design_name,
+                "bending_length_mm": float(length_mm),
+                "coil_model": self.coil_model,
+                "initial_tension": self.initial_tension,
+                "compression_modulus": self.compression_modulus,
+            },
+            seconds=self.seconds if seconds is None else float(seconds),
+            extras={
+                "lateral_curvature_per_mm": self.lateral_curvature,
+                "iterations": self.iterations,
+                **{f"closed_fraction_{k}": np.asarray(v, float) for k, v in self.closed_fraction.items()},
+            },
+        )
 
     def to_json(self) -> dict:
         """Plain-JSON summary (an infinite opening pressure as ``None``)."""
@@ -208,7 +269,7 @@ def bend_curve(
     segments: int = SEGMENTS,
     silicone_poisson: float | None = None,
     poisson_cap: float | None = None,
-) -> BendCurve:
+) -> BilinearCoilCurve:
     """Curvature, elongation and threshold pressure of ``design`` with coil-bound, bilinear coils.
 
     Parameters
@@ -254,7 +315,7 @@ def bend_curve(
 
     gain_pivot, threshold, opening = _asymptotes(k_rest, fibres, f_unit)
     g_all, closed_share, iters = _walk(k_rest, fibres, f_unit, p, owner, names)
-    return BendCurve(
+    return BilinearCoilCurve(
         design_name=d.name,
         load=load,
         coil_model=coil_model,
@@ -322,3 +383,7 @@ def _walk(k_rest, fibres: Fibres, f_unit, p, owner, names):
             mine = owner == i
             closed_share[name].append(float(fibres.area[mine & closed].sum() / fibres.area[mine].sum()))
     return np.array(g_all), closed_share, iters
+
+
+#: The old name of the record, before every tier's record had its own.
+__getattr__ = renamed_names(__name__, BendCurve=BilinearCoilCurve)

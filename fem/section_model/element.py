@@ -173,7 +173,7 @@ def assemble(
     kug_loc = DB[:, :, 2, :].transpose(0, 2, 1) @ phiw  # sigma_zz(U_i) * phi_k: (nel, nb, 3)
     k_gg = np.einsum("e,eqk,leq->kl", D[:, 2, 2], phiw, phi)
     # Projected volumetric part: lambda * P(tr eps)^2 with P onto P1 per element.
-    k_gg = _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, xq, yq, lam)
+    k_gg = _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, xq=xq, yq=yq, lam=lam)
     # Static condensation of the element bubbles (interior DOFs, the last two local
     # rows, numbered last globally): the global system keeps only the P2 DOFs.
     k_uu, k_ug, k_gg, xr, xg, n = _condense_bubbles(basis, k_loc, kug_loc, k_gg, nb, ng)
@@ -213,7 +213,7 @@ def _axial_strain_basis(xq, yq, axial_groups) -> np.ndarray:
     return np.concatenate([np.broadcast_to(onehot[:, :, None], (onehot.shape[0],) + xq.shape), [xq, yq]])
 
 
-def _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, xq, yq, lam) -> np.ndarray:
+def _add_projected_volumetric(k_loc, kug_loc, k_gg, eps, phi, w, *, xq, yq, lam) -> np.ndarray:
     """Add lambda * P(tr eps)^2 (P onto P1 per element) in place; returns the updated ``k_gg``."""
     mixed = lam > 0
     if mixed.any():

@@ -13,6 +13,8 @@ import numpy as np
 from numba import njit
 from scipy import sparse
 
+from softcath.fem import pardiso
+
 __all__ = ["SpdFactor", "backward_error"]
 
 
@@ -104,8 +106,6 @@ class SpdFactor:
     IPARM = {0: 1, 1: 2, 7: 0, 23: 1}
 
     def __init__(self, indptr: np.ndarray, indices: np.ndarray, *, threads: int | None = None) -> None:
-        from softcath.fem import pardiso
-
         self.threads = threads
 
         n = indptr.size - 1

@@ -19,7 +19,7 @@ from typing import Any
 from softcath import design as design_pkg
 from softcath import fem
 
-__all__ = ["FemCheck", "FemCheckView"]
+__all__ = ["FemCheckRunner", "FemCheckView"]
 
 log = logging.getLogger(__name__)
 
@@ -80,7 +80,7 @@ def _child(toml_text: str, pressure: float, load: str, mesh_size: float, out: An
         out.put(("failed", f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}"))
 
 
-class FemCheck:
+class FemCheckRunner:
     """At most one 3-D FEM check at a time, started, polled and cancelled by the page."""
 
     def __init__(self) -> None:

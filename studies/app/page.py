@@ -24,7 +24,7 @@ from softcath import models
 from softcath.core.errors import SoftcathError
 from softcath.core.limits import check_pressure
 from softcath.studies.app.curves import TierCurve, finite_strain_curve, formula_curve, linear_section_curve
-from softcath.studies.app.fem_check import FemCheck
+from softcath.studies.app.fem_check import FemCheckRunner
 from softcath.studies.app.jobs import LatestJob
 from softcath.studies.app.measured import MeasuredCurve, read_upload
 from softcath.studies.app.state import AppState, apply_value, initial_state
@@ -107,7 +107,7 @@ class Session:
         except Exception as exc:  # e.g. a script without a __main__ guard cannot spawn processes
             log.exception("the background worker did not start")
             self.messages.append(f"finite-strain section model unavailable: {type(exc).__name__}: {exc}")
-        self.fem = FemCheck()
+        self.fem = FemCheckRunner()
         self._shown_ticket = 0
         self.listeners: list[Any] = []  # the layout's redraw hooks: called with the name of what changed
 

@@ -78,6 +78,7 @@ def run_demo(
     only: tuple[str, ...] | None = None,
     progress: bool = True,
     fem: bool = True,
+    options=None,
 ) -> DemoResult:
     """Run the demo sections (:data:`SECTIONS`, read at call time) into ``out_dir``.
 
@@ -92,4 +93,5 @@ def run_demo(
         only=only,
         progress=progress,
         fem=fem,
+        options=options,
     )

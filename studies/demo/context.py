@@ -22,6 +22,8 @@ class DemoContext:
     data_csv: Path
     workers: int = 2
     fem: bool = True
+    #: Tier name -> its options (``--model-option``): the tiers' runs take them.
+    options: dict = field(default_factory=dict)
     shared: dict = field(default_factory=dict)
 
 

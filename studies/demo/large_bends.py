@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from softcath import analytic
 from softcath.core.plotting import pyplot
 from softcath.fem.nonlinear import bend_curve
 from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.finite_strain import section_curve
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput
+from softcath.studies.demo.paper import paper_response
 from softcath.studies.report.html_blocks import figure, fmt, table
 
 __all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SECTION_CURVE_PRESSURES_MPA", "section_large_bends"]
@@ -37,8 +37,11 @@ def _pressure_for(angle: float, pressure, bend) -> float | None:
     return float(p[i - 1] + (angle - a[i - 1]) * (p[i] - p[i - 1]) / (a[i] - a[i - 1]))
 
 
-def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
-    """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees."""
+def four_tiers(d, fem_curve, path, *, paper_options=None) -> tuple[list, dict]:
+    """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees.
+
+    ``paper_options`` are the paper tier's options (:func:`~softcath.studies.demo.paper.paper_response`).
+    """
     plt = pyplot()
     from scipy.optimize import brentq
 
@@ -46,7 +49,7 @@ def four_tiers(d, fem_curve, path) -> tuple[list, dict]:
     fine = np.linspace(0.0, DEMO_SECTION_CURVE_PRESSURES_MPA[-1], 101)
     lin = section_model(d, loads=("lumen",))
     linear_tiers = {  # their own bend angle: kappa p over the stretched length (eq. 9)
-        "paper's formula (eq. 7, cap load)": lambda p: analytic.response(d, p, load="cap").bend_angle,
+        "paper's formula (eq. 7, cap load)": lambda p: paper_response(d, p, "cap", paper_options).bend_angle,
         "linear section model": lambda p: lin.response(p, "lumen").bend_angle,
     }
     fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen", linear_gain=False)
@@ -84,7 +87,7 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
     f0 = ctx.out_dir / "large_bends_tiers.png"
     plot_curve(c, f1)
     plot_deformed(c, f2)
-    rows90, tiers = four_tiers(d, c, f0)
+    rows90, tiers = four_tiers(d, c, f0, paper_options=ctx.options.get("paper"))
     over = [float(p) for p, e in zip(c.pressure, c.max_strain, strict=True) if e > DEMO_MAX_STRAIN]
     ratio = float(c.bend_angle[-1] / c.linear_bend_angle[-1])
     html = (
@@ -108,7 +111,7 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
 def _three_tiers_only(ctx: DemoContext) -> SectionOutput:
     """The section without the finite-strain FEM (``--no-fem``): the other three tiers of the bend."""
     f0 = ctx.out_dir / "large_bends_tiers.png"
-    rows90, _ = four_tiers(ctx.design, None, f0)
+    rows90, _ = four_tiers(ctx.design, None, f0, paper_options=ctx.options.get("paper"))
     return SectionOutput(
         "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
         + figure(f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models.")

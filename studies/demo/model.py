@@ -6,6 +6,7 @@ import numpy as np
 
 from softcath import analytic
 from softcath.studies.demo.context import DEMO_PRESSURES_MPA, DemoContext, SectionOutput
+from softcath.studies.demo.paper import paper_gains, paper_pressure_for_bend_angle, paper_response
 from softcath.studies.plots import analytic_plot, section_plot
 from softcath.studies.report.html_blocks import esc, figure, fmt, table
 
@@ -17,11 +18,12 @@ def section_model(ctx: DemoContext) -> SectionOutput:
     d = ctx.design
     cs = analytic.composite_section(d)
     p = np.linspace(0.0, max(DEMO_PRESSURES_MPA), 41)
-    cap, lumen = analytic.response(d, p, "cap"), analytic.response(d, p, "lumen")
+    opts = ctx.options.get("paper")
+    cap, lumen = paper_response(d, p, "cap", opts), paper_response(d, p, "lumen", opts)
     f1 = section_plot(ctx.out_dir / "model_section.png", d)
     f2 = analytic_plot(ctx.out_dir / "model_cap.png", cap, title="paper's model (cap load)")
-    kc, ec = analytic.gains(d, "cap")
-    kl, el = analytic.gains(d, "lumen")
+    kc, ec = paper_gains(d, "cap", opts)
+    kl, el = paper_gains(d, "lumen", opts)
     parts = [(k, v["EA"], v["EI"], v["y"]) for k, v in cs.parts.items()]
     html = (
         "<p>The paper models the tip as a composite Euler–Bernoulli beam: the pressure p on the sealed "
@@ -43,8 +45,9 @@ def section_model(ctx: DemoContext) -> SectionOutput:
             ],
             left=1,
         )
-        + f"<p>A 90° bend needs {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2)))} MPa under the "
-        f"cap load and {fmt(float(analytic.pressure_for_bend_angle(d, np.pi / 2, load='lumen')))} MPa if the "
+        + f"<p>A 90° bend needs {fmt(float(paper_pressure_for_bend_angle(d, np.pi / 2, options=opts)))} MPa "
+        "under the cap load and "
+        f"{fmt(float(paper_pressure_for_bend_angle(d, np.pi / 2, load='lumen', options=opts)))} MPa if the "
         "lumen-wall term acts unconfined.</p>"
         + "<p>The paper's formulas are the response to the end-cap force alone. Pressure also pushes on "
         "the lumen wall; for a bonded section of one Poisson ratio ν that multiplies both by (1 − 2ν) — "

@@ -12,10 +12,16 @@ from pathlib import Path
 from softcath import design
 from softcath.core.atomic import Outputs
 from softcath.core.interrupts import raise_pending_stop
+from softcath.models.options import check_tier_options
 from softcath.studies.demo.context import DemoContext, SectionOutput
 from softcath.studies.report.html_blocks import esc, note, page
 
-__all__ = ["DemoResult", "default_data", "run_sections"]
+__all__ = ["DemoResult", "OPTION_TIERS", "default_data", "run_sections"]
+
+#: The tiers whose options the demo takes: the paper's formula, which every section asks through the
+#: registry. The section models and the 3-D FEM of its sections are solved with their own settings
+#: (curves, fields and views the tiers' responses do not hold), so their options are refused.
+OPTION_TIERS = ("paper",)
 
 log = logging.getLogger(__name__)
 
@@ -50,6 +56,7 @@ def run_sections(
     only: tuple[str, ...] | None = None,
     progress: bool = True,
     fem: bool = True,
+    options=None,
 ) -> DemoResult:
     """Run ``sections`` into ``out_dir`` and write ``out_dir/index.html`` and ``out_dir/demo.json``.
 
@@ -71,6 +78,9 @@ def run_sections(
         Show a progress bar over the sections.
     fem
         Run the FEM (section 2 and the sweep's FEM evaluator) when ``fem.check`` is installed.
+    options
+        Tier name -> options of the paper's formula (:data:`OPTION_TIERS`): every formula number
+        of the demo and its sweep take them; recorded in ``demo.json`` as ``model_options``.
     """
     from tqdm import tqdm
 
@@ -78,7 +88,10 @@ def run_sections(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     data = Path(data_csv) if data_csv else default_data()
-    ctx = DemoContext(out_dir=out, design=design.resolve(design_ref), data_csv=data, workers=workers, fem=fem)
+    opts = check_tier_options(options, parameter="options", tiers=OPTION_TIERS)
+    ctx = DemoContext(
+        out_dir=out, design=design.resolve(design_ref), data_csv=data, workers=workers, fem=fem, options=opts
+    )
     chosen = [s for s in sections if only is None or s[0] in only]
     records, body, toc = [], "", ""
     for key, title, fn in tqdm(chosen, desc="demo", unit="section", disable=not progress):
@@ -110,5 +123,5 @@ def run_sections(
     index = out / "index.html"
     with Outputs(out) as o:
         o.text("index.html", page("softcath demo", intro + body))
-        o.json("demo.json", {"sections": records}, indent=1)
+        o.json("demo.json", {"sections": records, **({"model_options": opts} if opts else {})}, indent=1)
     return DemoResult(index, records, time.perf_counter() - t0)

@@ -3,6 +3,7 @@ FEM."""
 
 from __future__ import annotations
 
+import json
 import time
 from pathlib import Path
 
@@ -24,13 +25,17 @@ __all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
 DEMO_SELECT_PRESSURE_MPA = 0.5
 
 
-def demo_sweep_spec() -> str:
+def demo_sweep_spec(options: dict | None = None) -> str:
     """The demo's sweep around the paper design: lumen offsets h × lumen widths a_int, 20 designs.
 
     Evaluated by the paper's formula and the section model (3-D-FEM-grade, a
     fraction of a second per design); the 3-D FEM checks only the chosen design
-    afterwards.
+    afterwards. ``options`` (tier name -> options) become its ``[sweep.options.<tier>]`` tables.
     """
+    tables = "".join(
+        f"\n[sweep.options.{tier}]\n" + "".join(f"{k} = {json.dumps(v)}\n" for k, v in opts.items())
+        for tier, opts in (options or {}).items()
+    )
     return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int,
 # paper's formula and section model.
 [sweep]
@@ -40,6 +45,7 @@ pressures_MPa = {sorted({*DEMO_PRESSURES_MPA, DEMO_SELECT_PRESSURE_MPA})}
 loads = ["cap", "lumen"]
 evaluators = ["paper", "section"]
 
+{tables}
 [sweep.feasibility]
 max_strain = {DEMO_MAX_STRAIN}
 
@@ -54,7 +60,7 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
     check = fem_check_function() if ctx.fem else None
 
     sdir = prepare_out_dir(ctx.out_dir / "sweep", param="demo sweep folder")
-    spec_path = write_text(sdir / "spec.toml", demo_sweep_spec())
+    spec_path = write_text(sdir / "spec.toml", demo_sweep_spec(ctx.options))
     spec = load_spec(spec_path)
     summary = run_sweep(spec, sdir / "run", workers=ctx.workers, progress=True)
     df = read_results(sdir / "run")
@@ -73,7 +79,7 @@ def section_sweep(ctx: DemoContext) -> SectionOutput:
         "design) "
         "next to the paper's formula; the design is chosen on the section model under the lumen load.</p>"
         f"<p>{summary.n_designs} designs ({summary.ok_designs} ok, {summary.failed_designs} failed) × "
-        f"{len(spec.pressures_MPa)} pressures × 2 loads in {summary.seconds:.1f} s on "
+        f"{len(spec.pressures)} pressures × 2 loads in {summary.seconds:.1f} s on "
         f"{esc(summary.backend)}; "
         f"spec <code>sweep/spec.toml</code>, results <code>sweep/run/results.csv</code>. Re-run it with "
         "<code>softcath sweep sweep/spec.toml --out sweep/run</code>; the sweep's own report: "

@@ -14,12 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath import analytic
 from softcath.design.load_cases import LOADS
 from softcath.fem.export import to_grid
 from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 from softcath.fem.section_model import section_model
 from softcath.studies.demo.context import SectionOutput
+from softcath.studies.demo.paper import paper_gains
 from softcath.studies.report.figures import _plt, _save
 from softcath.studies.report.html_blocks import figure, fmt, note, table
 from softcath.studies.sweep.evaluators import fem_check_function, fem_records
@@ -78,7 +78,7 @@ def section_tiers(ctx):
     """Demo section: the three tiers on ``ctx.design``, and κ/p against ν (see module docstring)."""
 
     d = ctx.design
-    k_f, e_f = analytic.gains(d, "cap")
+    k_f, e_f = paper_gains(d, "cap", ctx.options.get("paper"))
     sm = section_model(d)
     fem, fem_seconds, why, result = _run_fem_tier(d, ctx.fem)
     html = _tiers_table(k_f, e_f, sm, fem, fem_seconds)

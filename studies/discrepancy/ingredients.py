@@ -10,9 +10,14 @@ parameter only values inside its range; the record says which it chose.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
-__all__ = ["Ingredient", "INGREDIENTS", "SEPARATING"]
+__all__ = ["Ingredient", "INGREDIENTS", "SEPARATING", "tube_prestretch_for"]
+
+#: Catalogue over fitted wall area of the sister prototypes' tubes (the authors' scripts: 1.5 mm tip,
+#: OD 0.30 -> 0.20 mm, (0.30/0.20)^2; 2.5 mm tip, 0.597/0.3175 -> 0.30/0.15 mm, wall areas).
+SISTER_PRESTRETCH = (2.25, 3.79)
 
 
 @dataclass(frozen=True)
@@ -84,6 +89,20 @@ INGREDIENTS: dict[str, Ingredient] = {
             "the cap force, a gain that rises with pressure",
         ),
         Ingredient(
+            name="tube_prestretch",
+            kind="model",
+            parameter="tube_prestretch",
+            unit="",
+            low=1.0,
+            high=SISTER_PRESTRETCH[1],
+            source="the fabrication pulls the tube through the coil by a thread and seals its ends; the "
+            "sister prototypes' scripts state the stretched tube's size: catalogue/fitted wall area "
+            "(0.30/0.20)^2 = 2.25 (1.5 mm tip) and 3.79 (2.5 mm tip); a design with catalogue tube data "
+            "takes its own catalogue/as-built wall-area ratio (tube_prestretch_for)",
+            effect="the sealed tube pulls and the coil takes the pull: the tip shortens and bends toward "
+            "the tube at rest, and the stretched tube's tangent stiffness changes the gain",
+        ),
+        Ingredient(
             name="nu_0.4999",
             kind="model",
             parameter=None,
@@ -148,9 +167,35 @@ SEPARATING: dict[str, str] = {
     "tube_modulus": "a tensile test of the tube itself (its modulus)",
     "coil_spring_rate": "the coil's own force-extension curve (its spring rate once the turns are open)",
     "filler_none": "a cut section of the tip (is the coil filled?) or the lumen volume against pressure",
+    "tube_prestretch": "the tip's length and shape at rest with the line open, against a tip cut free "
+    "of its tube (or the tube's length once cut out)",
     "nu_0.4999": "the tip's elongation against pressure",
     "coil_initial_tension": "the coil's own force-extension curve (the force at which its turns separate)",
     "pressure_offset": "a run from 0 MPa with the gauge zeroed at atmosphere",
     "rest_curvature": "a photograph of the tip at rest with the line open to atmosphere",
     "vision_bias": "an independent curvature reading (a calibrated arc or a second camera)",
 }
+
+
+def tube_prestretch_for(design) -> Ingredient:
+    """The ``tube_prestretch`` ingredient with the range of ``design``'s own tube.
+
+    The incompressible stretch from the catalogue tube to the as-built one is the ratio of their
+    wall areas (the catalogue annulus over the as-built ellipse ring); when the as-built wall is
+    not the thinner, the sister prototypes' ratios stand.
+    """
+    ing = INGREDIENTS["tube_prestretch"]
+    t, s = design.tube, design.section
+    catalogue = math.pi / 4 * (t.catalogue_outer_diameter**2 - t.catalogue_inner_diameter**2)
+    built = math.pi * (s.a * s.b - s.a_int * s.b_int)
+    ratio = catalogue / built
+    if not ratio > 1.0 + 1e-6:
+        return ing
+    return replace(
+        ing,
+        high=float(ratio),
+        source=f"the catalogue tube's wall ({t.catalogue_outer_diameter:g}/{t.catalogue_inner_diameter:g} "
+        f"mm, {catalogue:.4g} mm^2) over the as-built tube's ({built:.4g} mm^2): stretched by up to "
+        f"{ratio:.3g} when pulled through the coil by a thread and sealed (incompressible); the sister "
+        f"prototypes' scripts give {SISTER_PRESTRETCH[0]:g} and {SISTER_PRESTRETCH[1]:g}",
+    )

@@ -18,6 +18,11 @@ A hypothesis's prediction at the measured pressures is made of
   is positively homogeneous in (p, F0) jointly, so one table per variant
   serves every F0; the finite-strain curve is multiplied by it (exact in the
   small-strain limit).
+
+The tube's pre-stretch is a continuous model parameter too (its range from 1 to the
+design's catalogue/as-built wall-area ratio, :func:`.ingredients.tube_prestretch_for`), on
+a grid of six values dense near 1; a pre-stretched variant's curve starts at its rest
+curvature (absolute curvature).
 """
 
 from __future__ import annotations
@@ -32,21 +37,23 @@ import numpy as np
 from softcath.design import coil_stiffness
 from softcath.fem.adapter import coil_law
 from softcath.fem.geometry import COIL
-from softcath.fem.nonlinear.laws import AnisotropicSVK
+from softcath.fem.hyperelastic.laws import AnisotropicSVK
 from softcath.fem.section_model.bilinear import bend_curve
 from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve, section_laws
-from softcath.studies.discrepancy.ingredients import INGREDIENTS
+from softcath.studies.discrepancy.ingredients import INGREDIENTS, tube_prestretch_for
 
 __all__ = ["Variant", "ModelBank", "TRANSFER_FORCE", "MODEL_PARAMETERS"]
 
 #: The continuous parameters that change the finite-strain solve (interpolated on a grid).
-MODEL_PARAMETERS = ("tube_modulus", "coil_spring_rate")
+MODEL_PARAMETERS = ("tube_modulus", "coil_spring_rate", "tube_prestretch")
 
 log = logging.getLogger(__name__)
 
 #: Initial tension [N] of the transfer table (any F0 follows by homogeneity).
 TRANSFER_FORCE = 0.05
 _GRID_STEPS = 24
+#: Inner points of the pre-stretch grid, as shares of its range (1.018, 1.073, 1.146, 1.29 for the paper).
+_PRESTRETCH_STEPS = (0.01, 0.04, 0.08, 0.16)
 #: Points of the transfer table (log-spaced, 4.6 % apart: the opening's kink is resolved to ~1 %).
 _TRANSFER_POINTS = 241
 
@@ -54,12 +61,13 @@ _TRANSFER_POINTS = 241
 @dataclass(frozen=True)
 class Variant:
     """One finite-strain model of the design: tube modulus [MPa], filler removed, silicone nu,
-    and the outer coil's axial spring rate [N/m] (None: the design's own)."""
+    the outer coil's axial spring rate [N/m] (None: the design's own) and the tube's pre-stretch."""
 
     tube_modulus: float
     filler_none: bool = False
     silicone_poisson: float | None = None
     coil_spring_rate: float | None = None
+    tube_prestretch: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -94,7 +102,8 @@ class ModelBank:
         ranges: dict[str, tuple[float, float]] | None = None,
     ) -> None:
         self.design = design
-        self.ranges = dict(ranges or {})
+        prestretch = tube_prestretch_for(design)
+        self.ranges = {"tube_prestretch": (prestretch.low, prestretch.high), **(ranges or {})}
         self.load = load
         self.grid = np.linspace(0.0, float(p_max), _GRID_STEPS + 1)
         self._curves: dict[Variant, _Curve] = {}
@@ -161,6 +170,7 @@ class ModelBank:
             filler_none=filler_none,
             silicone_poisson=nu,
             coil_spring_rate=corner.get("coil_spring_rate"),
+            tube_prestretch=corner.get("tube_prestretch", 1.0),
         )
 
     def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -174,20 +184,28 @@ class ModelBank:
         e[beyond] = np.nan
         return k, e
 
+    def ingredient(self, name: str):
+        """The ingredient ``name`` as this design has it (its range and source)."""
+        return tube_prestretch_for(self.design) if name == "tube_prestretch" else INGREDIENTS[name]
+
     def range_of(self, parameter: str) -> tuple[float, float]:
         """The range a hypothesis may choose ``parameter`` in (the sourced one unless overridden)."""
         ing = INGREDIENTS[parameter]
         return self.ranges.get(parameter, (ing.low, ing.high))
 
-    def grid_of(self, parameter: str) -> tuple[float, float, float]:
-        """The three values of a continuous model parameter a hypothesis interpolates between:
-        its range ends and their geometric mean."""
+    def grid_of(self, parameter: str) -> tuple[float, ...]:
+        """The values of a continuous model parameter a hypothesis interpolates between: its range
+        ends and their geometric mean; the tube's pre-stretch on a grid dense near 1 (its rest bend
+        grows fast and not in proportion to log lambda: a 3-point grid put 40 % into it at 1.08)."""
         lo, hi = self.range_of(parameter)
+        if parameter == "tube_prestretch":
+            return (lo, *(float(lo + (hi - lo) * s) for s in _PRESTRETCH_STEPS), hi)
         return (lo, float(np.sqrt(lo * hi)), hi)
 
     def at_values(self, values: dict[str, float], filler_none: bool, nu, pressure):
         """(curvature, elongation) with continuous model parameters ``values`` (``tube_modulus``,
-        ``coil_spring_rate``; absent ones at the design's own), multilinear in their logs."""
+        ``coil_spring_rate``, ``tube_prestretch``; absent ones at the design's own), multilinear in
+        their logs."""
         names = [n for n in MODEL_PARAMETERS if n in values]
         corners: list[tuple[float, dict[str, float]]] = [(1.0, {})]
         for n in names:
@@ -269,12 +287,24 @@ def solve_variant(design, grid: np.ndarray, load: str, v: Variant) -> tuple[_Cur
     d = variant_design(design, v)
     laws = None if v.coil_spring_rate is None else _laws_with_rate(design, d, v)
     note = None
+    if v.tube_prestretch != 1.0 and not d.assembly.is_default:  # the model's pre-stretch: bonded tips
+        nan = np.full(1, np.nan)
+        return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no pre-stretch for a tip as built"
     try:
         c = section_curve(
-            d, grid, load=load, silicone_poisson=v.silicone_poisson, laws=laws, linear_gain=False
+            d,
+            grid,
+            load=load,
+            silicone_poisson=v.silicone_poisson,
+            laws=laws,
+            linear_gain=False,
+            tube_prestretch=v.tube_prestretch,
         )
     except SectionConvergenceError as exc:
         c = exc.curve
+        if c is None:  # the pre-stretched rest state itself was not reached: no prediction
+            nan = np.full(1, np.nan)
+            return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no rest state ({exc})"
         note = f"{v}: the finite-strain model stops at {c.pressure[-1]:.3g} MPa ({exc})"
     curve = _Curve(
         pressure=np.asarray(c.pressure),

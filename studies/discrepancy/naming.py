@@ -97,7 +97,7 @@ def _experiment(best: str, others: Sequence[str], prep: Prepared) -> str:
     )
 
 
-def _joint_steps(prep, named, base, first, start, candidates, margin, min_share, max_effects, kw):
+def _joint_steps(prep, named, base, first, start, candidates, *, margin, min_share, max_effects, kw):
     """Two Steps naming a :data:`JOINT_PAIRS` pair together, or None if no pair clears."""
     for a, b in JOINT_PAIRS:
         if a not in candidates or b not in candidates or a in named or b in named:
@@ -157,15 +157,24 @@ def name_effects(
     one_freq = not prep.static and prep.distinct_frequencies() < 2
     bar = _progress_bar(candidates, max_effects) if progress else None
     while len(named) < max_effects:
-        scores = _score_round(prep, named, candidates, start, base, margin, kw, bar)
+        scores = _score_round(prep, named, candidates, start, base, margin, kw=kw, bar=bar)
         if not scores:
             break
         live = {c: s for c, s in scores.items() if not s.pruned}
         best = min(live, key=lambda c: live[c].rmse_per_mm) if live else None
-        threshold, share, clears = _clearing(prep, live, base, first, named, margin, min_share)
+        threshold, share, clears = _clearing(prep, live, base, first, named, margin, min_share=min_share)
         if best not in clears:
             joint = _joint_steps(
-                prep, named, base, first, start, candidates, margin, min_share, max_effects, kw
+                prep,
+                named,
+                base,
+                first,
+                start,
+                candidates,
+                margin=margin,
+                min_share=min_share,
+                max_effects=max_effects,
+                kw=kw,
             )
             if joint is not None:
                 steps += joint
@@ -174,7 +183,7 @@ def name_effects(
                 continue
         # (clears: strictly below the current score too: exact reference data name nothing)
         if not live or best not in clears:
-            steps.append(_stop_step(base, scores, live, share, threshold, named, min_share))
+            steps.append(_stop_step(base, scores, live, share, threshold, named, min_share=min_share))
             break
         amb = _ambiguous(prep, best, clears, scores, margin, one_freq)
         fit = scores[best].fit
@@ -210,7 +219,7 @@ def _progress_bar(candidates: Sequence[str], max_effects: int):
     return tqdm(total=sum(len(candidates) - i for i in range(rounds)), desc="candidates", leave=False)
 
 
-def _score_round(prep, named, candidates, start, base, margin, kw, bar) -> dict[str, CVScore]:
+def _score_round(prep, named, candidates, start, base, margin, *, kw, bar) -> dict[str, CVScore]:
     """Held-out scores of the current model plus each candidate not named yet."""
     scores = {}
     for c in candidates:
@@ -249,7 +258,7 @@ def _ambiguous(prep: Prepared, best: str, clears, scores, margin: float, one_fre
     return amb
 
 
-def _clearing(prep: Prepared, live, base, first, named, margin: float, min_share: float):
+def _clearing(prep: Prepared, live, base, first, named, margin: float, *, min_share: float):
     """``(threshold, share, clears)``: the score to beat, each candidate's share of the original
     excess error power, and the candidates that clear the margin (and ``min_share`` after the first)."""
     threshold = (1 - margin) * base.rmse_per_mm
@@ -265,7 +274,7 @@ def _clearing(prep: Prepared, live, base, first, named, margin: float, min_share
     return threshold, share, clears
 
 
-def _stop_step(base, scores, live, share, threshold, named, min_share: float) -> Step:
+def _stop_step(base, scores, live, share, threshold, named, *, min_share: float) -> Step:
     """The last Step when nothing more is named (with the candidates held back by ``min_share``)."""
     if not live:
         return Step(baseline=base, candidates=scores, named=None, ambiguous_with=(), separating_experiment="")

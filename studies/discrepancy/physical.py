@@ -164,7 +164,7 @@ def fit_hypothesis(bank: ModelBank, m: Measured, ingredients: Sequence[str], tip
                 "unit": INGREDIENTS[n].unit,
                 "range": list(bank.range_of(n)),
                 "at_range_end": bool(any(np.isclose(values[n], e) for e in bank.range_of(n))),
-                "source": INGREDIENTS[n].source,
+                "source": bank.ingredient(n).source,
             }
             for n in names
         },

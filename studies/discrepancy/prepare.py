@@ -139,7 +139,7 @@ def prepare(data, *, filter_spec: FilterSpec | None = None, excitation: str = "a
     gain = _noise_gain(aa, fit_spec, fs)
     data_filter = _zero_phase(fit_spec)
     trim = int(round(TRIM_OVER_PASSBAND / spec.passband_hz * fs_d))
-    segments, infos, times, noise = _segments(raw, exc, aa, q, data_filter, trim, spec, fs)
+    segments, infos, times, noise = _segments(raw, exc, aa, q, data_filter, trim, spec=spec, fs=fs)
     targets = np.concatenate([s.target[s.mask] for s in segments])
     pressures = np.concatenate([s.pressure_MPa for s in segments])
     # relative: a constant series comes out of the filters with 1e-16 of rounding ripple
@@ -215,7 +215,7 @@ def _data_low_pass(filter_spec: FilterSpec | None, exc, fs: float) -> FilterSpec
     return spec
 
 
-def _segments(raw, exc, aa: FilterSpec, q: int, data_filter, trim: int, spec: FilterSpec, fs: float):
+def _segments(raw, exc, aa: FilterSpec, q: int, data_filter, trim: int, *, spec: FilterSpec, fs: float):
     """Anti-alias, decimate and filter each run; returns (segments, run infos, times, noise s.d.)."""
     fs_d = fs / q
     segments, infos, times, noise = [], [], [], []

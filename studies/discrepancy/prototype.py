@@ -27,6 +27,7 @@ import numpy as np
 
 from softcath.design.errors import DataError, DesignError
 from softcath.fem.section_model.end_zones import end_zones
+from softcath.fem.section_model.finite_strain.prestretch import PRESTRETCH_MAX
 from softcath.studies.discrepancy.ingredients import INGREDIENTS
 from softcath.studies.discrepancy.model_bank import ModelBank
 from softcath.studies.discrepancy.physical import (
@@ -228,7 +229,12 @@ def _unexplained(m: Measured, best: dict, max_size: int) -> str:
 
 #: How far past a sourced range end the data may take a parameter when nothing fits inside.
 _BEYOND = {"low": 0.5, "high": 2.0}
-_HARD_LIMITS = {"vision_bias": (0.0, 1.0), "pressure_offset": (0.0, 2.0), "rest_curvature": (0.0, 1.0)}
+_HARD_LIMITS = {
+    "vision_bias": (0.0, 1.0),
+    "pressure_offset": (0.0, 2.0),
+    "rest_curvature": (0.0, 1.0),
+    "tube_prestretch": (1.0, PRESTRETCH_MAX),
+}
 
 
 def beyond_ranges(

@@ -8,9 +8,10 @@ then the records (:mod:`softcath.studies.discrepancy.records`).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -18,14 +19,16 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from softcath import analytic, models
 from softcath import design as design_pkg
+from softcath import models
 from softcath.analytic.calibration import calibrate
 from softcath.analytic.effects import FEM_CANDIDATES, MEASURED_CANDIDATES, get
 from softcath.analytic.effects.fit import ChainFit
+from softcath.core.deprecation import renamed_keyword
 from softcath.design.errors import DataError, DesignError, SoftcathError
 from softcath.design.measurement import Measurement, read_measurement_csv
 from softcath.fem.section_model import section_model
+from softcath.models.options import check_tier_options, options_of
 from softcath.studies.discrepancy.naming import name_effects
 from softcath.studies.discrepancy.prepare import Prepared, prepare, prepare_static
 from softcath.studies.discrepancy.quasi_static import candidates_for
@@ -80,6 +83,8 @@ class DiscrepancyResult:
     final_fit: ChainFit = field(repr=False)
     #: From the named terms to physical ingredients (:mod:`.to_physics`), when it was run.
     physical: dict | None = None
+    #: Tier name -> the options its runs took (:attr:`softcath.models.Tier.options`), when given.
+    model_options: dict = field(default_factory=dict)
 
     @property
     def ambiguous_with(self) -> list[list[str]]:
@@ -114,6 +119,7 @@ class DiscrepancyResult:
                 "notes": list(self.notes),
             }
             | ({"physical": self.physical} if self.physical is not None else {})
+            | ({"model_options": self.model_options} if self.model_options else {})
         )
 
 
@@ -132,7 +138,7 @@ def _clean(x):
     return x
 
 
-def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
+def fem_reference(options: Mapping[str, Any] | None = None) -> Callable[[Any, np.ndarray], np.ndarray] | None:
     """``fem(design, pressures) -> curvature`` by the 3-D FEM tier, or None if this build has none.
 
     The FEM with the real load (lumen wall and cap, :func:`softcath.models.response`), which
@@ -144,7 +150,7 @@ def fem_reference() -> Callable[[Any, np.ndarray], np.ndarray] | None:
 
     def run(design, pressures):
         p = tuple(float(x) for x in pressures)
-        return tier.response(design, p, load="lumen").curvature_per_mm
+        return tier.response(design, p, load="lumen", options=options).curvature_per_mm
 
     return run
 
@@ -211,6 +217,7 @@ def _run_gain_notes(prep: Prepared) -> list[str]:
     ]
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 def run_workflow(
     data: Measurement | pd.DataFrame | str | Path | None,
     design: Any = None,
@@ -224,6 +231,7 @@ def run_workflow(
     candidates: tuple[str, ...] | None = None,
     progress: bool = False,
     excitation: str = "auto",
+    options: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> DiscrepancyResult:
     """Run the missing-effect workflow.
 
@@ -257,11 +265,18 @@ def run_workflow(
         ``"auto"``, ``"time-series"`` or ``"quasi-static"`` (measured data; see
         :func:`softcath.studies.discrepancy.prepare.prepare`). On quasi-static data the
         time-dependent candidates are left out, or refused when named.
+    options
+        Tier name -> options: the paper's formula's go to the nominal gain (and the model's
+        gain against the FEM); all are recorded as ``model_options`` (the ``fem`` callable
+        is built with its own, :func:`fem_reference`).
     """
     _check_rule(reference, margin, min_share, max_effects)
+    opts = check_tier_options(options, parameter="options")
     d = _resolve_design(design)
-    nominal = _nominal_gain(d)
-    ref = _reference_inputs(reference, data, d, fem, pressures, candidates, excitation, margin)
+    nominal = _nominal_gain(d, options_of(opts, "paper"))
+    ref = _reference_inputs(
+        reference, data, d, fem, pressures, candidates, excitation=excitation, margin=margin, options=opts
+    )
     for c in ref.candidates:
         get(c)
     steps = name_effects(
@@ -274,15 +289,16 @@ def run_workflow(
         context=ref.context,
         progress=progress,
     )
-    return _discrepancy_result(reference, ref, steps, min_share, nominal)
+    result = _discrepancy_result(reference, ref, steps, min_share, nominal)
+    return dataclasses.replace(result, model_options=opts) if opts else result
 
 
-def _nominal_gain(d) -> float | None:
-    """The design's nominal (paper's formula) cap gain, ``None`` without a design."""
+def _nominal_gain(d, options: Mapping[str, Any] | None = None) -> float | None:
+    """The design's nominal (paper's formula, with its ``options``) cap gain, ``None`` without a design."""
     if d is None:
         return None
-
-    return analytic.gains(d, "cap")[0]
+    # the formula is linear in p: its curvature at 1 MPa is its gain (bit for bit analytic.gains')
+    return float(models.response(d, [1.0], tier="paper", load="cap", options=options).curvature_per_mm[0])
 
 
 @dataclass(frozen=True)
@@ -300,7 +316,16 @@ class _ReferenceInputs:
 
 
 def _reference_inputs(
-    reference: str, data, d, fem, pressures, candidates, excitation: str, margin: float | None
+    reference: str,
+    data,
+    d,
+    fem,
+    pressures,
+    candidates,
+    *,
+    excitation: str,
+    margin: float | None,
+    options=None,
 ) -> _ReferenceInputs:
     """Prepare the measured or FEM reference; ``margin`` defaults per reference (see :func:`run_workflow`)."""
     fixed_gain = None
@@ -311,7 +336,9 @@ def _reference_inputs(
         if margin is None and prep.static:
             margin = QUASI_STATIC_MARGIN
     else:
-        prep, cands, notes, fixed_gain, context = _fem_reference_points(data, d, fem, pressures, candidates)
+        prep, cands, notes, fixed_gain, context = _fem_reference_points(
+            data, d, fem, pressures, candidates, paper_options=options_of(options, "paper")
+        )
     if margin is None:
         margin = DEFAULT_MARGIN
     return _ReferenceInputs(
@@ -399,7 +426,7 @@ def _measured_reference(data, d, candidates, excitation: str):
     return prep, cands, notes, shape_cal
 
 
-def _fem_reference_points(data, d, fem, pressures_MPa, candidates):
+def _fem_reference_points(data, d, fem, pressures, candidates, *, paper_options=None):
     """``(prepared, candidates, notes, fixed gain, context)`` of FEM reference points.
 
     The model's gain is the design's analytic cap-load gain (not calibrated), so a
@@ -408,14 +435,14 @@ def _fem_reference_points(data, d, fem, pressures_MPa, candidates):
     if d is None:
         raise DataError("reference 'fem' needs a design (the model's gain is not calibrated)")
 
-    g_cap = analytic.gains(d, "cap")[0]
+    g_cap = _nominal_gain(d, paper_options)  # the formula's, with its tier options
     g_lum, g_sec_cap = _lumen_wall_gains(d)
     context = {"lumen_minus_cap_gain_per_mm_MPa": g_lum - g_sec_cap}
     src = data if data is not None else fem
     if src is None:
         raise DataError("reference 'fem' needs a FEM table or a fem callable")
     if callable(src) and not isinstance(src, pd.DataFrame):
-        p = np.linspace(0, 2.0, 12) if pressures_MPa is None else np.asarray(pressures_MPa)
+        p = np.linspace(0, 2.0, 12) if pressures is None else np.asarray(pressures)
         k = np.asarray(src(d, p), dtype=float)
     else:
         tab = src if isinstance(src, pd.DataFrame) else pd.read_csv(src)

@@ -22,12 +22,12 @@ from softcath.design.errors import DesignError
 from softcath.fem.limits import check_section_budget
 from softcath.fem.section_model.mesh import MESH_SIZE
 from softcath.models import get
+from softcath.studies.criteria import check_columns
 from softcath.studies.model_validity import fail_self_contact
 from softcath.studies.optimise.backend import Backend
 from softcath.studies.optimise.problem import Problem
 from softcath.studies.optimise.scoring import score_table
 from softcath.studies.predict.sampling import sample_values, unit_sample
-from softcath.studies.selection.criteria import check_columns
 from softcath.studies.sweep.results import add_derived_columns, model_columns
 
 __all__ = [
@@ -169,12 +169,13 @@ def _tasks(problem: Problem, variants: list[dict], slots: int, evaluators: Seque
             "variants": variants[start : start + size],
             "param_paths": paths,
             "base_table": problem.base_table,
-            "pressures_MPa": list(problem.pressures_MPa),
+            "pressures_MPa": list(problem.pressures),
             "loads": [problem.load],
             "evaluators": list(evaluators),
             "mesh_size": None,
             "max_strain": math.inf,
             "section": dict(problem.section_options),
+            "options": dict(problem.options),
         }
         for t, start in enumerate(range(0, len(variants), size))
     ]
@@ -190,7 +191,7 @@ def run_variants(problem: Problem, variants: list[dict], backend: Backend, evalu
     evaluators = evaluators or sorted({"paper", problem.evaluator})
     frames = backend.map(_tasks(problem, variants, backend.slots, evaluators))
     df = pd.concat(frames, ignore_index=True)
-    df = add_derived_columns(df, max_strain=math.inf, p_max=max(problem.pressures_MPa))
+    df = add_derived_columns(df, max_strain=math.inf, p_max=max(problem.pressures))
     # a design bending past a full turn passes through itself: no tier models it, none ranks it
     return fail_self_contact(model_columns(df, model or problem.model))
 

@@ -12,11 +12,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from softcath.core.deprecation import renamed_keyword
 from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
 from softcath.design.validation import MAX_MAGNITUDE
-from softcath.models import tiers
-from softcath.studies.selection.criteria import (
+from softcath.models import check_tier_options, tiers
+from softcath.studies.criteria import (
     Constraint,
     Objective,
     at_pressure,
@@ -25,7 +26,7 @@ from softcath.studies.selection.criteria import (
     parse_objective,
     without_text,
 )
-from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.criteria.expressions import SelectionError
 from softcath.studies.sweep.results import COLUMN_UNITS
 from softcath.studies.sweep.spec import EVALUATORS
 from softcath.studies.sweep.variants import check_path
@@ -51,6 +52,7 @@ class Variable:
         return self.low + float(u) * (self.high - self.low)
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 @dataclass(frozen=True)
 class Problem:
     """What to optimise (see the module docstring).
@@ -67,10 +69,13 @@ class Problem:
         Model tier (one of :data:`MODELS`).
     load
         Load case the expressions read (``cap`` or ``lumen``).
-    pressures_MPa
-        Pressures every design is evaluated at (ascending; ``at p=NUM`` pressures included).
+    pressures
+        Pressures every design is evaluated at [MPa] (ascending; ``at p=NUM`` pressures
+        included). The spelling ``pressures_MPa`` is deprecated.
     section_options
         Options of the section model (``mesh_size``, ``coil_bending``).
+    options
+        Tier name -> its options (:attr:`softcath.models.Tier.options`), over ``section_options``.
     """
 
     base_table: Mapping[str, Any]
@@ -79,8 +84,9 @@ class Problem:
     constraints: tuple[Constraint, ...]
     model: str
     load: str
-    pressures_MPa: tuple[float, ...]
+    pressures: tuple[float, ...]
     section_options: Mapping[str, Any] = field(default_factory=dict)
+    options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
 
     @property
     def evaluator(self) -> str:
@@ -169,6 +175,7 @@ def _pressure(param: str, value, p) -> float:
     return float(p)
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 def make_problem(
     base_table: Mapping[str, Any],
     *,
@@ -179,8 +186,13 @@ def make_problem(
     load: str = "lumen",
     pressures: Sequence[float] = (0.5,),
     section_options: Mapping[str, Any] | None = None,
+    options: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> Problem:
-    """A checked :class:`Problem`; every error names the parameter, its value and the bound."""
+    """A checked :class:`Problem`; every error names the parameter, its value and the bound.
+
+    ``options`` are tier name -> options (:func:`softcath.models.check_tier_options`) of the
+    tiers the search runs: ``model`` and the paper's formula beside it.
+    """
 
     model = tier_name(model, allowed=MODELS)
     if model not in _available_evaluators():
@@ -227,6 +239,7 @@ def make_problem(
         constraints=cons,
         model=model,
         load=load,
-        pressures_MPa=tuple(sorted(ps)),
+        pressures=tuple(sorted(ps)),
         section_options=dict(section_options or {}),
+        options=check_tier_options(options, parameter="options", tiers=sorted({"paper", model})),
     )

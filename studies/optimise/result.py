@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from softcath.core.deprecation import renamed_keyword
+
 __all__ = ["Winner", "Optimum"]
 
 
@@ -68,9 +70,14 @@ class Winner:
         return out
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 @dataclass(frozen=True)
 class Optimum:
-    """What :func:`softcath.studies.optimise.optimise` found (``optimum.json``'s content)."""
+    """What :func:`softcath.studies.optimise.optimise` found (``optimum.json``'s content).
+
+    Its field ``pressures`` holds the pressures every design was evaluated at [MPa] (written as
+    ``pressures_MPa`` in ``optimum.json``; that spelling of the attribute is deprecated).
+    """
 
     model: str
     load: str
@@ -83,12 +90,13 @@ class Optimum:
     variables: tuple[dict, ...]
     objectives: tuple[str, ...]
     constraints: tuple[str, ...]
-    pressures_MPa: tuple[float, ...]
+    pressures: tuple[float, ...]
     best: tuple[Winner, ...]
     seconds: float
     robust: dict | None = None
     history: Any = field(default=None, repr=False, compare=False)
     validity: dict | None = None
+    model_options: dict = field(default_factory=dict)
 
     @property
     def feasible(self) -> bool:
@@ -109,6 +117,7 @@ class Optimum:
             "reason": self.reason,
             "model": self.model,
             "load": self.load,
+            **({"model_options": self.model_options} if self.model_options else {}),
             "algorithm": self.algorithm,
             "evaluations": self.evaluations,
             "model_runs": self.model_runs,
@@ -118,7 +127,7 @@ class Optimum:
             "variables": list(self.variables),
             "objectives": list(self.objectives),
             "constraints": list(self.constraints),
-            "pressures_MPa": list(self.pressures_MPa),
+            "pressures_MPa": list(self.pressures),
             "robust": self.robust,
             **({"validity": self.validity} if self.validity is not None else {}),
             "best": [w.to_json() for w in self.best],

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from softcath.studies.selection.criteria import Constraint, Objective, rows_at
+from softcath.studies.criteria import Constraint, Objective, rows_at
 
 __all__ = ["margin_rows", "score_table"]
 

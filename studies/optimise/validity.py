@@ -59,7 +59,7 @@ def tier_validity(problem: Problem) -> dict:
     if not out["linear"]:
         return out
 
-    p = np.asarray(problem.pressures_MPa, float)
+    p = np.asarray(problem.pressures, float)
     builder = VariantBuilder(problem.base_table)
     best, at = 0.0, float(p.max()) if p.size else 0.0
     for params in _candidates(problem):

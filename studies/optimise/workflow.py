@@ -215,11 +215,12 @@ def optimise(
         variables=tuple({"path": v.path, "low": v.low, "high": v.high} for v in problem.variables),
         objectives=tuple(o.text for o in problem.objectives),
         constraints=tuple(c.text for c in problem.constraints),
-        pressures_MPa=problem.pressures_MPa,
+        pressures=problem.pressures,
         best=tuple(winners),
         seconds=time.perf_counter() - t0,
         robust=robust.to_json() if robust else None,
         history=history,
+        model_options=dict(problem.options),
     )
 
 

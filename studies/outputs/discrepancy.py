@@ -36,13 +36,15 @@ def discrepancy_run(
     excitation: str = "auto",
     physical: bool = False,
     progress: bool = False,
+    options=None,
 ) -> DiscrepancyResult:
     """The missing-effect workflow of ``design`` against ``data``.
 
     The keywords are :func:`softcath.studies.discrepancy.run_workflow`'s. With
     ``reference="fem"`` and no ``data`` the 3-D FEM is solved as the reference.
     ``physical`` (measured time series only) adds the physical step
-    (:func:`~softcath.studies.discrepancy.to_physics.physical_step`).
+    (:func:`~softcath.studies.discrepancy.to_physics.physical_step`). ``options`` (tier name ->
+    options) go to the paper's formula and to the 3-D FEM solved as the reference.
 
     Raises
     ------
@@ -51,7 +53,7 @@ def discrepancy_run(
     """
     fem_fn = None
     if data is None and reference in models.TIERS:  # a model as the reference (the 3-D FEM) is solved
-        fem_fn = fem_reference()
+        fem_fn = fem_reference(models.options_of(options, "fem"))
         if fem_fn is None:
             raise DataError(
                 "--reference fem: no FEM table given and fem.check is not "
@@ -69,6 +71,7 @@ def discrepancy_run(
         candidates=None if candidates is None else tuple(candidates),
         progress=progress,
         excitation=excitation,
+        options=options,
     )
     if reference == "measured" and physical and "quasi-static" not in {r["kind"] for r in result.runs}:
         result = dataclasses.replace(result, physical=physical_step(result, design_room.resolve(design)))

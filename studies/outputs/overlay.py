@@ -20,9 +20,9 @@ from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.core.plotting import pyplot
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
+from softcath.models.section_nonlinear_eval import curve_with_rest
 from softcath.studies.model_validity import warn_linear_range, warn_self_contact
 from softcath.studies.outputs.tables import write_rows
-from softcath.studies.sweep.section_nonlinear_eval import curve_with_rest
 
 __all__ = ["COLUMNS", "TIER_LABEL", "Overlay", "OverlayCurve", "overlay"]
 

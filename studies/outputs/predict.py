@@ -121,10 +121,11 @@ def prediction_run(
     curve_samples: int = 64,
     measured=None,
     progress: bool = False,
+    options=None,
 ) -> PredictionRun:
     """The prediction bands of a design, with the finite-strain point and curve bands when asked.
 
-    The keywords up to ``measured_gain`` are :func:`softcath.studies.predict.predict`'s.
+    The keywords up to ``measured_gain``, and ``options``, are :func:`softcath.studies.predict.predict`'s.
 
     Parameters
     ----------
@@ -151,6 +152,7 @@ def prediction_run(
         seed=seed,
         measured_gain=measured_gain,
         progress=progress,
+        options=options,
     )
     points = {}
     if finite_strain_pressures is not None:

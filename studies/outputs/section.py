@@ -21,10 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from softcath.analytic import BeamResponse
-from softcath.analytic.pose import tip_pose
 from softcath.core.atomic import Outputs, prepare_out_dir
 from softcath.core.plotting import pyplot
-from softcath.fem.section_model import BendCurve, SectionResult, bend_curve, section_model
+from softcath.fem.section_model import BilinearCoilCurve, SectionResult, bend_curve, section_model
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS
 from softcath.fem.section_model.picture import section_picture
 from softcath.studies.model_validity import check_finite_columns, warn_linear_range
@@ -87,7 +86,7 @@ class SectionRun:
     load: str
     pressures: np.ndarray
     response: BeamResponse
-    curve: BendCurve | None = None
+    curve: BilinearCoilCurve | None = None
 
     def to_json(self) -> dict:
         """``section.json``: the gains under the load, stiffness and mesh facts, every load's gains."""
@@ -224,17 +223,19 @@ def write_section_result(run: SectionRun, folder: str | Path, *, picture: bool =
     return tuple(names)
 
 
-def curve_response(curve: BendCurve, length_mm: float) -> BeamResponse:
+def curve_response(curve: BilinearCoilCurve, length_mm: float) -> BeamResponse:
     """The bilinear curve as a :class:`~softcath.analytic.BeamResponse`: its tip pose by eq. 9.
 
     The arc is the bending length ``length_mm`` stretched by the curve's elongation.
     """
+    r = curve.to_response(length_mm=length_mm)
     length = length_mm * (1 + curve.elongation)
-    tip_x, tip_y, theta = tip_pose(curve.curvature, length)
-    return BeamResponse(curve.pressure, curve.curvature, curve.elongation, length, theta, tip_x, tip_y)
+    return BeamResponse(
+        curve.pressure, curve.curvature, curve.elongation, length, r.bend_angle_rad, r.tip_x_mm, r.tip_y_mm
+    )
 
 
-def curve_picture(curve: BendCurve, result: SectionResult, path: str | Path) -> None:
+def curve_picture(curve: BilinearCoilCurve, result: SectionResult, path: str | Path) -> None:
     """Curvature against pressure: the bilinear curve, its threshold and the linear model."""
     plt = pyplot()
     p = np.sort(curve.pressure)

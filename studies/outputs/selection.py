@@ -14,9 +14,10 @@ from __future__ import annotations
 import dataclasses
 import json
 import logging
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from softcath.core.atomic import prepare_out_dir
 from softcath.design.errors import DataError, DesignError
@@ -63,6 +64,8 @@ class RobustSettings:
         Latin-hypercube sample size and seed.
     model
         The tier the variants run on.
+    options
+        Tier name -> its options (:attr:`softcath.models.Tier.options`) for the variants' runs.
     progress
         Report progress.
     """
@@ -74,6 +77,7 @@ class RobustSettings:
     seed: int = 0
     model: str = "section"
     progress: bool = False
+    options: Mapping[str, Mapping[str, Any]] = dataclasses.field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -194,6 +198,7 @@ def _robust(sel: Selection, sweep_dir, r: RobustSettings, *, workers: int | None
             model=r.model,
             workers=workers,
             progress=r.progress,
+            options=r.options,
         )
     except DesignError as exc:  # named after the settings, as the caller gave them
         head, _, rest = exc.parameter.partition(" ")

@@ -79,10 +79,20 @@ def _bar(total: int, tier: str, progress: bool):
 
 
 def propagate(
-    tier: str, table: Mapping[str, Any], values: list[dict[str, Any]], *, load: str, progress: bool = False
+    tier: str,
+    table: Mapping[str, Any],
+    values: list[dict[str, Any]],
+    *,
+    load: str,
+    progress: bool = False,
+    options: Mapping[str, Any] | None = None,
 ) -> TierSample:
-    """Gains of ``tier`` for every variant ``values`` (dotted path -> value) of the base ``table``."""
+    """Gains of ``tier`` for every variant ``values`` (dotted path -> value) of the base ``table``.
+
+    ``options`` are the tier's fixed options; a variant's sampled ``model.*`` values go over them.
+    """
     model = get(tier, allowed=TIERS)
+    fixed = dict(options or {})
     if load not in LOADS:
         raise DesignError("load", load, "must be cap or lumen")
     n = len(values)
@@ -90,20 +100,20 @@ def propagate(
     elong = np.full(n, np.nan)
     errors: list[str] = []
     groups: dict[tuple, list[tuple[int, Any]]] = {}
-    for i, (d, options, err) in enumerate(_variants(table, values)):
+    for i, (d, sampled, err) in enumerate(_variants(table, values)):
         if d is None:
             errors.append(err)
         else:
-            groups.setdefault(tuple(sorted(options.items())), []).append((i, d))
+            groups.setdefault(tuple(sorted(sampled.items())), []).append((i, d))
     with _bar(n, tier, progress) as bar:
         bar.update(len(errors))
-        for options, members in groups.items():
+        for group, members in groups.items():
             # a batched tier takes the group at once; the others one variant at a time (the bar moves)
             step = len(members) if model.batched else 1
             for start in range(0, len(members), step):
                 part = members[start : start + step]
                 batch = model.responses(
-                    [d for _i, d in part], [GAIN_PRESSURE], loads=(load,), options=dict(options)
+                    [d for _i, d in part], [GAIN_PRESSURE], loads=(load,), options={**fixed, **dict(group)}
                 )[load]
                 for j, (i, _d) in enumerate(part):
                     if j in batch.errors:

@@ -45,11 +45,13 @@ class TierPrediction:
     gains: np.ndarray = field(repr=False, compare=False)
     elongations: np.ndarray = field(repr=False, compare=False)
     values: tuple[dict[str, Any], ...] = field(repr=False, compare=False)
+    options: Mapping[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict:
         m = self.measured or {}
         return {
             "model": self.model,
+            **({"model_options": dict(self.options)} if self.options else {}),
             "load": self.load,
             "samples": self.samples,
             "seed": self.seed,
@@ -93,18 +95,22 @@ def predict_tier(
     seed: int,
     measured_gain: float | None = None,
     progress: bool = False,
+    options: Mapping[str, Any] | None = None,
 ) -> TierPrediction:
-    """The band of ``tier`` over a seeded Latin-hypercube sample of ``ranges`` around the base ``table``."""
+    """The band of ``tier`` over a seeded Latin-hypercube sample of ``ranges`` around the base ``table``.
+
+    ``options`` are the tier's fixed options (under the sampled ``model.*`` ranges).
+    """
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
         raise DesignError("samples", samples, "must be an integer >= 1")
     t0 = time.perf_counter()
     use, skip = applicable(tier, ranges)
     unit = unit_sample(samples, len(use), seed)
     values = sample_values(unit, use)
-    result = propagate(tier, table, values, load=load, progress=progress)
+    result = propagate(tier, table, values, load=load, progress=progress, options=options)
     if not result.feasible.any():
         raise DesignError("samples", samples, f"no feasible variant; e.g. {result.errors[0]}")
-    nominal = propagate(tier, table, [{}], load=load)
+    nominal = propagate(tier, table, [{}], load=load, options=options)
     notes = []
     model = get(tier)
     for suffix, note in model.range_notes.items():  # how the tier treats a sampled parameter
@@ -136,4 +142,5 @@ def predict_tier(
         gains=result.gain,
         elongations=result.elongation,
         values=tuple(values),
+        options=dict(options or {}),
     )

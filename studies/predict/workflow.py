@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from softcath import design
 from softcath.design.errors import DesignError
 from softcath.fem.limits import check_section_budget, estimate_section_seconds
 from softcath.fem.section_model.mesh import MESH_SIZE
-from softcath.models import get
+from softcath.models import check_tier_options, get
 from softcath.studies.predict.propagate import DEFAULT_LOAD, TIERS
 from softcath.studies.predict.ranges import (
     Range,
@@ -130,12 +131,15 @@ def predict(
     seed: int = 0,
     measured_gain: float | None = None,
     progress: bool = False,
+    options: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> tuple[dict, list[TierPrediction]]:
     """Bands of ``model`` (and the ``compare`` tiers) for a design; returns (prediction.json, tiers).
 
     ``load`` ``None`` gives each tier its own (cap for the paper's formula,
     lumen otherwise); ``samples`` sets the paper and section tiers'
     sample size, ``fem_samples`` the 3-D FEM's (defaults: :data:`DEFAULT_SAMPLES`).
+    ``options`` (tier name -> options, :attr:`softcath.models.Tier.options`) go to those
+    tiers' runs, under the sampled ``model.*`` ranges, and are recorded as ``model_options``.
     """
     model = tier_name(model, allowed=TIERS)
     compare = tuple(tier_name(name, allowed=TIERS) for name in compare)
@@ -146,6 +150,7 @@ def predict(
         measured_gain=measured_gain,
         tiers=(model, *compare),
     )
+    opts = check_tier_options(options, parameter="options", tiers=(model, *compare))
     table = base_table(design_ref)
     for name in (model, *compare):
         check_assembly(name, table.get("assembly"))
@@ -167,6 +172,7 @@ def predict(
                 seed=seed,
                 measured_gain=measured_gain,
                 progress=progress,
+                options=opts.get(tier),
             )
         )
     doc = {"design": table.get("name", str(design_ref)), **tiers[0].to_json()}

@@ -189,11 +189,18 @@ def _overview_html(spec: dict, per) -> str:
     """The overview paragraph: the sweep, its designs (``per``: one row per design) and the loads."""
     n_ok = int((per.status == "ok").sum())
     kinds = ", ".join(f"<code>{esc(p['path'])}</code> ({p['kind']})" for p in spec["parameters"]) or "none"
+    opts = spec.get("options") or {}  # the tiers' options the sweep ran with (none: their defaults)
+    options = "".join(
+        f" Model options of {esc(tier)}: "
+        + ", ".join(f"<code>{esc(k)} = {esc(v)}</code>" for k, v in o.items())
+        + "."
+        for tier, o in opts.items()
+    )
     return (
         f"<p>Sweep <b>{esc(spec['name'])}</b> on base design <code>{esc(spec['base'])}</code>: "
         f"{len(per)} designs ({n_ok} ok, {len(per) - n_ok} failed) × {len(spec['pressures_MPa'])} pressures "
         f"({', '.join(fmt(p) for p in spec['pressures_MPa'])} MPa) × loads {', '.join(spec['loads'])}; "
-        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.</p>"
+        f"evaluators: {', '.join(spec['evaluators'])}. Swept: {kinds}.{options}</p>"
         "<p>Loads: <b>cap</b> is the paper's model (end-cap force only); <b>lumen</b> adds the pressure on "
         "the lumen wall, whose Poisson coupling multiplies the analytic response by (1 − 2ν) for an "
         "unconfined tube.</p>"

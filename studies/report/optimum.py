@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softcath import analytic, design
+from softcath import design, models
 from softcath.design.errors import DataError
 from softcath.design.reference import with_unit
 from softcath.studies.report import interactive as ia
@@ -67,7 +67,9 @@ def _design_info(out_dir: Path, w: dict, draw: bool, opt: dict) -> dict:
     if draw and src.is_file():
         d = design.load(src)
         p_max = max(opt["pressures_MPa"])
-        kappa = float(np.asarray(analytic.response(d, np.array([p_max]), load="cap").curvature)[0])
+        # the formula through its tier, with the options the search ran it with (none: the formula's own)
+        opts = (opt.get("model_options") or {}).get("paper")
+        kappa = float(models.response(d, [p_max], tier="paper", load="cap", options=opts).curvature_per_mm[0])
         png = render_design(
             d,
             out_dir / "designs" / f"{w['name']}.png",

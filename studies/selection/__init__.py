@@ -46,8 +46,8 @@ with probability ≥ P, ranked on the objectives' p50.
 
 from __future__ import annotations
 
-from softcath.studies.selection.criteria import Constraint, Objective, parse_constraint, parse_objective
-from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.criteria import Constraint, Objective, parse_constraint, parse_objective
+from softcath.studies.criteria.expressions import SelectionError
 from softcath.studies.selection.large_bends import (
     LINEAR_BEND_LIMIT_DEG,
     large_bend_constraints,

@@ -22,9 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from softcath.core.deprecation import renamed_keyword
+from softcath.studies.criteria import parse_constraint, parse_objective, rows_at
 from softcath.studies.model_validity import LINEAR_BEND_LIMIT_DEG as _LIMIT
 from softcath.studies.model_validity import LINEAR_TIERS, linear_tier_warning
-from softcath.studies.selection.criteria import parse_constraint, parse_objective, rows_at
+from softcath.studies.optimise import Backend, Problem, evaluate_parameters
 from softcath.studies.selection.ranking import Selection, pareto_front
 
 __all__ = [
@@ -92,6 +94,7 @@ def linear_validity_warning(selection: Selection, df, *, rechecked: bool) -> str
     )
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 def recheck_large_bends(
     selection: Selection,
     *,
@@ -104,9 +107,6 @@ def recheck_large_bends(
 
     ``constraints`` are the large-bend constraints that asked for it (reported in ``recheck``).
     """
-    # optimise reads selection's criteria: its package loads on first use
-    from softcath.studies.optimise import Backend, Problem, evaluate_parameters
-
     objs = tuple(parse_objective(o) for o in selection.objectives)
     cons = tuple(parse_constraint(c) for c in selection.constraints)
     problem = Problem(
@@ -116,7 +116,7 @@ def recheck_large_bends(
         constraints=cons,
         model="section-nonlinear",
         load=selection.load,
-        pressures_MPa=tuple(sorted(set(pressures))),
+        pressures=tuple(sorted(set(pressures))),
     )
     swept = {p for r in selection.ranked for p in r["parameters"]}
     params = [

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from softcath.studies.selection.expressions import SelectionError
+from softcath.studies.criteria.expressions import SelectionError
 from softcath.studies.sweep.results import MODEL_COLUMNS, has_model, model_columns
 from softcath.studies.tiers import ALIASES, TIERS, tier_name
 

@@ -9,9 +9,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softcath.studies.criteria import check_columns, parse_constraint, parse_objective, rows_at
+from softcath.studies.criteria.expressions import SelectionError
 from softcath.studies.model_validity import self_contact_reasons
-from softcath.studies.selection.criteria import check_columns, parse_constraint, parse_objective, rows_at
-from softcath.studies.selection.expressions import SelectionError
 from softcath.studies.selection.models import resolve_model
 
 __all__ = ["MAX_POINTS", "Selection", "pareto_front", "select"]
@@ -168,7 +168,9 @@ def select(
     order = sorted(range(len(feasible)), key=lambda k: (not on_front[k], matrix[k, 0], feasible[k]))
     if not parameters:
         parameters = _default_parameters(df)
-    ranked = _ranked(sub, feasible, order[: top if top else None], on_front, objs, obj_vals, parameters)
+    ranked = _ranked(
+        sub, feasible, order[: top if top else None], on_front, objs, obj_vals, parameters=parameters
+    )
     keep = order[:MAX_POINTS]
     points = [
         [int(feasible[k]), int(on_front[k]), *(float(obj_vals[o.text][feasible[k]]) for o in objs)]
@@ -197,7 +199,9 @@ def _load_rows(df, load: str):
     return df[df["load"] == load].reset_index(drop=True)
 
 
-def _ranked(sub, feasible: list, order: list[int], on_front, objs, obj_vals: dict, parameters) -> list[dict]:
+def _ranked(
+    sub, feasible: list, order: list[int], on_front, objs, obj_vals: dict, *, parameters
+) -> list[dict]:
     """The ranked designs (in ``order``): rank, id, Pareto membership, objective and parameter values."""
     first = sub.drop_duplicates("design_id").set_index("design_id")
     ranked = []

@@ -21,9 +21,14 @@ from typing import Any
 
 import numpy as np
 
+from softcath.core.deprecation import renamed_keyword
 from softcath.design.errors import DesignError
+from softcath.models import tiers
+from softcath.models.options import check_tier_options
+from softcath.studies.criteria import parse_constraint, parse_objective
+from softcath.studies.optimise import MODELS, Backend, Problem, evaluate_parameters, make_robustness
+from softcath.studies.optimise.evaluate import check_work
 from softcath.studies.predict.ranges import chosen_ranges
-from softcath.studies.selection.criteria import parse_constraint, parse_objective
 from softcath.studies.selection.ranking import Selection, pareto_front
 
 __all__ = ["sweep_ranges", "robust_select"]
@@ -40,6 +45,7 @@ def sweep_ranges(
     return ranges
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 def robust_select(
     selection: Selection,
     *,
@@ -53,23 +59,24 @@ def robust_select(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = False,
+    options: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> Selection:
     """``selection`` with its ranked designs re-evaluated robustly (see the module docstring).
 
     Ranges on a parameter the sweep varied are left out (each design fixes
     that value); the result's ``robust`` records P, the samples, the ranges,
-    the model and every design's probabilities and percentiles.
+    the model and every design's probabilities and percentiles. ``options`` (tier name ->
+    options) go to the tiers the variants run on (``model`` and the paper's formula; those of
+    other tiers are not used) and are recorded as ``model_options``.
     """
-    # optimise reads selection's criteria: its package loads on first use
-    from softcath.studies.optimise import MODELS, Problem, make_robustness
 
     # the selection's tier if a search can run it (not the 3-D FEM, not a plain table), else the section model
     model = model or (selection.model if selection.model in MODELS else "section")
+    run = {model, *(t.name for t in tiers() if t.closed_form)}  # the formula runs beside every tier
     swept = {p for r in selection.ranked for p in r["parameters"]}
     use = [r for r in ranges if r.path not in swept]
     left_out = [r.path for r in ranges if r.path in swept]
     rob = make_robustness(probability, use, samples=samples, seed=seed)
-    from softcath.studies.optimise.evaluate import check_work  # loaded on first use (see above)
 
     # every ranked design's whole sample, estimated before any run
     check_work(model, dict(base_table), len(selection.ranked) * samples, param="samples", value=samples)
@@ -82,7 +89,10 @@ def robust_select(
         constraints=cons,
         model=model,
         load=selection.load,
-        pressures_MPa=tuple(sorted(set(pressures))),
+        pressures=tuple(sorted(set(pressures))),
+        options=check_tier_options(
+            {t: o for t, o in (options or {}).items() if t in run}, parameter="options"
+        ),
     )
     designs = [
         {k: v for k, v in r["parameters"].items() if k in swept and k != "outer_diameter_mm"}
@@ -98,6 +108,7 @@ def robust_select(
     robust = {
         **rob.to_json(),
         "model": model,
+        **({"model_options": dict(problem.options)} if problem.options else {}),
         "left_out": left_out,
         "n_evaluated": len(designs),
         "n_passing": len(passing),
@@ -114,9 +125,6 @@ def robust_select(
 def _robust_scores(problem, designs: list[dict], rob, workers, scheduler, progress: bool) -> list:
     """Each design's robust score: its whole sample evaluated in one batch (the bar moves per design)."""
     from tqdm import tqdm
-
-    # optimise reads selection's criteria: its package loads on first use
-    from softcath.studies.optimise import Backend, evaluate_parameters
 
     scores = []
     with (

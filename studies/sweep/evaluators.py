@@ -96,7 +96,8 @@ def evaluate_task(task: dict) -> pd.DataFrame:
         ``task_id``, ``design_ids``, ``variants`` (dotted path → value per design),
         ``param_paths``, ``base_table``, ``pressures_MPa``, ``loads``, ``evaluators``,
         ``mesh_size`` (the 3-D FEM's), ``max_strain`` and ``section`` (the ``[sweep.section]``
-        options; each tier takes those it has, :meth:`~softcath.models.Tier.own_options`).
+        options; each tier takes those it has, :meth:`~softcath.models.Tier.own_options`) and
+        ``options`` (tier name -> its options, over the ``section`` table's).
     """
     import pandas as pd
 
@@ -123,7 +124,16 @@ def evaluate_task(task: dict) -> pd.DataFrame:
     cpu_seconds = (time.process_time() - c0) / max(n_d, 1)  # this worker's CPU per design, FEM included
     failures = [reasons[i] or tier_reason[i] for i in range(n_d)]
     per_load = [
-        _load_columns(task, load, designs, pressures, blocks, failures, analytic_seconds, cpu_seconds)
+        _load_columns(
+            task,
+            load,
+            designs,
+            pressures,
+            blocks,
+            failures,
+            analytic_seconds=analytic_seconds,
+            cpu_seconds=cpu_seconds,
+        )
         for load in loads
     ]
     # Derived columns (degrees, differences, feasibility) are added once, on the merged table.
@@ -175,9 +185,9 @@ _TASK_OPTIONS = {"fem": lambda task: {"mesh_size": task.get("mesh_size")}}  # th
 
 
 def _tier_options(tier, task: dict) -> dict:
-    """The task's options ``tier`` takes (:meth:`~softcath.models.Tier.own_options`)."""
+    """The task's options ``tier`` takes (:meth:`~softcath.models.Tier.own_options`), its own over them."""
     shared = _TASK_OPTIONS.get(tier.name, lambda t: t.get("section") or {})(task)
-    return tier.own_options(shared)
+    return {**tier.own_options(shared), **models.options_of(task.get("options"), tier)}
 
 
 def _tier_blocks(
@@ -246,6 +256,7 @@ def _load_columns(
     pressures: np.ndarray,
     blocks: list[dict],
     failures: list[str],
+    *,
     analytic_seconds: float,
     cpu_seconds: float,
 ) -> dict[str, Any]:

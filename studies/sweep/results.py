@@ -42,8 +42,9 @@ import numpy as np
 
 from softcath.core.atomic import write_json
 from softcath.design.errors import DataError, DesignError
+from softcath.models.section_eval import SECTION_KEYS
+from softcath.models.section_nonlinear_eval import SECTION_NONLINEAR_KEYS
 from softcath.studies.model_validity import SELF_CONTACT_DEG
-from softcath.studies.sweep.section_eval import SECTION_KEYS
 
 __all__ = [
     "add_derived_columns",
@@ -193,16 +194,7 @@ TIER_COLUMNS: dict[str, dict[str, str]] = {
         "section_formula_ratio": "extras.section_formula_ratio",
         "section_seconds": "seconds",
     },
-    "section-nonlinear": {
-        "curvature_section_nonlinear_per_mm": "curvature_per_mm",
-        "elongation_section_nonlinear": "elongation",
-        "bend_angle_section_nonlinear_rad": "bend_angle_rad",
-        "tip_x_section_nonlinear_mm": "tip_x_mm",
-        "tip_y_section_nonlinear_mm": "tip_y_mm",
-        "max_strain_section_nonlinear": "max_strain",
-        "lumen_volume_change_section_nonlinear_mm3": "lumen_volume_change_mm3",
-        "section_nonlinear_seconds": "seconds",
-    },
+    "section-nonlinear": {**SECTION_NONLINEAR_KEYS, "section_nonlinear_seconds": "seconds"},
 }
 
 #: Model -> its columns for the best-estimate quantities (see :func:`model_columns`).

@@ -102,6 +102,7 @@ def build_tasks(spec: SweepSpec, variants: list[dict]) -> list[dict]:
                 "mesh_size": spec.mesh_size,
                 "max_strain": spec.max_strain,
                 "section": spec.section_options,
+                "options": spec.options,
             }
         )
     return tasks

@@ -23,6 +23,9 @@ Layout::
     coil_bending = "annulus"       # or "wahl" (+ the coils' helical-spring bending stiffness)
     mesher = "template"            # or "gmsh" (a fresh mesh per design; template is within 0.2 %)
 
+    [sweep.options.section]        # any tier's options (softcath.models.Tier.options), by tier
+    poisson_cap = 0.49             # (the tier must be one of the sweep's evaluators)
+
     [sweep.feasibility]
     max_strain = 0.3               # silicone strain limit [-]
 
@@ -41,7 +44,6 @@ is combined with the whole sample.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import json
 import logging
@@ -51,12 +53,14 @@ from pathlib import Path
 from typing import Any
 
 from softcath import design
+from softcath.core.deprecation import renamed_keyword
 from softcath.core.errors import DesignError
 from softcath.core.limits import check_pressure
 from softcath.design import presets
 from softcath.design.load_cases import LOADS
 from softcath.fem.section_model.api import COIL_BENDING
 from softcath.fem.section_model.mesh import MESHERS
+from softcath.models.options import check_tier_options
 from softcath.studies.sweep.parameters import (
     Parameter,
     _design_count,
@@ -83,8 +87,12 @@ SECTION_CHUNK = 500
 #: not cut below :data:`SECTION_MIN_CHUNK` designs for it.
 SECTION_TASKS = 16
 SECTION_MIN_CHUNK = 25
-#: Designs per task at most with the finite-strain section model (~1 s a design and load).
-SECTION_NONLINEAR_CHUNK = 8
+#: Designs per task at most with the finite-strain section model (~75 ms of CPU a design on its
+#: template path: ~10 s a task). Measured through the sweep: 74.4 ms of worker CPU a design with
+#: tasks of 8, 71.0 with tasks of 125 (fewer task hand-overs, templates shared by more designs).
+SECTION_NONLINEAR_CHUNK = 125
+#: Designs per finite-strain task at least, when a small sweep is cut into :data:`SECTION_TASKS`.
+SECTION_NONLINEAR_MIN_CHUNK = 8
 _SWEEP_KEYS = {
     "name",
     "base",
@@ -96,10 +104,12 @@ _SWEEP_KEYS = {
     "fem",
     "feasibility",
     "section",
+    "options",
 }
 _TOP_KEYS = {"sweep", "parameters", "sample"}
 
 
+@renamed_keyword(old="pressures_MPa", new="pressures")
 @dataclass(frozen=True)
 class SweepSpec:
     """A parsed, checked sweep specification (see module docstring).
@@ -115,8 +125,8 @@ class SweepSpec:
     parameters
         The swept parameters, in file order.
     pressures
-        Pressures at which every design is evaluated [MPa], ascending (the keyword
-        ``pressures_MPa`` still reads, with a deprecation message in the log).
+        Pressures at which every design is evaluated [MPa], ascending (the spec file's key
+        ``pressures_MPa``; that spelling of the keyword and attribute is deprecated).
     loads
         Load cases (``"cap"``, ``"lumen"``).
     evaluators
@@ -135,6 +145,9 @@ class SweepSpec:
         Silicone strain limit for the feasibility flag [-].
     section_mesh_size, section_coil_bending, section_mesher
         Section-model options (``[sweep.section]``; ``None`` = the model's default).
+    options
+        Tier name -> its options (``[sweep.options.<tier>]``, any of the tier's
+        :attr:`~softcath.models.Tier.options`; only the tiers given).
     """
 
     name: str
@@ -152,12 +165,8 @@ class SweepSpec:
     section_mesh_size: float | None = None
     section_coil_bending: str | None = None
     section_mesher: str | None = None
+    options: dict = field(default_factory=dict)
     source: str = field(default="<string>", compare=False)
-
-    @property
-    def pressures_MPa(self) -> tuple[float, ...]:
-        """:attr:`pressures` under the spelling of the spec file's key and the results' JSON."""
-        return self.pressures
 
     @property
     def uses_fem(self) -> bool:
@@ -199,6 +208,8 @@ class SweepSpec:
         }
         if self.uses_section:  # only then: sweeps written before the section evaluator keep their hash
             payload["section"] = self.section_options
+        if self.options:  # only then: sweeps without tier options keep their hash
+            payload["options"] = self.options
         text = json.dumps(payload, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -214,15 +225,16 @@ class SweepSpec:
         (but not below :data:`SECTION_MIN_CHUNK`)."""
         if self.uses_fem:
             return 1
+        tasks = -(-self.n_designs // SECTION_TASKS)
         if any(not TIERS[e].linear for e in self.evaluators):  # the finite-strain section model
-            return min(self.chunk_size, SECTION_NONLINEAR_CHUNK)
+            return min(self.chunk_size, SECTION_NONLINEAR_CHUNK, max(SECTION_NONLINEAR_MIN_CHUNK, tasks))
         if not self.uses_section:
             return self.chunk_size
-        balanced = max(SECTION_MIN_CHUNK, -(-self.n_designs // SECTION_TASKS))
+        balanced = max(SECTION_MIN_CHUNK, tasks)
         return min(self.chunk_size, SECTION_CHUNK, balanced)
 
     def to_json(self) -> dict:
-        return {
+        doc = {
             "name": self.name,
             "base": self.base,
             "parameters": [
@@ -240,6 +252,9 @@ class SweepSpec:
             "section": self.section_options,
             "fingerprint": self.fingerprint(),
         }
+        if self.options:
+            doc["options"] = self.options
+        return doc
 
 
 def _base_table(base: str, spec_dir: Path) -> dict:
@@ -264,21 +279,6 @@ def _base_table(base: str, spec_dir: Path) -> dict:
     return table
 
 
-_dataclass_init = SweepSpec.__init__
-
-
-@functools.wraps(_dataclass_init)
-def _init(self, *args, pressures_MPa=None, **kwargs) -> None:
-    # The keyword's older spelling: read as before, with a deprecation message in the log.
-    if pressures_MPa is not None:
-        log.warning("SweepSpec keyword 'pressures_MPa' is deprecated: use 'pressures' (the same values)")
-        kwargs.setdefault("pressures", pressures_MPa)
-    _dataclass_init(self, *args, **kwargs)
-
-
-SweepSpec.__init__ = _init
-
-
 def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string>") -> SweepSpec:
     """Check a sweep specification's tables and build a :class:`SweepSpec`."""
     sweep = _sweep_table(data)
@@ -291,6 +291,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
     seed, chunk = _seed_and_chunk(sweep)
     mesh_size = _fem_mesh_size(sweep)
     section_mesh, coil_bending, mesher = _section_table(sweep.get("section", {}))
+    options = check_tier_options(sweep.get("options"), parameter="sweep.options", tiers=evals)
     max_strain = _max_strain(sweep)
     params = _parameters(data, base_table)
     n_samples = _n_samples(data, params)
@@ -311,6 +312,7 @@ def parse_spec(data: dict, *, spec_dir: str | Path = ".", source: str = "<string
         section_mesh_size=section_mesh,
         section_coil_bending=coil_bending,
         section_mesher=mesher,
+        options=options,
         source=source,
     )
 

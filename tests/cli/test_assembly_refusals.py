@@ -67,7 +67,10 @@ def sliding(tmp_path):
 def test_the_paper_formula_refuses_a_sliding_design_in_every_command(cli, tmp_path, sliding, argv):
     out = tmp_path / "o"
     line = cli(*[sliding if a == "{d}" else a for a in argv], "--out", out).error_line()
-    assert "{'tube_coil': 'sliding'}: is modelled by the section model and the 3-D FEM only" in line
+    assert (
+        "{'tube_coil': 'sliding'}: is modelled by the section model, the finite-strain section model "
+        "and the 3-D FEM only" in line
+    )
     assert not out.exists()
 
 

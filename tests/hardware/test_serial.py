@@ -98,6 +98,12 @@ def test_unplugged_device_keeps_received_rows_and_says_so():
         dev.emit(float(k))
     dev.emit_partial(99.0)
     got = _collect(sensor, 25)
+    # the cut-off half line must have reached the reader before the device vanishes: bytes still in
+    # the pseudo-terminal when its device side closes are never received (the kernel drops them)
+    deadline = time.monotonic() + 5.0
+    while sensor.pending_bytes == 0 and time.monotonic() < deadline:
+        got += sensor.poll()
+    assert sensor.pending_bytes > 0
     dev.unplug()
     with pytest.raises(DeviceError, match="encoder on /dev/pts/.* disconnected"):
         for _ in range(100):

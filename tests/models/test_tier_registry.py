@@ -123,7 +123,9 @@ def test_the_as_built_capability_refuses_a_sliding_tip_on_a_bonded_tier():
     sliding = {"tube_coil": "sliding"}
     models.get("section").check_assembly(sliding)  # modelled
     with pytest.raises(
-        DesignError, match=r"assembly = .*is modelled by the section model and the 3-D FEM only"
+        DesignError,
+        match=r"assembly = .*is modelled by the section model, the finite-strain section model "
+        r"and the 3-D FEM only",
     ):
         models.get("paper").check_assembly(sliding)
     with pytest.raises(DesignError, match=r"assembly\.tube_coil = 'sliding'.*bonded interfaces only"):

@@ -61,7 +61,7 @@ def test_paper_batch_equals_each_design_alone():
 
 def test_section_response_is_the_sweep_batch_and_the_section_model():
     from softcath.fem.section_model import section_model
-    from softcath.studies.sweep.section_eval import section_blocks_many
+    from softcath.models.section_eval import section_blocks_many
 
     r = models.response(PAPER, P, tier="section", load="lumen")
     cols, errors = section_blocks_many([PAPER], P, ("lumen",))

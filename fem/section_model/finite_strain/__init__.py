@@ -13,6 +13,7 @@ laws of the 3-D FEM.
 Modules: ``discretisation`` (element pair, quadrature data, projection),
 ``lumen`` (the lumen's volume per unit length, the pressure's potential),
 ``residual`` (internal forces and tangent), ``newton`` (load stepping),
+``prestretch`` (the tube pre-stretched as built and its rest state),
 ``curve`` (:func:`section_curve`, the public entry point).
 """
 

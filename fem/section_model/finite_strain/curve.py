@@ -22,6 +22,12 @@ clamp's zone nearly cancels the cap's. :mod:`softcath.fem.section_model.end_zone
 reduces that to a closed form fitted on converged 3-D solves (within 0.7 % of
 the 3-D end rotation on its own bend rate); ``bend_angle`` and the tip pose are
 the tip's, the curvature is mid-span's (the 3-D FEM's ``curvature_mid_per_mm``).
+
+The tip as built. A design whose ``assembly`` is not the bonded default is solved on
+this reference path (:mod:`.as_built`: the filler's regions as built, the mesh split at
+sliding interfaces with the normal tied, one stretch per axial group); its elongation
+is the outer coil's group's, and the curve reports the largest in-plane interface slip
+per element size at every pressure (the small-sliding limit of the normal tie).
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -39,7 +45,8 @@ from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
 from softcath.fem.adapter import coil_law, geometry_from_design
 from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
-from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
+from softcath.fem.hyperelastic.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
+from softcath.fem.section_model.finite_strain.as_built import AsBuiltProblem, as_built_problem, split_section
 from softcath.fem.section_model.finite_strain.discretisation import discretise
 from softcath.fem.section_model.finite_strain.fast import Unsupported
 from softcath.fem.section_model.finite_strain.fast_curve import template_curve
@@ -47,12 +54,17 @@ from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_w
 from softcath.fem.section_model.finite_strain.newton import (
     LOADS,
     Loading,
-    Problem,
     SectionConvergenceError,
+    SectionProblem,
     factorise,
     load_vector,
     residual_tangent,
     walk,
+)
+from softcath.fem.section_model.finite_strain.prestretch import (
+    check_prestretch,
+    prestretched_laws,
+    rest_state,
 )
 from softcath.fem.section_model.finite_strain.result import CSV_COLUMNS, SectionCurve
 from softcath.fem.section_model.finite_strain.rows import (
@@ -68,6 +80,10 @@ from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_sectio
 __all__ = ["CSV_COLUMNS", "SectionCurve", "section_curve", "section_laws", "PRESSURE_MAX"]
 
 log = logging.getLogger(__name__)
+
+#: Interface slip [element sizes] past which a curve of the tip as built is logged as beyond the
+#: small-sliding limit: half an element, where a tied node pair faces the neighbouring edge.
+SLIP_LIMIT = 0.5
 
 #: Largest pressure [MPa] the model accepts: the package's one bound (far past any tube's burst).
 PRESSURE_MAX = MAX_PRESSURE_MPA
@@ -140,6 +156,7 @@ def section_curve(
     linear_gain: bool = True,
     progress: bool = False,
     on_pressure: Callable[[int, int], None] | None = None,
+    tube_prestretch: float = 1.0,
 ) -> SectionCurve:
     """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
 
@@ -171,6 +188,13 @@ def section_curve(
         Called as ``on_pressure(done, total)`` after each converged positive pressure
         (a caller's progress display). An exception it raises stops the walk and
         propagates: the way a caller cancels a curve it no longer needs.
+    tube_prestretch
+        Axial stretch lambda_pre in [1, 4] of the as-built tube from its stress-free
+        (catalogue) state (module ``prestretch``); 1, the default, is the tube built stress-free.
+        Above 1 the walk starts from the pre-stretched rest state at 0 MPa (reported as
+        ``rest_curvature_per_mm`` and ``rest_elongation``); curvature and elongation stay absolute
+        (measured from the straight as-built section), and the curve is solved on the reference
+        path (the compiled template path has no pre-stretch).
 
     Raises
     ------
@@ -186,8 +210,23 @@ def section_curve(
     [23, 56]
     """
     d, p = _check_inputs(design, pressures, load)
+    stretch = check_prestretch(tube_prestretch)
     t0 = time.perf_counter()
-    if mesher == "template":
+    if stretch != 1.0 and not d.assembly.is_default:
+        raise DesignError(
+            "tube_prestretch",
+            stretch,
+            "takes the bonded tip only (1 for a tip built with an [assembly] of interfaces or fillers)",
+        )
+    if mesher == "template" and stretch != 1.0:
+        log.info("finite-strain section: tube pre-stretch %.4g; solved on the reference path", stretch)
+    elif mesher == "template" and not d.assembly.is_default:
+        log.info(
+            "finite-strain section: %s is built as %s; solved on the reference path",
+            d.name,
+            d.assembly.to_dict(),
+        )
+    elif mesher == "template":
         law_map = (
             dict(laws)
             if laws is not None
@@ -225,9 +264,10 @@ def section_curve(
         silicone_poisson=silicone_poisson,
         hoop_cap=hoop_cap,
         linear_gain=linear_gain,
+        stretch=stretch,
     )
     states, error = _walk(setup, progress, on_pressure)
-    return _finish(_curve(d, load, p, setup, states, hoop_cap, t0), error)
+    return _finish(_curve(d, load, p, setup, states, hoop_cap, t0=t0), error)
 
 
 def _finish(curve: SectionCurve, error) -> SectionCurve:
@@ -251,13 +291,6 @@ def _check_inputs(design, pressures, load):
         raise DesignError("load", load, f"must be one of {LOADS}")
     p = _check_pressures(pressures)
     d = design_pkg.resolve(design)
-    if not d.assembly.is_default:
-        raise DesignError(
-            "assembly",
-            d.assembly.to_dict(),
-            "the finite-strain section model takes the bonded tip only "
-            "(interfaces and fillers as built are in the linear section model and the 3-D FEM)",
-        )
     return d, p
 
 
@@ -276,10 +309,11 @@ class _Setup:
     loading: Any
     rest: Any
     gain: float | None
+    rest_state: Any = None  # the pre-stretched tip's equilibrium at 0 MPa (None: the reference section)
 
 
 def _set_up(
-    d, p, load, *, mesh_size, segments, mesher, laws, silicone_poisson, hoop_cap, linear_gain
+    d, p, load, *, mesh_size, segments, mesher, laws, silicone_poisson, hoop_cap, linear_gain, stretch=1.0
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
 
@@ -293,15 +327,27 @@ def _set_up(
         if laws is not None
         else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
     )
-    disc = discretise(section, law_map)
-    wall = lumen_wall(section, disc)
-    problem = Problem(disc, wall, disc.pinned, tuple(k for k in (TUBE, FILLER) if k in law_map))
+    silicone = tuple(k for k in (TUBE, FILLER) if k in law_map)
+    if d.assembly.is_default:
+        disc = discretise(section, law_map)
+        wall = lumen_wall(section, disc)
+        problem = SectionProblem(disc, wall, disc.pinned, silicone)
+    else:  # the tip as built: the split mesh, its ties and axial groups
+        split, tie, plan = split_section(section, d.assembly)
+        section = split.mesh
+        disc = discretise(section, law_map)
+        wall = lumen_wall(section, disc)
+        problem = as_built_problem(split, tie, plan, disc, wall, silicone=silicone)
     positive = p[p > 0]
     p_top = float(positive[-1]) if positive.size else 1.0
     loading = Loading(pressure=p_top, load=load)
-    q_rest = np.zeros(disc.ndofs)
-    q_rest[disc.n_u] = 1.0
-    rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
+    q_rest = problem.initial_state()
+    rest = lumen_volume(wall, np.zeros(disc.n_u), np.array([1.0, 0.0, 0.0]))
+    at_rest = None
+    if stretch != 1.0:  # the bonded tip only (section_curve)
+        problem, at_rest = rest_state(problem, stretch)
+        disc, law_map, q_rest = problem.disc, prestretched_laws(law_map, stretch), at_rest.q
+        rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
     gain = _linear_gain(problem, q_rest, loading) / p_top if linear_gain else None
     return _Setup(
         section=section,
@@ -315,6 +361,7 @@ def _set_up(
         loading=loading,
         rest=rest,
         gain=gain,
+        rest_state=at_rest,
     )
 
 
@@ -324,7 +371,10 @@ def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None]
     on_state, close = progress_callback(int(setup.positive.size), progress, on_pressure)
     error = None
     try:
-        states = walk(setup.problem, setup.loading, setup.positive / setup.p_top, on_state=on_state)
+        start = None if setup.rest_state is None else setup.rest_state.q
+        states = walk(
+            setup.problem, setup.loading, setup.positive / setup.p_top, on_state=on_state, start=start
+        )
     except SectionConvergenceError as exc:
         error = exc
         states = list(exc.states)
@@ -333,12 +383,28 @@ def _walk(setup: _Setup, progress: bool, on_pressure: Callable[[int, int], None]
     return states, error
 
 
-def _curve(d, load, p, setup: _Setup, states, hoop_cap, t0) -> SectionCurve:
+def _curve(d, load, p, setup: _Setup, states, hoop_cap, *, t0) -> SectionCurve:
     """The :class:`SectionCurve` of the rest rows and the converged states."""
 
     disc, wall, rest = setup.disc, setup.wall, setup.rest
     n_zero = p.size - setup.positive.size
-    rows = [rest_row(rest.area, rest.volume)] * n_zero
+    rest_at = rest_row(rest.area, rest.volume)
+    if setup.rest_state is not None:
+        u0 = setup.rest_state.q[: disc.n_u]
+        rest_at = state_row(setup.rest_state, _centroid(disc, u0), rest.volume, rest.area, disc.n_u)
+    rows = [rest_at] * n_zero
+    slip = None
+    if isinstance(setup.problem, AsBuiltProblem):
+        slip = np.array([0.0] * n_zero + [setup.problem.slip_ratio(s.q) for s in states])
+        if slip.size and slip.max() > SLIP_LIMIT:
+            log.warning(
+                "finite-strain section: interface slip of %.2g elements at %.3g MPa, past the "
+                "small-sliding limit (%.2g) of the normal tie in the reference configuration",
+                slip.max(),
+                p[int(np.argmax(slip))],
+                SLIP_LIMIT,
+            )
+        states = [setup.problem.section_state(s) for s in states]
     for s in states:
         u, g = s.q[: disc.n_u], s.q[disc.n_u :]
         lv = lumen_volume(wall, u, g)
@@ -354,8 +420,12 @@ def _curve(d, load, p, setup: _Setup, states, hoop_cap, t0) -> SectionCurve:
         hoop_cap=hoop_cap,
         t0=t0,
         mesh_seconds=float(setup.section.seconds),
+        tube_prestretch=float(setup.law_map[TUBE].stretch) if setup.rest_state is not None else 1.0,
+        rest_curvature=float(rest_at["curvature"]),
+        rest_elongation=float(rest_at["elongation"]),
     )
-    return curve_from_rows(d, load, p, rows, facts, (disc, states))
+    curve = curve_from_rows(d, load, p, rows, facts, (disc, states))
+    return curve if slip is None else replace(curve, interface_slip_per_element=slip)
 
 
 def _centroid(disc, u) -> np.ndarray:
@@ -368,9 +438,8 @@ def _centroid(disc, u) -> np.ndarray:
 def _linear_gain(problem, q_rest, loading) -> float:
     """dk_2/dfactor at rest (= dkappa/dfactor there): one solve with the rest-state tangent."""
 
-    disc = problem.disc
     _, k, _, _ = residual_tangent(problem, q_rest, loading, 0.0)
     free = problem.free
-    rate = np.zeros(disc.ndofs)
+    rate = np.zeros(q_rest.size)
     rate[free] = factorise(problem, k).solve(load_vector(problem, q_rest, loading)[free])
-    return float(rate[disc.n_u + 2])
+    return float(rate[-1])  # k_2: the last unknown of either problem

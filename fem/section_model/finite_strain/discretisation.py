@@ -59,7 +59,7 @@ class Discretisation:
     cells
         Region label -> its element indices.
     laws
-        Region label -> finite-strain law (``softcath.fem.nonlinear.laws``).
+        Region label -> finite-strain law (``softcath.fem.hyperelastic.laws``).
     projector
         P1 functions (1, X - Xc, Y - Yc) per element (nel, nq, 3) and their inverse
         mass matrices (nel, 3, 3), for the projected volumetric energy.

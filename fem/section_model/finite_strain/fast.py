@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from softcath.fem.nonlinear.laws import AnisotropicSVK, Yeoh
+from softcath.fem.hyperelastic.laws import AnisotropicSVK, Yeoh
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, _axial_modulus
 from softcath.fem.section_model.template_kernel import _kernel
 

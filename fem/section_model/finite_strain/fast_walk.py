@@ -25,7 +25,7 @@ from softcath.fem.pardiso import PardisoError
 from softcath.fem.section_model.finite_strain.fast import FastProblem
 from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, State
 
-__all__ = ["Assembly", "assemble", "walk", "linear_rate"]
+__all__ = ["StateAssembly", "assemble", "walk", "linear_rate"]
 
 log = logging.getLogger(__name__)
 
@@ -39,7 +39,7 @@ PREDICTOR = "euler"
 
 
 @dataclass
-class Assembly:
+class StateAssembly:
     """Residual (and, with ``tangent``, the condensed tangent) of one state, and per-triangle data."""
 
     tangent: bool
@@ -65,10 +65,10 @@ class Assembly:
 
 def assemble(
     prob: FastProblem, q: np.ndarray, pressure: float, load: str, given, stale=None
-) -> Assembly | None:
+) -> StateAssembly | None:
     """Residual and tangent at ``q`` under ``pressure`` [MPa] (None for an inverted state).
 
-    ``stale``: an earlier :class:`Assembly` with a tangent; then the residual alone is
+    ``stale``: an earlier :class:`StateAssembly` with a tangent; then the residual alone is
     assembled, condensed with that tangent's bubble maps (a modified Newton step).
     """
     # numba: heavy, loaded on first use
@@ -140,7 +140,7 @@ def assemble(
         rowsum = float(np.max(np.asarray(a_rows).ravel() + np.abs(k_ug[free]).sum(axis=1)))
     else:
         rowsum = stale.rowsum
-    return Assembly(
+    return StateAssembly(
         tangent=tangent,
         norm=norm,
         ext=float(np.sqrt(ext)),
@@ -167,7 +167,7 @@ class _Factor:
     """The condensed tangent of one assembly, factorised: retained block and the globals' Schur
     complement. ``b_u`` (optional) is solved with the globals' columns in the same pass."""
 
-    def __init__(self, prob: FastProblem, a: Assembly, b_u: np.ndarray | None = None) -> None:
+    def __init__(self, prob: FastProblem, a: StateAssembly, b_u: np.ndarray | None = None) -> None:
         self.tpl = prob.tpl
         self.a = a
         rhs = a.k_ug if b_u is None else np.column_stack([a.k_ug, b_u])
@@ -219,7 +219,7 @@ def _full_step(prob: FastProblem, xb: np.ndarray, xbr, du: np.ndarray, dg: np.nd
     return step
 
 
-def _pressures_after(prob: FastProblem, a: Assembly, step: np.ndarray) -> np.ndarray:
+def _pressures_after(prob: FastProblem, a: StateAssembly, step: np.ndarray) -> np.ndarray:
     """Projected pressures linearised along ``step`` from ``a``'s state (``newton.pressures_after``)."""
     return a.pe + np.einsum("eal,el->ea", a.mg, step[prob.tpl.local])
 
@@ -269,7 +269,7 @@ def _newton(prob, q0, p, load, given, lu, *, tol, max_iter):
     return fail
 
 
-def _rate(prob, lu: _Factor, a: Assembly, load: str, p_top: float) -> np.ndarray:
+def _rate(prob, lu: _Factor, a: StateAssembly, load: str, p_top: float) -> np.ndarray:
     """dq/dfactor at ``a``'s state with the factorised tangent ``lu`` (Euler predictor)."""
     f_u = p_top * a.load_u if load == "lumen" else np.zeros_like(a.load_u)
     du, dg = lu.solve(f_u, p_top * a.load_g)
@@ -304,7 +304,7 @@ def walk(
     min_step: float = 1e-4,
     on_state: Callable[[State], None] | None = None,
     rest: tuple | None = None,
-) -> tuple[list[State], list[Assembly]]:
+) -> tuple[list[State], list[StateAssembly]]:
     """Converged states at each load factor of the pressure ``p_top`` (``newton.walk``), with the
     assembly of each converged state (its lumen volume).
 
@@ -315,7 +315,7 @@ def walk(
     if f.ndim != 1 or f.size == 0 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
         raise DesignError("load factors", f.tolist(), "must be positive and strictly increasing")
     states: list[State] = []
-    converged: list[Assembly] = []
+    converged: list[StateAssembly] = []
     done, previous = 0.0, None
     tan, lu, rate = linear_rate(prob, load, p_top)[1] if rest is None else rest
     step = float(f[0])

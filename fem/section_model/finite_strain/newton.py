@@ -1,11 +1,18 @@
 """Newton's method with load stepping on the finite-strain section.
 
-A :class:`Problem` is one discretised section with its lumen wall and fixed
+A :class:`SectionProblem` is one discretised section with its lumen wall and fixed
 DOFs; :func:`walk` follows a load path through requested load factors: a
 secant predictor from the last two converged states, Newton on the full
 tangent (SuperLU), steps that grow after easy convergence and halve after a
 failure, and a :class:`SectionConvergenceError` naming the load reached when
 the step falls below its floor.
+
+Every problem answers the same four calls (``residual_tangent``, ``load_vector``,
+``factorise``, ``pressures_after``), which the module's functions of those names ask
+of it: the bonded section here, and the tip as built
+(:class:`~softcath.fem.section_model.finite_strain.as_built.AsBuiltProblem`: tied
+interfaces and one stretch per axial group), which reuses the bonded load blocks per
+group and returns the same quantities on its own unknowns.
 """
 
 from __future__ import annotations
@@ -27,7 +34,7 @@ from softcath.fem.section_model.finite_strain.sparse import factorise as _factor
 
 __all__ = [
     "Loading",
-    "Problem",
+    "SectionProblem",
     "State",
     "SectionConvergenceError",
     "walk",
@@ -71,7 +78,7 @@ class Loading:
 
 
 @dataclass(frozen=True)
-class Problem:
+class SectionProblem:
     """A discretised section, its lumen wall (or None) and its fixed DOFs."""
 
     disc: Discretisation
@@ -83,6 +90,30 @@ class Problem:
     def free(self) -> np.ndarray:
         """The unknowns solved for."""
         return np.setdiff1d(np.arange(self.disc.ndofs), self.fixed)
+
+    def initial_state(self) -> np.ndarray:
+        """The unloaded tip: no displacement, lambda = 1, no curvature."""
+        q = np.zeros(self.disc.ndofs)
+        q[self.disc.n_u] = 1.0
+        return q
+
+    # The problem protocol the walk calls (the tip as built, ``as_built.AsBuiltProblem``, has its own):
+    # ``load_blocks`` is the bonded section's load assembly, which an as-built problem reuses per group.
+    def residual_tangent(self, q, loading, factor, pressure, load_blocks):
+        """Global residual, free-free tangent, external-force norm and diagnostics at ``q``."""
+        return _bonded_residual_tangent(self, q, loading, factor, pressure)
+
+    def load_vector(self, q, loading, load_blocks) -> np.ndarray:
+        """External forces of the unit load factor at ``q``."""
+        return _bonded_load_vector(self, q, loading)
+
+    def factorise(self, k):
+        """Factorise a free-free tangent; the result has ``solve(b)``."""
+        return _bonded_factorise(self, k)
+
+    def pressures_after(self, tan, step: np.ndarray) -> dict:
+        """The projected pressures linearised along ``step`` from the state of ``tan``."""
+        return _bonded_pressures_after(self, tan, step)
 
     @cached_property
     def size(self) -> float:
@@ -116,7 +147,9 @@ class State:
     max_strain: float
 
 
-def residual_tangent(problem: Problem, q: np.ndarray, loading: Loading, factor: float, pressure=None):
+def _bonded_residual_tangent(
+    problem: SectionProblem, q: np.ndarray, loading: Loading, factor: float, pressure=None
+):
     """Global residual (all DOFs), free-free sparse tangent, external-force norm and diagnostics.
 
     ``pressure``: the mixed iteration's projected pressures (``residual.internal``).
@@ -138,7 +171,7 @@ def residual_tangent(problem: Problem, q: np.ndarray, loading: Loading, factor: 
     return r, k, ext, tan
 
 
-def load_vector(problem: Problem, q: np.ndarray, loading: Loading) -> np.ndarray:
+def _bonded_load_vector(problem: SectionProblem, q: np.ndarray, loading: Loading) -> np.ndarray:
     """External forces of the unit load factor at the state ``q`` (follower loads move with it).
 
     The load-path tangent is ``dq/dfactor = K^-1 load_vector`` (K the full tangent).
@@ -153,7 +186,7 @@ def load_vector(problem: Problem, q: np.ndarray, loading: Loading) -> np.ndarray
     return -r
 
 
-def _load_blocks(problem: Problem, u: np.ndarray, g: np.ndarray, loading: Loading, factor: float):
+def _load_blocks(problem: SectionProblem, u: np.ndarray, g: np.ndarray, loading: Loading, factor: float):
     """(residual, tangent) blocks of the loads at ``factor`` on ``problem.tables[1:]``, and their force
     norm."""
     r_g = np.zeros((1, N_GLOBAL))
@@ -190,19 +223,45 @@ def _load_blocks(problem: Problem, u: np.ndarray, g: np.ndarray, loading: Loadin
     return blocks, float(np.sqrt(ext))
 
 
-def factorise(problem: Problem, k):
+def _bonded_factorise(problem: SectionProblem, k):
     """Factorise a free-free tangent of ``problem``; the result has ``solve(b)``."""
     return _factorise(problem.pattern, k)
 
 
-def pressures_after(problem: Problem, tan, step: np.ndarray) -> dict:
+def _bonded_pressures_after(problem: SectionProblem, tan, step: np.ndarray) -> dict:
     """The projected pressures linearised along the global ``step`` from the state of ``tan``."""
     local = step[with_globals(problem.disc, problem.disc.dofs)]
     return {label: v.pressure_after(local[v.cells]) for label, v in tan.volumetric.items()}
 
 
+def residual_tangent(problem, q: np.ndarray, loading: Loading, factor: float, pressure=None):
+    """Global residual (all DOFs), free-free sparse tangent, external-force norm and diagnostics.
+
+    ``pressure``: the mixed iteration's projected pressures (``residual.internal``).
+    """
+    return problem.residual_tangent(q, loading, factor, pressure, _load_blocks)
+
+
+def load_vector(problem, q: np.ndarray, loading: Loading) -> np.ndarray:
+    """External forces of the unit load factor at the state ``q`` (follower loads move with it).
+
+    The load-path tangent is ``dq/dfactor = K^-1 load_vector`` (K the full tangent).
+    """
+    return problem.load_vector(q, loading, _load_blocks)
+
+
+def factorise(problem, k):
+    """Factorise a free-free tangent of ``problem``; the result has ``solve(b)``."""
+    return problem.factorise(k)
+
+
+def pressures_after(problem, tan, step: np.ndarray) -> dict:
+    """The projected pressures linearised along the global ``step`` from the state of ``tan``."""
+    return problem.pressures_after(tan, step)
+
+
 def newton(
-    problem: Problem,
+    problem: SectionProblem,
     q0: np.ndarray,
     loading: Loading,
     factor: float,
@@ -251,7 +310,7 @@ def newton(
 
 
 def walk(
-    problem: Problem,
+    problem: SectionProblem,
     loading: Loading,
     factors: Sequence[float],
     *,
@@ -259,11 +318,11 @@ def walk(
     max_iter: int = 25,
     min_step: float = 1e-4,
     on_state: Callable[[State], None] | None = None,
+    start: np.ndarray | None = None,
 ) -> list[State]:
-    """Converged states at each requested load factor (increasing, > 0)."""
-    disc = problem.disc
-    q = np.zeros(disc.ndofs)
-    q[disc.n_u] = 1.0  # lambda = 1: the unloaded tip
+    """Converged states at each requested load factor (increasing, > 0), from the unloaded
+    state ``start`` (default: the problem's initial state, the reference section)."""
+    q = problem.initial_state() if start is None else np.array(start, dtype=float)
     f = np.asarray(factors, float)
     if f.ndim != 1 or f.size == 0 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
         raise DesignError("load factors", f.tolist(), "must be positive and strictly increasing")

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcath.fem.nonlinear.tensors import cofactor, det
+from softcath.fem.hyperelastic.tensors import cofactor, det
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 
 __all__ = ["Tangent", "Volumetric", "internal", "with_globals", "FIVE"]
@@ -129,7 +129,9 @@ def internal(
         w = disc.weights[cells]
         if split:
             given = None if pressure is None else pressure.get(label)
-            p5, a5, k_vol, volumetric[label] = _volumetric(disc, cells, law, f, jac, b, w, p5, a5, given)
+            p5, a5, k_vol, volumetric[label] = _volumetric(
+                disc, cells, law, f, jac, b, w=w, p5=p5, a5=a5, given=given
+            )
             stiff[cells] += k_vol
         res[cells] += np.einsum("cq,cqa,cqal->cl", w, p5, b)
         bw = b * w[:, :, None, None]
@@ -155,7 +157,7 @@ def internal(
     return Tangent(res, stiff, float(min_j), max_strain, volumetric)
 
 
-def _volumetric(disc, cells, law, f, jac, b, w, p5, a5, given):
+def _volumetric(disc, cells, law, f, jac, b, *, w, p5, a5, given):
     """The volumetric energy kappa/2 (J - 1)^2 split as the linear section model splits it.
 
     lambda/2 (Pi J - 1)^2 is projected (lambda = kappa - 2 mu/3, the Lame modulus that

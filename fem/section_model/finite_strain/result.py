@@ -6,6 +6,8 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from softcath.core.response import TipResponse, tip_curvature
+
 __all__ = ["CSV_COLUMNS", "SectionCurve"]
 
 
@@ -28,7 +30,9 @@ CSV_COLUMNS = (
 
 @dataclass(frozen=True)
 class SectionCurve:
-    """Finite-strain response of a design at increasing pressures (arrays over pressure).
+    """The finite-strain section model's record of a design at increasing pressures (arrays over pressure).
+
+    :meth:`to_response` gives the tiers' one result type, :class:`~softcath.core.response.TipResponse`.
 
     Attributes
     ----------
@@ -57,6 +61,16 @@ class SectionCurve:
     linear_curvature_per_mm_per_MPa
         The small-load slope dkappa/dp (the linear section model's gain on the same laws), or
         None when not asked for (``linear_gain=False``).
+    tube_prestretch
+        The as-built tube's axial stretch from its stress-free state (1: none).
+    rest_curvature_per_mm, rest_elongation
+        Curvature and elongation of the centroid fibre at 0 MPa: zero unless the tube is
+        pre-stretched. ``curvature_per_mm`` and ``elongation`` include them (absolute, from the
+        straight as-built section).
+    interface_slip_per_element
+        The tip as built: largest in-plane tangential slip at a sliding interface divided by
+        the median interface edge length, per pressure (the normal tie is imposed in the
+        reference configuration, valid while this stays well below 1); None for the bonded tip.
     """
 
     design_name: str
@@ -84,7 +98,11 @@ class SectionCurve:
     hoop_cap: float | None
     seconds: float
     mesh_seconds: float
+    interface_slip_per_element: np.ndarray | None = None
     state: object = field(default=None, repr=False, compare=False)
+    tube_prestretch: float = 1.0
+    rest_curvature_per_mm: float = 0.0
+    rest_elongation: float = 0.0
 
     def rows(self) -> list[dict[str, float]]:
         """One dict per pressure with the :data:`CSV_COLUMNS` keys."""
@@ -113,6 +131,51 @@ class SectionCurve:
                 d[k] = v.tolist()
         d["nonlinear"] = True
         return d
+
+    def to_response(
+        self, *, tier: str = "section-nonlinear", warnings: tuple[str, ...] = (), parameters=None
+    ) -> TipResponse:
+        """This curve as a :class:`~softcath.core.response.TipResponse`: the ``section-nonlinear`` answer.
+
+        The tip-level curvature is the uniform arc's bend angle over the stretched bending length
+        (:func:`~softcath.core.response.tip_curvature`); the bend rate, lumen area, Newton
+        iterations and residual go to ``extras``.
+
+        Parameters
+        ----------
+        tier
+            The tier's name in the response.
+        warnings, parameters
+            The response's validity warnings and the parameters used (default: the design's
+            name and bending length, the mesh size).
+        """
+        used = {
+            "design": self.design_name,
+            "bending_length_mm": self.length_mm,
+            "mesh_size": self.mesh_size_mm,
+        }
+        return TipResponse(
+            tier=tier,
+            load=self.load,
+            pressures=self.pressure,
+            curvature_per_mm=self.curvature_per_mm,
+            tip_curvature_per_mm=tip_curvature(self.bend_angle_rad, self.elongation, self.length_mm),
+            elongation=self.elongation,
+            bend_angle_rad=self.bend_angle_rad,
+            tip_x_mm=self.tip_x_mm,
+            tip_y_mm=self.tip_y_mm,
+            lumen_volume_change_mm3=self.lumen_volume_change_mm3,
+            max_strain=self.max_strain,
+            warnings=tuple(warnings),
+            parameters=used if parameters is None else dict(parameters),
+            seconds=self.seconds,
+            extras={
+                "bend_rate_per_mm": self.bend_rate_per_mm,
+                "lumen_area_mm2": self.lumen_area_mm2,
+                "newton_iterations": self.newton_iterations,
+                "residual": self.residual,
+            },
+        )
 
     def pressure_for_angle(self, angle_rad: float) -> float:
         """Pressure [MPa] at which the uniform-arc bend reaches ``angle_rad`` (linear

@@ -35,6 +35,9 @@ class CurveFacts:
     hoop_cap: float | None
     t0: float
     mesh_seconds: float
+    tube_prestretch: float = 1.0
+    rest_curvature: float = 0.0
+    rest_elongation: float = 0.0
 
 
 def state_row(state, centroid: np.ndarray, volume: float, area: float, n_u: int) -> dict:
@@ -112,6 +115,9 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
         seconds=float(time.perf_counter() - facts.t0),
         mesh_seconds=float(facts.mesh_seconds),
         state=state,
+        tube_prestretch=float(facts.tube_prestretch),
+        rest_curvature_per_mm=float(facts.rest_curvature),
+        rest_elongation=float(facts.rest_elongation),
     )
 
 

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from softcath.fem.hyperelastic.laws import AnisotropicSVK, neo_hookean, transversely_isotropic
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError
-from softcath.fem.nonlinear.laws import AnisotropicSVK, neo_hookean, transversely_isotropic
 from softcath.fem.nonlinear.meshes import box, facets_where
 from softcath.fem.nonlinear.newton import solve
 

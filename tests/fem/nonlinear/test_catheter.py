@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from softcath import design
+from softcath.fem.hyperelastic.laws import Yeoh
 from softcath.fem.nonlinear import NonlinearSettings, run_check
 from softcath.fem.nonlinear.bend import bend_curve, departure_angle
 from softcath.fem.nonlinear.catheter import REGIONS, catheter_laws, mesh_catheter
 from softcath.fem.nonlinear.errors import NonlinearError
-from softcath.fem.nonlinear.laws import Yeoh
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from softcath.design.errors import DesignError
-from softcath.fem.nonlinear.laws import (
+from softcath.fem.hyperelastic.laws import (
     AnisotropicSVK,
     Yeoh,
     isotropic_from_young,

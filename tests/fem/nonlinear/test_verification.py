@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from softcath.fem.hyperelastic.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
-from softcath.fem.nonlinear.laws import AnisotropicSVK, isotropic_from_young, transversely_isotropic
 from softcath.fem.nonlinear.meshes import box, dofs_of_facets, facets_where
 from softcath.fem.nonlinear.newton import solve
 from softcath.fem.nonlinear.verification import closed_cylinder, closed_cylinder_exact, end_moment_cantilever

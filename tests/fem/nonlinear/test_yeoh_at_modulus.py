@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from softcath import design
-from softcath.fem.nonlinear.laws import isotropic_from_young, yeoh_at_modulus
+from softcath.fem.hyperelastic.laws import isotropic_from_young, yeoh_at_modulus
 from softcath.fem.section_model import section_model
 from softcath.fem.section_model.finite_strain import section_curve
 

@@ -117,14 +117,13 @@ def test_a_session_shows_the_newest_design_and_keeps_the_old_curve_until_then():
         session.close()
 
 
-def test_a_design_the_finite_strain_model_refuses_is_a_message_not_a_crash():
+def test_a_tip_as_built_gets_its_finite_strain_curve():
     session = Session("paper", p_max=0.5)
     try:
         session.edit("assembly.tube_coil", "sliding")
         _settle(session)
-        assert session.finite is None
-        assert "bonded tip only" in session.finite_message
-        assert [c.tier for c in session.curves] == ["paper", "section"]  # the linear tiers take it
+        assert session.finite is not None and session.finite_message == ""
+        assert [c.tier for c in session.curves] == ["paper", "section", "section-nonlinear"]
     finally:
         session.close()
 

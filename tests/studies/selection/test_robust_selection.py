@@ -42,7 +42,7 @@ def _robust(sweep, seed=0):
     return sel, robust_select(
         sel,
         base_table=spec.base_table,
-        pressures=spec.pressures_MPa,
+        pressures=spec.pressures,
         probability=0.9,
         ranges=RANGES,
         samples=24,
@@ -62,12 +62,12 @@ def test_probabilities_match_the_formula_evaluated_directly(sweep):
         bends = []
         for v in values:
             d = build_variant(spec.base_table, {**v, **params})
-            resp = analytic.response(d, np.array([max(spec.pressures_MPa)]), load="cap")
+            resp = analytic.response(d, np.array([max(spec.pressures)]), load="cap")
             bends.append(math.degrees(float(np.asarray(resp.bend_angle)[0])))
         expected = float(np.mean(np.array(bends) >= 30))
         assert info["probabilities"][CONS] == pytest.approx(expected)
         assert info["percentiles"][OBJ]["p50"] == pytest.approx(
-            np.percentile(bends, 50) / max(spec.pressures_MPa)
+            np.percentile(bends, 50) / max(spec.pressures)
         )
         assert info["passes"] == (expected >= 0.9)
         some_fail |= not info["passes"]
@@ -129,7 +129,7 @@ def test_work_beyond_two_hours_or_absurd_samples_is_refused_before_any_run(sweep
     sel = select(read_results(out), constraints=[CONS], objectives=[OBJ], top=20)
     kw = {
         "base_table": spec.base_table,
-        "pressures": spec.pressures_MPa,
+        "pressures": spec.pressures,
         "probability": 0.9,
         "ranges": RANGES,
     }

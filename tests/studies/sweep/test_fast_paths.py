@@ -92,8 +92,8 @@ def test_section_blocks_equal_the_response_of_each_design(monkeypatch):
     from dataclasses import replace
 
     from softcath.fem.section_model import batch
+    from softcath.models.section_eval import SECTION_KEYS, section_blocks_many
     from softcath.studies.sweep.random_designs import random_designs
-    from softcath.studies.sweep.section_eval import SECTION_KEYS, section_blocks_many
 
     designs = random_designs(3, seed=4)
     # a valid design beyond the section model's Poisson ratio: a failure in the middle of the batch

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from softcath import design
-from softcath.studies.sweep.section_nonlinear_eval import section_nonlinear_columns
+from softcath.models.section_nonlinear_eval import section_nonlinear_columns
 
 
 def test_rest_only_pressures_give_the_rest_state():

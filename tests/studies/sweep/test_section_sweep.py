@@ -137,6 +137,24 @@ def test_section_tasks_keep_every_worker_busy_and_share_templates(n, chunk_size,
     assert spec.effective_chunk_size == expected  # 2n designs: 16 tasks at least, 25 to 500 designs each
 
 
+@pytest.mark.parametrize(
+    ("n", "chunk_size", "expected"),
+    [(50, 500, 8), (400, 500, 25), (10**5, 500, 125), (10**5, 40, 40)],
+)
+def test_finite_strain_tasks_balance_small_sweeps_and_stay_short(n, chunk_size, expected):
+    import tomllib
+
+    spec = parse_spec(
+        tomllib.loads(
+            f'[sweep]\nbase = "paper"\npressures_MPa = [0.3]\nevaluators = ["paper", "section-nonlinear"]\n'
+            f"chunk_size = {chunk_size}\n[sample]\nn = {n}\n"
+            '[parameters]\n"tube.h" = { lhs = [-0.02, 0.02] }\n'
+        )
+    )
+    assert spec.n_designs == n
+    assert spec.effective_chunk_size == expected  # 16 tasks at least, 8 to 125 designs each
+
+
 def test_spec_section_options_and_chunks():
     spec = parse_spec(_spec('[sweep.section]\nmesh_size = 0.08\ncoil_bending = "wahl"'))
     assert spec.evaluators == ("paper", "section")

@@ -52,7 +52,7 @@ def test_results_match_analytic_model_and_report_invalid(small_spec, tmp_path):
         d = design.from_dict(variant_table(spec.base_table, variants[did]))
         sec = analytic.composite_section(d)
         for load in ("cap", "lumen"):
-            r = analytic.response(d, np.array(spec.pressures_MPa), load=load)
+            r = analytic.response(d, np.array(spec.pressures), load=load)
             rows = df[(df.design_id == did) & (df.load == load)].sort_values("pressure_MPa")
             # Same formulas through a vectorised path: equal up to float rounding (1e-12 relative);
             # the CSV round-trip keeps 17 significant digits.

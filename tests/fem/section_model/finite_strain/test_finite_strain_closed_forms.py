@@ -16,10 +16,10 @@ import math
 import numpy as np
 import pytest
 
-from softcath.fem.nonlinear.laws import neo_hookean
+from softcath.fem.hyperelastic.laws import neo_hookean
 from softcath.fem.section_model.finite_strain.discretisation import discretise
 from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
-from softcath.fem.section_model.finite_strain.newton import Loading, Problem, walk
+from softcath.fem.section_model.finite_strain.newton import Loading, SectionProblem, walk
 from softcath.fem.section_model.mesh import SectionMesh, disk_section_mesh
 from tests.fem.section_model._cases import SOLID, VOID
 from tests.fem.section_model.finite_strain._exact import (
@@ -53,7 +53,7 @@ def _flexure(n: int, moments) -> list[tuple[float, float, float, float]]:
     # translation (with lambda and k it is a gauge of the semi-inverse state)
     ux = np.concatenate([basis.nodal_dofs[0], basis.facet_dofs[0], basis.interior_dofs[0]])
     fixed = np.concatenate([ux, basis.nodal_dofs[1][:1]])
-    problem = Problem(disc, None, fixed)
+    problem = SectionProblem(disc, None, fixed)
     m_top = moments[-1]
     states = walk(problem, Loading(moment=(0.0, m_top)), np.asarray(moments) / m_top)
     out = []
@@ -109,7 +109,7 @@ def _tube(mesh_size: float, segments: int, pressures, *, inner: float = 0.5, out
     )
     disc = discretise(section, {SOLID: LAW})
     wall = lumen_wall(section, disc)
-    problem = Problem(disc, wall, disc.pinned)
+    problem = SectionProblem(disc, wall, disc.pinned)
     p_top = pressures[-1]
     states = walk(problem, Loading(pressure=p_top, load="lumen"), np.asarray(pressures) / p_top)
     out = []

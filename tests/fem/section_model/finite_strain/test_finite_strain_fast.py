@@ -14,8 +14,8 @@ import pytest
 from softcath import design
 from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve
 from softcath.fem.section_model.finite_strain import curve as curve_module
+from softcath.models.section_nonlinear_eval import SECTION_NONLINEAR_KEYS, section_nonlinear_columns
 from softcath.studies.sweep.random_designs import random_designs
-from softcath.studies.sweep.section_nonlinear_eval import SECTION_NONLINEAR_KEYS, section_nonlinear_columns
 
 PRESSURES = np.linspace(0.0, 0.6, 7)
 #: The curve's fields compared (the sweep's finite-strain columns). ``max_strain``, a pointwise
@@ -33,7 +33,7 @@ def _reference(d, load: str):
     )  # fmt: skip
     states, error = curve_module._walk(setup, False)
     assert error is None
-    return curve_module._curve(dd, load, p, setup, states, None, 0.0)
+    return curve_module._curve(dd, load, p, setup, states, None, t0=0.0)
 
 
 def _relative(a, b) -> float:

@@ -1,4 +1,8 @@
-"""What every tier answers: :class:`TipResponse` for one design, :class:`ResponseBatch` for many.
+"""What every model tier answers: :class:`TipResponse` for one design, :class:`ResponseBatch` for many.
+
+It stands on the ground floor so that every tier's own detailed record (the finite-strain
+FEM's, the section models') converts itself into it with ``to_response`` without importing
+the tier registry (:mod:`softcath.models`) that sits above them.
 
 A response holds, per pressure, the observables every consumer of a tier needs (sweeps,
 selection, optimisation, prediction bands, the discrepancy workflows): the mid-span and

@@ -1,4 +1,6 @@
-"""The sweep's ``section`` evaluator: the 2-D section model (``softcath.fem.section_model``) per design.
+"""The ``section`` tier's evaluator: the 2-D section model (``softcath.fem.section_model``) as sweep columns.
+
+The tier (:mod:`softcath.models.section`) and the sweep's results (its column names) share it.
 
 The section model reproduces the 3-D FEM's mid-span curvature to a fraction of
 a percent in ~0.1-0.3 s per design, so a sweep can carry FEM-grade curvature for

@@ -1,4 +1,6 @@
-"""The sweep's ``section-nonlinear`` evaluator: the finite-strain section model per design.
+"""The ``section-nonlinear`` tier's evaluator: the finite-strain section model per design, as sweep columns.
+
+The tier (:mod:`softcath.models.section_nonlinear`), the sweep and the overlays share it.
 
 Valid at the large bends a tip is chosen for (where the linear tiers fall
 short by 20 % and more), at ~50 ms of CPU per design and load for seven
@@ -25,7 +27,8 @@ __all__ = ["REST_PROBE_MPA", "SECTION_NONLINEAR_KEYS", "curve_with_rest", "secti
 #: its row is dropped again. Far inside the linear range: one or two Newton iterations.
 REST_PROBE_MPA = 1e-3
 
-#: Result columns (per design x pressure x load) and the curve field each comes from.
+#: Result columns (per design x pressure x load) and the response field each comes from
+#: (:meth:`~softcath.fem.section_model.finite_strain.SectionCurve.to_response`).
 SECTION_NONLINEAR_KEYS = {
     "curvature_section_nonlinear_per_mm": "curvature_per_mm",
     "elongation_section_nonlinear": "elongation",
@@ -65,9 +68,14 @@ def section_nonlinear_columns(
     """``{load: {column: array over pressures}}`` of the finite-strain section model for one design.
 
     ``options`` are the ``[sweep.section]`` table's; the mesh ones (``mesh_size``,
-    ``mesher``) apply. ``section_nonlinear_seconds`` is the wall time for this design and load.
+    ``mesher``) and ``tube_prestretch`` apply. ``section_nonlinear_seconds`` is the wall time for
+    this design and load.
     """
-    opts = {k: v for k, v in (options or {}).items() if k in ("mesh_size", "mesher") and v is not None}
+    opts = {
+        k: v
+        for k, v in (options or {}).items()
+        if k in ("mesh_size", "mesher", "tube_prestretch") and v is not None
+    }
     p = np.asarray(pressures, float)
     walk = np.unique(p[p >= 0])
     out = {}
@@ -75,11 +83,11 @@ def section_nonlinear_columns(
         t0 = time.perf_counter()
         cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
         if walk.size:
-            c = curve_with_rest(design, walk, load=load, linear_gain=False, **opts)
+            r = curve_with_rest(design, walk, load=load, linear_gain=False, **opts).to_response()
             idx = np.searchsorted(walk, p)
             ok = p >= 0
-            for col, attr in SECTION_NONLINEAR_KEYS.items():
-                cols[col][ok] = np.asarray(getattr(c, attr), float)[idx[ok]]
+            for col, name in SECTION_NONLINEAR_KEYS.items():
+                cols[col][ok] = np.asarray(getattr(r, name), float)[idx[ok]]
         cols["section_nonlinear_seconds"] = np.full(p.size, time.perf_counter() - t0)
         out[load] = cols
     return out

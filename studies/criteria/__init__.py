@@ -1,5 +1,9 @@
 """Constraints and objectives: ``left OP right [at WHERE]`` and ``maximise|minimise EXPR [at WHERE]``.
 
+The criteria that ``select`` (:mod:`softcath.studies.selection`) and ``optimise``
+(:mod:`softcath.studies.optimise`) share; below both, so that each imports them at its top.
+Their expressions are parsed by :mod:`softcath.studies.criteria.expressions`.
+
 Also where they apply: :func:`rows_at` picks the pressure rows of ``at p_max``,
 ``at p_min`` or ``at p=NUM``, and :func:`check_columns` names unknown columns.
 """
@@ -15,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from softcath.core.limits import MAX_PRESSURE_MPA
-from softcath.studies.selection.expressions import (
+from softcath.studies.criteria.expressions import (
     COMPARE,
     MAX_EXPR_CHARS,
     Expr,

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softcath.design.errors import DesignError
-from softcath.fem.nonlinear.tensors import cofactor, det
+from softcath.fem.hyperelastic.tensors import cofactor, det
 
 __all__ = [
     "Yeoh",
