@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
-from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns
 from softcath.fem.section_model.laws import NU_MAX
+from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns
 from softcath.models.tier import OptionBound, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
