@@ -21,6 +21,7 @@ from softcath.core.errors import DesignError
 from softcath.fem.adapter import coil_law
 from softcath.fem.geometry import COIL
 from softcath.fem.hyperelastic.laws import AnisotropicSVK
+from softcath.fem.section_model import section_model
 from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve, section_laws
 from softcath.models.section_nonlinear import SECTION_NONLINEAR
 
@@ -129,3 +130,11 @@ def test_partial_response_of_a_solved_design_is_its_response(paper):
     batch = SECTION_NONLINEAR.responses([paper], [0.0, 0.2], loads=("lumen",))["lumen"]
     assert batch.partial == {}
     np.testing.assert_array_equal(batch.partial_response(0).curvature_per_mm, batch[0].curvature_per_mm)
+
+
+def test_the_section_tier_takes_silicone_poisson_to_the_section_model(paper):
+    got = models.get("section").response(paper, [0.3], load="lumen", options={"silicone_poisson": 0.45})
+    lin = section_model(paper, loads=("lumen",), silicone_poisson=0.45)
+    # linear in pressure: the tier's curvature is the model's gain times the pressure
+    assert got.curvature_per_mm[0] == pytest.approx(0.3 * lin.curvature_per_mm_per_MPa["lumen"], rel=1e-12)
+    assert got.parameters["silicone_poisson"] == 0.45
