@@ -356,9 +356,9 @@ def _set_up(
     laws,
     silicone_poisson,
     hoop_cap,
-    coil_axial_scale,
     linear_gain,
     stretch=1.0,
+    coil_axial_scale=1.0,
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
 
