@@ -173,7 +173,7 @@ class Tier:
                 raise DesignError(f"{parameter}.{k}", v, f"{self.name} takes {', '.join(map(str, choices))}")
             bound = self.option_bounds.get(k)
             if bound is not None and v not in bound:
-                raise DesignError(f"{parameter}.{k}", v, f"must be a number in {bound} ({self.name})")
+                raise DesignError(f"{parameter}.{k}", v, f"must be in {bound} ({self.name})")
         return given
 
     def own_options(self, options: Mapping[str, Any] | None) -> dict:
