@@ -214,6 +214,10 @@ class ResponseBatch:
         Tier-specific (n_designs, n_pressures) diagnostics.
     errors
         Design index -> the exception that design raised.
+    partial
+        Design index -> the response a design in ``errors`` reached before it failed (a
+        finite-strain walk that stalled: the pressures past its last converged one NaN);
+        :meth:`partial_response`. Its rows above stay NaN, so a sweep counts it failed.
     model
         The :class:`~softcath.models.Tier` that answered (its validity rule gives the warnings).
     """
@@ -235,6 +239,7 @@ class ResponseBatch:
     extras: Mapping[str, np.ndarray] = field(default_factory=dict, repr=False)
     errors: Mapping[int, Exception] = field(default_factory=dict)
     model: Any = field(default=None, repr=False, compare=False)
+    partial: Mapping[int, TipResponse] = field(default_factory=dict, repr=False, compare=False)
 
     def __len__(self) -> int:
         return int(np.shape(self.curvature_per_mm)[0])
@@ -256,6 +261,19 @@ class ResponseBatch:
             extras={k: np.asarray(v)[i].copy() for k, v in self.extras.items()},
             **values,
         )
+
+    def partial_response(self, i: int) -> TipResponse:
+        """Design ``i``'s response as far as it was solved: ``batch[i]`` for a design that did not
+        fail, its :attr:`partial` response for one that failed part-way.
+
+        Raises
+        ------
+        Exception
+            Design ``i``'s own error when it failed with nothing solved.
+        """
+        if i in self.errors and i in self.partial:
+            return self.partial[i]
+        return self[i]
 
 
 def _unit_of(name: str) -> str:

@@ -12,9 +12,10 @@ design and ``responses`` for many (vectorised or batched where the tier can be).
 
 The consumers (sweeps, selection, optimisation, prediction bands, the discrepancy
 workflows) ask the registry for a tier and read its capabilities; none compares a tier's
-name. A new option of a tier is one entry of its ``options`` (name -> default), which its
-``_solve`` passes on; a new tier is one :class:`Tier` subclass implementing ``_solve`` (one
-module) and one :func:`register` call, plus its sweep columns if sweeps are to store it
+name. A new option of a tier is one entry of its ``options`` (name -> default; its values
+checked by ``option_choices`` or ``option_bounds``), which its ``_solve`` passes on; a new
+tier is one :class:`Tier` subclass implementing ``_solve`` (one module) and one
+:func:`register` call, plus its sweep columns if sweeps are to store it
 (:data:`softcath.studies.sweep.results.TIER_COLUMNS`).
 
 >>> from softcath import design, models
@@ -43,7 +44,7 @@ from softcath.models.registry import (
     tiers,
     unregister,
 )
-from softcath.models.tier import LOADS, Tier
+from softcath.models.tier import LOADS, OptionBound, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG, SELF_CONTACT_DEG
 
 __all__ = [
@@ -51,6 +52,7 @@ __all__ = [
     "LINEAR_BEND_LIMIT_DEG",
     "LOADS",
     "OBSERVABLES",
+    "OptionBound",
     "ResponseBatch",
     "SELF_CONTACT_DEG",
     "TIERS",

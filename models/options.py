@@ -92,7 +92,12 @@ def coerce_option(tier: Tier, name: str, value: Any, *, parameter: str | None = 
         raise DesignError(parameter, value, f"is not an option of {tier.name}: {_known(tier)}")
     default = tier.options[name]
     v = _from_text(value, default, parameter) if isinstance(value, str) else _typed(value, default, parameter)
-    tier.check_options({name: v}, parameter=parameter.rpartition(".")[0] or parameter)
+    try:
+        tier.check_options({name: v})
+    except (
+        DesignError
+    ) as exc:  # named as the caller names the setting (``--model-option NAME``, a table's key)
+        raise DesignError(parameter, v, exc.bound) from None
     return v
 
 

@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
+from softcath.fem.section_model.laws import NU_MAX
 from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns
-from softcath.models.tier import Tier
+from softcath.models.tier import OptionBound, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
 __all__ = ["SECTION", "SectionTier", "SECTION_FIELDS"]
@@ -94,6 +95,7 @@ SECTION = SectionTier(
         "silicone_poisson": None,
         "poisson": True,
     },
+    option_bounds={"poisson_cap": OptionBound(0.0, NU_MAX), "silicone_poisson": OptionBound(0.0, NU_MAX)},
     valid_to_deg=LINEAR_BEND_LIMIT_DEG,
     as_built=True,
     # 29.5 ms of worker CPU on the sweep's batched path for the paper section (docs/section.md),

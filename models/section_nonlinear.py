@@ -7,11 +7,22 @@ is NaN (:func:`softcath.models.section_nonlinear_eval.section_nonlinear_columns`
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
-from softcath.models.section_nonlinear_eval import SECTION_NONLINEAR_KEYS, section_nonlinear_columns
-from softcath.models.tier import Tier
+from softcath.fem.section_model.finite_strain import SectionConvergenceError
+from softcath.fem.section_model.finite_strain.curve import COIL_AXIAL_SCALE_MAX
+from softcath.fem.section_model.finite_strain.prestretch import PRESTRETCH_MAX
+from softcath.fem.section_model.laws import NU_MAX
+from softcath.models.section_nonlinear_eval import (
+    SECTION_NONLINEAR_KEYS,
+    SECTION_NONLINEAR_OPTIONS,
+    load_columns,
+    partial_columns,
+)
+from softcath.models.tier import OptionBound, Tier
 
 __all__ = ["SECTION_NONLINEAR", "SectionNonlinearTier", "SECTION_NONLINEAR_FIELDS"]
 
@@ -20,7 +31,11 @@ SECTION_NONLINEAR_FIELDS = SECTION_NONLINEAR_KEYS
 
 
 class SectionNonlinearTier(Tier):
-    """The finite-strain section model, design by design (a stalled walk is that design's error)."""
+    """The finite-strain section model, design by design (a stalled walk is that design's error).
+
+    A design whose Newton walk stalled stays in the batch's ``errors`` with NaN rows; the
+    pressures it reached are its :meth:`~softcath.core.response.ResponseBatch.partial_response`.
+    """
 
     def _solve(self, designs, pressures, loads, options):
         n = len(designs)
@@ -29,18 +44,27 @@ class SectionNonlinearTier(Tier):
         }
         seconds = {ld: np.full(n, np.nan) for ld in loads}
         errors: dict[int, Exception] = {}
+        partial: dict[str, dict] = {ld: {} for ld in loads}
         for i, d in enumerate(designs):
-            try:
-                values = section_nonlinear_columns(d, pressures, loads, options)
-            except Exception as exc:  # a stalled Newton walk is this design's error, never the batch's
-                raise_pending_stop()
-                errors[i] = exc
+            done = {}
+            for ld in loads:
+                try:
+                    done[ld] = load_columns(d, pressures, ld, options)
+                except Exception as exc:  # a stalled Newton walk is this design's error, never the batch's
+                    raise_pending_stop()
+                    errors[i] = exc
+                    if isinstance(exc, SectionConvergenceError) and exc.curve is not None:
+                        done[ld] = partial_columns(exc.curve, pressures)
+                    break
+            if i in errors:  # what the walks reached, the stalled one up to its last pressure
+                for ld, cols in done.items():
+                    partial[ld][i] = self._partial(d, pressures, ld, cols, options, errors[i])
                 continue
             for ld in loads:
                 for col in SECTION_NONLINEAR_FIELDS:
-                    blocks[ld][col][i] = values[ld][col]
+                    blocks[ld][col][i] = done[ld][col]
                 if pressures.size:
-                    seconds[ld][i] = values[ld]["section_nonlinear_seconds"][0]
+                    seconds[ld][i] = done[ld]["section_nonlinear_seconds"][0]
         return {
             ld: self._batch(
                 designs,
@@ -50,9 +74,18 @@ class SectionNonlinearTier(Tier):
                 seconds=seconds[ld],
                 options=options,
                 errors=errors,
+                partial=partial[ld],
             )
             for ld in loads
         }
+
+    def _partial(self, design, pressures, load, cols, options, error):
+        """The response of one design from its (partial) columns, the stall among its warnings."""
+        values = {f: np.asarray(cols[c], float)[None, :] for c, f in SECTION_NONLINEAR_FIELDS.items()}
+        r = self._batch([design], pressures, load, values, options=options)[0]
+        if isinstance(error, SectionConvergenceError):
+            r = dataclasses.replace(r, warnings=(*r.warnings, f"walk stopped short: {error}"))
+        return r
 
 
 #: The finite-strain section model.
@@ -62,9 +95,13 @@ SECTION_NONLINEAR = SectionNonlinearTier(
     "finite-strain section model",
     "finite-strain section model: valid at large bends, ~1 s a design and load",
     "section_nonlinear",
-    # tube_prestretch: the as-built tube's axial stretch from its catalogue state (1: none; above 1
-    # the curve is solved on the reference path)
-    options={"mesh_size": None, "mesher": "template", "tube_prestretch": 1.0},
+    # each option is section_curve's keyword of its name (the evaluator's table)
+    options=SECTION_NONLINEAR_OPTIONS,
+    option_bounds={
+        "silicone_poisson": OptionBound(0.0, NU_MAX),
+        "coil_axial_scale": OptionBound(0.0, COIL_AXIAL_SCALE_MAX, open_low=True),
+        "tube_prestretch": OptionBound(1.0, PRESTRETCH_MAX),
+    },
     # its walk through a few pressures against one linear solve: about fifteen Newton iterations of a
     # tangent twice the linear model's size (~1 s for the paper section), 30x the section's cost
     dof_seconds=30.0 * 1.05e-5,

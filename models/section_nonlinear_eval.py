@@ -21,7 +21,30 @@ import numpy as np
 
 from softcath.fem.section_model.finite_strain import section_curve
 
-__all__ = ["REST_PROBE_MPA", "SECTION_NONLINEAR_KEYS", "curve_with_rest", "section_nonlinear_columns"]
+__all__ = [
+    "REST_PROBE_MPA",
+    "SECTION_NONLINEAR_KEYS",
+    "SECTION_NONLINEAR_OPTIONS",
+    "curve_with_rest",
+    "load_columns",
+    "partial_columns",
+    "section_nonlinear_columns",
+]
+
+#: The ``section-nonlinear`` tier's options, name -> default: each is the keyword of
+#: :func:`~softcath.fem.section_model.finite_strain.section_curve` of the same name, so an
+#: option added here reaches the model with no other edit (``None``: the design's own).
+#: ``silicone_poisson`` replaces every silicone's Poisson ratio; ``coil_axial_scale``
+#: multiplies the outer coil's axial spring rate (its axial and axial shear moduli);
+#: ``tube_prestretch`` is the as-built tube's axial stretch from its catalogue state (1: none;
+#: above 1 the curve is solved on the reference path).
+SECTION_NONLINEAR_OPTIONS = {
+    "mesh_size": None,
+    "mesher": "template",
+    "tube_prestretch": 1.0,
+    "silicone_poisson": None,
+    "coil_axial_scale": 1.0,
+}
 
 #: Pressure [MPa] walked to when only the rest state is asked for (the walk needs a load to scale);
 #: its row is dropped again. Far inside the linear range: one or two Newton iterations.
@@ -67,27 +90,42 @@ def section_nonlinear_columns(
 ) -> dict:
     """``{load: {column: array over pressures}}`` of the finite-strain section model for one design.
 
-    ``options`` are the ``[sweep.section]`` table's; the mesh ones (``mesh_size``,
-    ``mesher``) and ``tube_prestretch`` apply. ``section_nonlinear_seconds`` is the wall time for
-    this design and load.
+    ``options`` are the tier's (:data:`SECTION_NONLINEAR_OPTIONS`; others, e.g. of a shared
+    ``[sweep.section]`` table, are not this model's and are left out).
+    ``section_nonlinear_seconds`` is the wall time for this design and load.
+
+    Raises
+    ------
+    SectionConvergenceError
+        A walk that stopped short (its curve so far in ``.curve``, :func:`partial_columns`).
     """
-    opts = {
-        k: v
-        for k, v in (options or {}).items()
-        if k in ("mesh_size", "mesher", "tube_prestretch") and v is not None
-    }
+    return {load: load_columns(design, pressures, load, options) for load in loads}
+
+
+def load_columns(design, pressures: np.ndarray, load: str, options: dict | None = None) -> dict:
+    """``{column: array over pressures}`` of one ``load`` (:func:`section_nonlinear_columns`)."""
+    opts = {k: v for k, v in (options or {}).items() if k in SECTION_NONLINEAR_OPTIONS and v is not None}
     p = np.asarray(pressures, float)
     walk = np.unique(p[p >= 0])
-    out = {}
-    for load in loads:
-        t0 = time.perf_counter()
-        cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
-        if walk.size:
-            r = curve_with_rest(design, walk, load=load, linear_gain=False, **opts).to_response()
-            idx = np.searchsorted(walk, p)
-            ok = p >= 0
-            for col, name in SECTION_NONLINEAR_KEYS.items():
-                cols[col][ok] = np.asarray(getattr(r, name), float)[idx[ok]]
-        cols["section_nonlinear_seconds"] = np.full(p.size, time.perf_counter() - t0)
-        out[load] = cols
-    return out
+    t0 = time.perf_counter()
+    cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
+    if walk.size:
+        cols = partial_columns(curve_with_rest(design, walk, load=load, linear_gain=False, **opts), p)
+    cols["section_nonlinear_seconds"] = np.full(p.size, time.perf_counter() - t0)
+    return cols
+
+
+def partial_columns(curve, pressures: np.ndarray) -> dict:
+    """``{column: array over pressures}`` of a finite-strain ``curve`` walked through the
+    non-negative ``pressures`` in increasing order, or through a first part of them (a walk that
+    stalled): a pressure the curve does not reach, or a negative one, is NaN."""
+    p = np.asarray(pressures, float)
+    walk = np.unique(p[p >= 0])
+    r = curve.to_response()
+    reached = min(np.asarray(r.pressures).size, walk.size)
+    idx = np.searchsorted(walk, p)
+    ok = (p >= 0) & (idx < reached)
+    cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
+    for col, name in SECTION_NONLINEAR_KEYS.items():
+        cols[col][ok] = np.asarray(getattr(r, name), float)[idx[ok]]
+    return cols

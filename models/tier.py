@@ -23,7 +23,7 @@ from softcath.design.assembly import Assembly
 from softcath.design.errors import DesignError
 from softcath.models.validity import response_warnings
 
-__all__ = ["LOADS", "REGISTERED", "SLOW_SECONDS", "Tier"]
+__all__ = ["LOADS", "OptionBound", "REGISTERED", "SLOW_SECONDS", "Tier"]
 
 #: The loads a tier can be asked about: the end-cap force alone, or the lumen pressure on wall and cap.
 LOADS = ("cap", "lumen")
@@ -31,6 +31,27 @@ LOADS = ("cap", "lumen")
 REGISTERED: dict[str, Tier] = {}
 #: Seconds a design above which a tier is slow: minutes a design, not a search's thousands of runs.
 SLOW_SECONDS = 10.0
+
+
+@dataclass(frozen=True)
+class OptionBound:
+    """The interval a numeric tier option must lie in (closed unless an end is marked open)."""
+
+    low: float = -math.inf
+    high: float = math.inf
+    open_low: bool = False
+    open_high: bool = False
+
+    def __contains__(self, value: object) -> bool:
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+            return False
+        v = float(value)
+        above = v > self.low if self.open_low else v >= self.low
+        below = v < self.high if self.open_high else v <= self.high
+        return above and below
+
+    def __str__(self) -> str:
+        return f"{'(' if self.open_low else '['}{self.low:g}, {self.high:g}{')' if self.open_high else ']'}"
 
 
 @dataclass(frozen=True)
@@ -60,6 +81,9 @@ class Tier:
     option_choices
         Option name -> the values it may take, for an option with a closed set of values
         (checked with the others by :meth:`check_options`).
+    option_bounds
+        Option name -> the :class:`OptionBound` a numeric option must lie in (checked by
+        :meth:`check_options` before any design is solved).
     valid_to_deg
         Bend angle [deg] up to which the tier holds (:mod:`softcath.models.validity`):
         finite for a small-rotation (linear) tier, infinite for a finite-strain one.
@@ -103,6 +127,7 @@ class Tier:
     default_load: str = "lumen"
     options: Mapping[str, Any] = field(default_factory=dict, compare=False)
     option_choices: Mapping[str, tuple] = field(default_factory=dict, compare=False)
+    option_bounds: Mapping[str, OptionBound] = field(default_factory=dict, compare=False)
     valid_to_deg: float = math.inf
     as_built: bool = False
     load_notes: Mapping[str, str] = field(default_factory=dict, compare=False)
@@ -134,7 +159,7 @@ class Tier:
 
     def check_options(self, options: Mapping[str, Any] | None, *, parameter: str = "options") -> dict:
         """The options with ``None`` values dropped; an option the tier does not take, or a value
-        outside its :attr:`option_choices`, is refused."""
+        outside its :attr:`option_choices` or :attr:`option_bounds`, is refused."""
         given = {k: v for k, v in (options or {}).items() if v is not None}
         unknown = sorted(set(given) - set(self.options))
         if unknown:
@@ -146,6 +171,9 @@ class Tier:
             choices = self.option_choices.get(k)
             if choices is not None and v not in choices:
                 raise DesignError(f"{parameter}.{k}", v, f"{self.name} takes {', '.join(map(str, choices))}")
+            bound = self.option_bounds.get(k)
+            if bound is not None and v not in bound:
+                raise DesignError(f"{parameter}.{k}", v, f"must be in {bound} ({self.name})")
         return given
 
     def own_options(self, options: Mapping[str, Any] | None) -> dict:

@@ -35,11 +35,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from softcath.design import coil_stiffness
-from softcath.fem.adapter import coil_law
-from softcath.fem.geometry import COIL
-from softcath.fem.hyperelastic.laws import AnisotropicSVK
 from softcath.fem.section_model.bilinear import bend_curve
-from softcath.fem.section_model.finite_strain import SectionConvergenceError, section_curve, section_laws
+from softcath.fem.section_model.finite_strain import SectionConvergenceError
+from softcath.models.section_nonlinear import SECTION_NONLINEAR
 from softcath.studies.discrepancy.ingredients import INGREDIENTS, tube_prestretch_for
 
 __all__ = ["Variant", "ModelBank", "TRANSFER_FORCE", "MODEL_PARAMETERS"]
@@ -270,46 +268,41 @@ def nominal_spring_rate(design) -> float:
     return float(k.axial_modulus_tension * k.area / design.tip.bending_length * 1e3)
 
 
-def _laws_with_rate(design, d, v: Variant) -> dict:
-    """The finite-strain laws of ``d`` with the outer coil's axial modulus set to ``v``'s rate."""
-    laws = section_laws(d, silicone_poisson=v.silicone_poisson)
-    law = coil_law(d.coil, "tension")
-    scale = float(v.coil_spring_rate) / nominal_spring_rate(design)
-    law = replace(
-        law, axial_modulus=law.axial_modulus * scale, axial_shear_modulus=law.axial_shear_modulus * scale
-    )
-    laws[COIL] = AnisotropicSVK(law.tensor())
-    return laws
-
-
 def solve_variant(design, grid: np.ndarray, load: str, v: Variant) -> tuple[_Curve, str | None]:
-    """The finite-strain curve of variant ``v`` on ``grid`` and a note if Newton stopped short."""
+    """The finite-strain curve of variant ``v`` on ``grid`` and a note if Newton stopped short.
+
+    Solved by the ``section-nonlinear`` tier (its mesher and mesh size the defaults, those of
+    :func:`~softcath.fem.section_model.finite_strain.section_curve`); the outer coil's spring
+    rate is its ``coil_axial_scale`` relative to the design's :func:`nominal_spring_rate`.
+    """
     d = variant_design(design, v)
-    laws = None if v.coil_spring_rate is None else _laws_with_rate(design, d, v)
-    note = None
+    nan = np.full(1, np.nan)
     if v.tube_prestretch != 1.0 and not d.assembly.is_default:  # the model's pre-stretch: bonded tips
-        nan = np.full(1, np.nan)
         return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no pre-stretch for a tip as built"
-    try:
-        c = section_curve(
-            d,
-            grid,
-            load=load,
-            silicone_poisson=v.silicone_poisson,
-            laws=laws,
-            linear_gain=False,
-            tube_prestretch=v.tube_prestretch,
-        )
-    except SectionConvergenceError as exc:
-        c = exc.curve
-        if c is None:  # the pre-stretched rest state itself was not reached: no prediction
-            nan = np.full(1, np.nan)
+    options = {
+        "silicone_poisson": v.silicone_poisson,
+        "coil_axial_scale": None
+        if v.coil_spring_rate is None
+        else float(v.coil_spring_rate) / nominal_spring_rate(design),
+        "tube_prestretch": v.tube_prestretch,
+    }
+    batch = SECTION_NONLINEAR.responses([d], grid, loads=(load,), options=options)[load]
+    exc = batch.errors.get(0)
+    note = None
+    if exc is not None:
+        if not isinstance(exc, SectionConvergenceError):
+            raise exc
+        if 0 not in batch.partial:  # the pre-stretched rest state itself was not reached: no prediction
             return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no rest state ({exc})"
-        note = f"{v}: the finite-strain model stops at {c.pressure[-1]:.3g} MPa ({exc})"
+    r = batch.partial_response(0)
+    solved = np.isfinite(r.curvature_per_mm)  # the grid's first part: the pressures the walk reached
+    pressure = np.asarray(r.pressures)[solved]
+    if exc is not None:
+        note = f"{v}: the finite-strain model stops at {pressure[-1]:.3g} MPa ({exc})"
     curve = _Curve(
-        pressure=np.asarray(c.pressure),
-        curvature=np.asarray(c.curvature_per_mm),
-        elongation=np.asarray(c.elongation),
-        reached=float(c.pressure[-1]) if c.pressure.size else 0.0,
+        pressure=pressure,
+        curvature=np.asarray(r.curvature_per_mm)[solved],
+        elongation=np.asarray(r.elongation)[solved],
+        reached=float(pressure[-1]) if pressure.size else 0.0,
     )
     return curve, note

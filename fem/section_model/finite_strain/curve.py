@@ -77,7 +77,14 @@ from softcath.fem.section_model.finite_strain.rows import (
 from softcath.fem.section_model.laws import NU_MAX
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
-__all__ = ["CSV_COLUMNS", "SectionCurve", "section_curve", "section_laws", "PRESSURE_MAX"]
+__all__ = [
+    "COIL_AXIAL_SCALE_MAX",
+    "CSV_COLUMNS",
+    "SectionCurve",
+    "section_curve",
+    "section_laws",
+    "PRESSURE_MAX",
+]
 
 log = logging.getLogger(__name__)
 
@@ -87,9 +94,18 @@ SLIP_LIMIT = 0.5
 
 #: Largest pressure [MPa] the model accepts: the package's one bound (far past any tube's burst).
 PRESSURE_MAX = MAX_PRESSURE_MPA
+#: Largest factor on the outer coil's axial moduli (:func:`section_laws`): two decades past any
+#: spring rate a coil's catalogue range spans, well inside the tangent's conditioning.
+COIL_AXIAL_SCALE_MAX = 100.0
 
 
-def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: float | None = None) -> dict:
+def section_laws(
+    design,
+    *,
+    silicone_poisson: float | None = None,
+    hoop_cap: float | None = None,
+    coil_axial_scale: float = 1.0,
+) -> dict:
     """Region label -> finite-strain law whose small-strain limit is the linear section model's.
 
     Silicones: the decoupled Yeoh law of ``softcath.fem.nonlinear``, its fit scaled to the
@@ -103,12 +119,17 @@ def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: flo
     hoop_cap
         Cap the coils' hoop modulus at this multiple of the stiffest silicone's E, as the
         3-D finite-strain FEM does for its conditioning (None: no cap).
+    coil_axial_scale
+        Multiply the outer coil's axial modulus and axial shear modulus by this factor in
+        (0, :data:`COIL_AXIAL_SCALE_MAX`] (its axial spring rate scaled; 1: the design's own).
     """
 
     if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
         raise DesignError("silicone_poisson", silicone_poisson, f"must be in [0, {NU_MAX}]")
     if hoop_cap is not None and not (np.isfinite(hoop_cap) and hoop_cap > 0):
         raise DesignError("hoop_cap", hoop_cap, "must be finite and > 0 (or None for no cap)")
+    if not 0.0 < coil_axial_scale <= COIL_AXIAL_SCALE_MAX:
+        raise DesignError("coil_axial_scale", coil_axial_scale, f"must be in (0, {COIL_AXIAL_SCALE_MAX:g}]")
     silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
     e_max = max(m.youngs_modulus for m in silicones)
 
@@ -117,15 +138,23 @@ def section_laws(design, *, silicone_poisson: float | None = None, hoop_cap: flo
         yeoh = yeoh_at_modulus(m.yeoh, youngs_modulus=m.youngs_modulus, poisson_ratio=nu)  # the design's E
         return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=nu, yeoh=yeoh)
 
-    def coil(c):
+    def coil(c, axial_scale=1.0):
         law = coil_law(c, "tension")
+        if axial_scale != 1.0:  # the outer coil's spring rate as a model parameter
+            law = replace(
+                law,
+                axial_modulus=law.axial_modulus * axial_scale,
+                axial_shear_modulus=law.axial_shear_modulus * axial_scale,
+            )
         if hoop_cap is not None and law.transverse_modulus > hoop_cap * e_max:
-            from dataclasses import replace
-
             law = replace(law, transverse_modulus=hoop_cap * e_max)
         return AnisotropicSVK(law.tensor())
 
-    laws = {COIL: coil(design.coil), CHANNEL: coil(design.channel), TUBE: silicone(design.tube.material)}
+    laws = {
+        COIL: coil(design.coil, coil_axial_scale),
+        CHANNEL: coil(design.channel),
+        TUBE: silicone(design.tube.material),
+    }
     if design.filler is not None:
         laws[FILLER] = silicone(design.filler)
     return laws
@@ -157,6 +186,7 @@ def section_curve(
     progress: bool = False,
     on_pressure: Callable[[int, int], None] | None = None,
     tube_prestretch: float = 1.0,
+    coil_axial_scale: float = 1.0,
 ) -> SectionCurve:
     """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
 
@@ -174,8 +204,8 @@ def section_curve(
         morphs one mesh per section topology and solves on the compiled template path,
         ``gmsh`` meshes afresh and solves on the reference path; the same answers to the
         Newton tolerance on one mesh).
-    silicone_poisson, hoop_cap
-        Material options of :func:`section_laws`.
+    silicone_poisson, hoop_cap, coil_axial_scale
+        Material options of :func:`section_laws` (unused where ``laws`` is given).
     laws
         Region label -> finite-strain law, overriding :func:`section_laws` (e.g. the 3-D
         FEM's ``catheter_laws`` for a comparison on equal materials).
@@ -230,7 +260,9 @@ def section_curve(
         law_map = (
             dict(laws)
             if laws is not None
-            else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
+            else section_laws(
+                d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap, coil_axial_scale=coil_axial_scale
+            )
         )
         total = int(np.count_nonzero(p > 0))
         on_state, close = progress_callback(total, progress, on_pressure)
@@ -263,6 +295,7 @@ def section_curve(
         laws=laws,
         silicone_poisson=silicone_poisson,
         hoop_cap=hoop_cap,
+        coil_axial_scale=coil_axial_scale,
         linear_gain=linear_gain,
         stretch=stretch,
     )
@@ -313,7 +346,19 @@ class _Setup:
 
 
 def _set_up(
-    d, p, load, *, mesh_size, segments, mesher, laws, silicone_poisson, hoop_cap, linear_gain, stretch=1.0
+    d,
+    p,
+    load,
+    *,
+    mesh_size,
+    segments,
+    mesher,
+    laws,
+    silicone_poisson,
+    hoop_cap,
+    linear_gain,
+    stretch=1.0,
+    coil_axial_scale=1.0,
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
 
@@ -325,7 +370,9 @@ def _set_up(
     law_map = (
         dict(laws)
         if laws is not None
-        else section_laws(d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap)
+        else section_laws(
+            d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap, coil_axial_scale=coil_axial_scale
+        )
     )
     silicone = tuple(k for k in (TUBE, FILLER) if k in law_map)
     if d.assembly.is_default:

@@ -9,7 +9,7 @@ from softcath import design
 from softcath.fem.geometry import TUBE
 from softcath.fem.section_model.bilinear import bend_curve
 from softcath.fem.section_model.finite_strain import section_curve
-from softcath.studies.discrepancy.model_bank import ModelBank, Variant
+from softcath.studies.discrepancy.model_bank import ModelBank, Variant, nominal_spring_rate, solve_variant
 
 
 @pytest.fixture(scope="module")
@@ -103,3 +103,28 @@ def test_tube_prestretch_between_grid_points_is_within_half_a_percent_of_a_direc
     # the grid is dense near 1 (1.018, 1.073): measured 0.18 % of the curve's span (0.2 1/mm);
     # a 3-point grid (1, 1.68, 2.83) was 40 % off in the rest curvature at 1.08
     np.testing.assert_allclose(k, direct, atol=0.005 * 0.2)
+
+
+@pytest.mark.slow
+def test_a_stalled_walk_keeps_its_curve_up_to_the_pressure_reached():
+    # 100 MPa is past what the paper section carries: the tier's partial response is the curve
+    d = design.preset("paper")
+    v = Variant(float(d.tube.material.youngs_modulus))
+    curve, note = solve_variant(d, np.array([0.0, 0.3, 100.0]), "lumen", v)
+    assert curve.pressure.tolist() == [0.0, 0.3] and curve.reached == 0.3
+    assert note.startswith(f"{v}: the finite-strain model stops at 0.3 MPa (pressure = 100: not reached")
+    direct = section_curve(d, [0.0, 0.3], linear_gain=False)
+    # the walk toward 100 MPa takes other load steps to 0.3 MPa: equal to the Newton tolerance
+    np.testing.assert_allclose(curve.curvature, direct.curvature_per_mm, rtol=1e-5, atol=1e-12)
+
+
+def test_silicone_poisson_and_coil_spring_rate_reach_the_finite_strain_model():
+    d = design.preset("paper")
+    grid = np.array([0.0, 0.25])
+    v = Variant(float(d.tube.material.youngs_modulus), silicone_poisson=0.4999, coil_spring_rate=40.0)
+    curve, note = solve_variant(d, grid, "lumen", v)
+    scale = 40.0 / nominal_spring_rate(d)
+    direct = section_curve(d, grid, silicone_poisson=0.4999, coil_axial_scale=scale, linear_gain=False)
+    assert note is None
+    np.testing.assert_array_equal(curve.curvature, direct.curvature_per_mm)
+    np.testing.assert_array_equal(curve.elongation, direct.elongation)
