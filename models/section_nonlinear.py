@@ -10,7 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
-from softcath.models.section_nonlinear_eval import SECTION_NONLINEAR_KEYS, section_nonlinear_columns
+from softcath.models.section_nonlinear_eval import (
+    SECTION_NONLINEAR_KEYS,
+    section_nonlinear_columns,
+    section_nonlinear_curve,
+)
 from softcath.models.tier import Tier
 
 __all__ = ["SECTION_NONLINEAR", "SectionNonlinearTier", "SECTION_NONLINEAR_FIELDS"]
@@ -21,6 +25,19 @@ SECTION_NONLINEAR_FIELDS = SECTION_NONLINEAR_KEYS
 
 class SectionNonlinearTier(Tier):
     """The finite-strain section model, design by design (a stalled walk is that design's error)."""
+
+    def record(self, design, pressures, *, load: str | None = None, options=None):
+        """The finite-strain curve of one design (its DOFs, Newton record, fields), walked with this
+        tier's ``options`` as its responses are
+        (:func:`~softcath.models.section_nonlinear_eval.section_nonlinear_curve`).
+
+        Raises
+        ------
+        DesignError
+            A load or option the tier does not take; the model's own errors propagate.
+        """
+        load = self.check_load(self.default_load if load is None else load)
+        return section_nonlinear_curve(design, pressures, load, self.check_options(options))
 
     def _solve(self, designs, pressures, loads, options):
         n = len(designs)

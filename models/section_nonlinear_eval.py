@@ -21,7 +21,13 @@ import numpy as np
 
 from softcath.fem.section_model.finite_strain import section_curve
 
-__all__ = ["REST_PROBE_MPA", "SECTION_NONLINEAR_KEYS", "curve_with_rest", "section_nonlinear_columns"]
+__all__ = [
+    "REST_PROBE_MPA",
+    "SECTION_NONLINEAR_KEYS",
+    "curve_with_rest",
+    "section_nonlinear_columns",
+    "section_nonlinear_curve",
+]
 
 #: Pressure [MPa] walked to when only the rest state is asked for (the walk needs a load to scale);
 #: its row is dropped again. Far inside the linear range: one or two Newton iterations.
@@ -62,6 +68,21 @@ def curve_with_rest(design, pressures, **options):
     return replace(c, **cut)
 
 
+def section_nonlinear_curve(design, pressures, load: str, options: dict | None = None):
+    """The finite-strain curve of one design under ``load`` at ``pressures`` (>= 0, increasing).
+
+    The one way the tier's options reach the curve: the mesh ones (``mesh_size``, ``mesher``)
+    and ``tube_prestretch`` (``None`` is the default). The columns below and the tier's record
+    (:meth:`softcath.models.section_nonlinear.SectionNonlinearTier.record`) use it.
+    """
+    opts = {
+        k: v
+        for k, v in (options or {}).items()
+        if k in ("mesh_size", "mesher", "tube_prestretch") and v is not None
+    }
+    return curve_with_rest(design, pressures, load=load, linear_gain=False, **opts)
+
+
 def section_nonlinear_columns(
     design, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
 ) -> dict:
@@ -71,11 +92,6 @@ def section_nonlinear_columns(
     ``mesher``) and ``tube_prestretch`` apply. ``section_nonlinear_seconds`` is the wall time for
     this design and load.
     """
-    opts = {
-        k: v
-        for k, v in (options or {}).items()
-        if k in ("mesh_size", "mesher", "tube_prestretch") and v is not None
-    }
     p = np.asarray(pressures, float)
     walk = np.unique(p[p >= 0])
     out = {}
@@ -83,7 +99,7 @@ def section_nonlinear_columns(
         t0 = time.perf_counter()
         cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
         if walk.size:
-            r = curve_with_rest(design, walk, load=load, linear_gain=False, **opts).to_response()
+            r = section_nonlinear_curve(design, walk, load, options).to_response()
             idx = np.searchsorted(walk, p)
             ok = p >= 0
             for col, name in SECTION_NONLINEAR_KEYS.items():
