@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_model_option(
         parser,
         tiers=tuple(models.get(n) for n in OPTION_TIERS),
-        where=" (the paper's formula: every formula number of the demo and its sweep)",
+        where=" (every number of that tier in the demo; the sweep takes the paper's and the section's)",
     )
 
 

@@ -3,16 +3,19 @@
 :func:`renamed_keyword` decorates a function (the old keyword is passed on under the new name)
 or a frozen dataclass (its constructor takes the old keyword, and a read-only property of the
 old name returns the new field). Either way the warning names the old and the new spelling.
+:func:`renamed_names` serves a module's old names, and :func:`moved_names` the names of a module
+that moved, from its new place.
 """
 
 from __future__ import annotations
 
 import functools
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from types import ModuleType
 from typing import Any, TypeVar
 
-__all__ = ["renamed_keyword", "renamed_names"]
+__all__ = ["moved_names", "renamed_keyword", "renamed_names"]
 
 T = TypeVar("T")
 
@@ -103,6 +106,52 @@ def renamed_names(module: str, /, **renamed: Any) -> Callable[[str], Any]:
                 f"{module}.{name} is deprecated: use {new.__name__}", DeprecationWarning, stacklevel=2
             )
             return new
+        raise AttributeError(f"module {module!r} has no attribute {name!r}")
+
+    return module_getattr
+
+
+def moved_names(module: str, new: ModuleType, names: Iterable[str], /) -> Callable[[str], Any]:
+    """A module ``__getattr__`` for a module that moved: its names come from the new module, with a warning.
+
+    The old module keeps no names of its own, so importing it (or walking the package tree, as
+    the API reference and the import checks do) is silent; using one of its names warns.
+
+    Parameters
+    ----------
+    module
+        The old module's ``__name__`` (for the messages).
+    new
+        The module where its names are now.
+    names
+        The names the old module exported; each must exist in ``new``.
+
+    Returns
+    -------
+    Callable
+        Assign it to the old module's ``__getattr__``: a name of ``names`` warns with a
+        ``DeprecationWarning`` naming ``new`` and returns ``new``'s object; any other name
+        raises ``AttributeError``.
+
+    Raises
+    ------
+    ValueError
+        A name of ``names`` that ``new`` does not have (the stand-in would serve nothing).
+    """
+    served = frozenset(names)
+    missing = sorted(n for n in served if not hasattr(new, n))
+    if missing:
+        raise ValueError(f"moved_names: names = {missing}: not in {new.__name__}")
+
+    def module_getattr(name: str) -> Any:
+        if name in served:
+            # stacklevel 2: the warning points at the code that still imports the old place
+            warnings.warn(
+                f"{module} is deprecated: it moved to {new.__name__} (import {name} from there)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return getattr(new, name)
         raise AttributeError(f"module {module!r} has no attribute {name!r}")
 
     return module_getattr

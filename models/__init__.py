@@ -28,6 +28,10 @@ tier is one :class:`Tier` subclass implementing ``_solve`` (one module) and one
 
 from __future__ import annotations
 
+# The deprecated stand-in of the moved module ``softcath.models.response`` loads first: importing a
+# submodule sets the package's attribute of its name, and the function ``response`` below must win
+# (a later ``import softcath.models.response`` finds it loaded and leaves the attribute alone).
+import softcath.models.response  # noqa: F401
 from softcath.core.response import OBSERVABLES, ResponseBatch, TipResponse
 from softcath.models.options import check_tier_options, coerce_option, options_of, parse_tier_options
 from softcath.models.registry import (

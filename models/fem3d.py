@@ -16,7 +16,7 @@ import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
 from softcath.fem import check
-from softcath.models.tier import Tier
+from softcath.models.tier import LOADS, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
 __all__ = ["FEM", "FEM_KEYS", "FemTier", "fem_check_function", "fem_records"]
@@ -131,9 +131,27 @@ class FemTier(Tier):
     def available(self) -> bool:
         return fem_check_function() is not None
 
+    def record(self, design, pressures, *, loads=LOADS, options=None):
+        """The 3-D FEM's own result of one design (``fem.check``: the cases, the solution for
+        pictures), solved with this tier's ``options`` as its responses are.
+
+        Raises
+        ------
+        DesignError
+            A load or option the tier does not take.
+        ImportError
+            ``fem.check`` is not available in this build.
+        """
+        for load in loads:
+            self.check_load(load)
+        check = fem_check_function()
+        if check is None:
+            raise ImportError("softcath.fem.check is unavailable")
+        p = np.atleast_1d(np.asarray(pressures, dtype=float))
+        return check(design, pressures=list(p), loads=tuple(loads), **self.check_options(options))
+
     def _solve(self, designs, pressures, loads, options):
 
-        check = fem_check_function()
         n, n_p = len(designs), pressures.size
         rows = {ld: {k: np.full((n, n_p), np.nan) for k in FEM_KEYS} for ld in loads}
         tip = {ld: np.full((n, n_p), np.nan) for ld in loads}
@@ -142,9 +160,7 @@ class FemTier(Tier):
         for i, d in enumerate(designs):
             t0 = time.perf_counter()
             try:
-                if check is None:
-                    raise ImportError("softcath.fem.check is unavailable")
-                result = check(d, pressures=list(pressures), loads=tuple(loads), **options)
+                result = self.record(d, pressures, loads=loads, options=options)
                 records = fem_records(result)
                 rotation = {  # the end section's rotation over L: the FEM's own tip-level curvature
                     (c.load, round(float(c.pressure_MPa), 12)): c.curvature_rotation_per_mm

@@ -41,6 +41,19 @@ class FemNonlinearTier(Tier):
 
         check_assembly(self._assembly(assembly))
 
+    def record(self, design, pressures, *, load: str | None = None, options=None):
+        """The finite-strain bend curve of one design, walked with this tier's ``options`` as its
+        responses are: a :class:`~softcath.fem.nonlinear.bend.NonlinearFemCurve` (the deformed
+        mesh, the linear FEM beside it, Newton's record).
+
+        Raises
+        ------
+        DesignError
+            A load or option the tier does not take; the solver's own errors propagate.
+        """
+        load = self.check_load(self.default_load if load is None else load)
+        return bend_curve(design, pressures, load=load, **self.check_options(options))
+
     def _solve(self, designs, pressures, loads, options):
         import time
 
@@ -61,7 +74,9 @@ class FemNonlinearTier(Tier):
                     values[f][i, rest] = {"tip_x_mm": x0, "tip_y_mm": y0}.get(f, 0.0)
                 if positive.size:
                     try:
-                        curve = bend_curve(d, positive, load=load, **options).to_response(tier=self.name)
+                        curve = self.record(d, positive, load=load, options=options).to_response(
+                            tier=self.name
+                        )
                     except Exception as exc:  # a failed Newton walk is this design's error
                         raise_pending_stop()
                         errors[i] = exc

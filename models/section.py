@@ -13,8 +13,8 @@ import numpy as np
 
 from softcath.core.interrupts import raise_pending_stop
 from softcath.fem.section_model.laws import NU_MAX
-from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns
-from softcath.models.tier import OptionBound, Tier
+from softcath.models.section_eval import SECTION_KEYS, section_blocks_many, section_columns, section_result
+from softcath.models.tier import LOADS, OptionBound, Tier
 from softcath.models.validity import LINEAR_BEND_LIMIT_DEG
 
 __all__ = ["SECTION", "SectionTier", "SECTION_FIELDS"]
@@ -53,6 +53,18 @@ def _one_by_one(designs, pressures, loads, options) -> tuple[dict, dict]:
 
 class SectionTier(Tier):
     """The linear section model; extras ``section_formula_ratio`` (its curvature over eq. 7's, cap load)."""
+
+    def record(self, design, *, loads=LOADS, options=None, keep_fields: bool = False):
+        """The section model's own record of one design (DOFs, gains, fields for pictures), solved
+        with this tier's ``options`` as its responses are
+        (:func:`~softcath.models.section_eval.section_result`).
+
+        Raises
+        ------
+        DesignError
+            An option the tier does not take; the section model's own errors propagate.
+        """
+        return section_result(design, tuple(loads), self.check_options(options), keep_fields=keep_fields)
 
     def _solve(self, designs, pressures, loads, options):
         if set(options) <= _BATCHED_OPTIONS:

@@ -27,6 +27,7 @@ __all__ = [
     "SECTION_OPTIONS",
     "section_blocks_many",
     "section_columns",
+    "section_result",
 ]
 
 log = logging.getLogger(__name__)
@@ -57,9 +58,8 @@ def section_columns(
     ``max_strain_section`` the largest principal strain in the silicone at
     mid-span (:func:`softcath.fem.section_model.strain.silicone_strain_range`).
     """
-    opts = {k: v for k, v in (options or {}).items() if v is not None}
     t0 = time.perf_counter()
-    r = section_model(design, loads=loads, keep_fields=True, **opts)
+    r = section_result(design, loads, options, keep_fields=True)
     out = {}
     for load in loads:
         resp = r.response(pressures, load)
@@ -77,6 +77,16 @@ def section_columns(
     for load in loads:
         out[load]["section_seconds"] = np.full(pressures.shape, seconds)
     return out
+
+
+def section_result(design, loads: tuple[str, ...], options: dict | None = None, *, keep_fields: bool = False):
+    """The section model of one design with the tier's ``options`` (those set: ``None`` is the default).
+
+    The one way the tier's options reach :func:`~softcath.fem.section_model.section_model`: the
+    columns above and the tier's record (:meth:`softcath.models.section.SectionTier.record`) use it.
+    """
+    opts = {k: v for k, v in (options or {}).items() if v is not None}
+    return section_model(design, loads=loads, keep_fields=keep_fields, **opts)
 
 
 def section_blocks_many(

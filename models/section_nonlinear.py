@@ -21,6 +21,7 @@ from softcath.models.section_nonlinear_eval import (
     SECTION_NONLINEAR_OPTIONS,
     load_columns,
     partial_columns,
+    section_nonlinear_curve,
 )
 from softcath.models.tier import OptionBound, Tier
 
@@ -36,6 +37,19 @@ class SectionNonlinearTier(Tier):
     A design whose Newton walk stalled stays in the batch's ``errors`` with NaN rows; the
     pressures it reached are its :meth:`~softcath.core.response.ResponseBatch.partial_response`.
     """
+
+    def record(self, design, pressures, *, load: str | None = None, options=None):
+        """The finite-strain curve of one design (its DOFs, Newton record, fields), walked with this
+        tier's ``options`` as its responses are
+        (:func:`~softcath.models.section_nonlinear_eval.section_nonlinear_curve`).
+
+        Raises
+        ------
+        DesignError
+            A load or option the tier does not take; the model's own errors propagate.
+        """
+        load = self.check_load(self.default_load if load is None else load)
+        return section_nonlinear_curve(design, pressures, load, self.check_options(options))
 
     def _solve(self, designs, pressures, loads, options):
         n = len(designs)

@@ -29,6 +29,7 @@ __all__ = [
     "load_columns",
     "partial_columns",
     "section_nonlinear_columns",
+    "section_nonlinear_curve",
 ]
 
 #: The ``section-nonlinear`` tier's options, name -> default: each is the keyword of
@@ -85,6 +86,18 @@ def curve_with_rest(design, pressures, **options):
     return replace(c, **cut)
 
 
+def section_nonlinear_curve(design, pressures, load: str, options: dict | None = None):
+    """The finite-strain curve of one design under ``load`` at ``pressures`` (>= 0, increasing).
+
+    The one way the tier's options (:data:`SECTION_NONLINEAR_OPTIONS`; ``None`` is the design's
+    own) reach the curve; others, e.g. of a shared ``[sweep.section]`` table, are left out. The
+    columns below and the tier's record
+    (:meth:`softcath.models.section_nonlinear.SectionNonlinearTier.record`) use it.
+    """
+    opts = {k: v for k, v in (options or {}).items() if k in SECTION_NONLINEAR_OPTIONS and v is not None}
+    return curve_with_rest(design, pressures, load=load, linear_gain=False, **opts)
+
+
 def section_nonlinear_columns(
     design, pressures: np.ndarray, loads: tuple[str, ...], options: dict | None = None
 ) -> dict:
@@ -104,13 +117,12 @@ def section_nonlinear_columns(
 
 def load_columns(design, pressures: np.ndarray, load: str, options: dict | None = None) -> dict:
     """``{column: array over pressures}`` of one ``load`` (:func:`section_nonlinear_columns`)."""
-    opts = {k: v for k, v in (options or {}).items() if k in SECTION_NONLINEAR_OPTIONS and v is not None}
     p = np.asarray(pressures, float)
     walk = np.unique(p[p >= 0])
     t0 = time.perf_counter()
     cols = {k: np.full(p.size, np.nan) for k in SECTION_NONLINEAR_KEYS}
     if walk.size:
-        cols = partial_columns(curve_with_rest(design, walk, load=load, linear_gain=False, **opts), p)
+        cols = partial_columns(section_nonlinear_curve(design, walk, load, options), p)
     cols["section_nonlinear_seconds"] = np.full(p.size, time.perf_counter() - t0)
     return cols
 

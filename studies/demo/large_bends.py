@@ -1,17 +1,25 @@
 """Demo section 3: large bends in four tiers (formula, linear section, finite-strain section, 3-D
-finite-strain FEM), the pressure each needs for 90 degrees, and the silicone strain."""
+finite-strain FEM), the pressure each needs for 90 degrees, and the silicone strain.
+
+Each tier answers with its options (``--model-option``, the context's ``options``): the two
+linear tiers through the registry (:func:`softcath.models.get`), the two finite-strain ones
+through their tiers' records (:meth:`~softcath.models.section_nonlinear.SectionNonlinearTier.record`,
+:meth:`~softcath.models.fem_nonlinear.FemNonlinearTier.record`), which carry what the pictures
+and the text need besides the bend (DOFs, the deformed tip, Newton's record).
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+
 import numpy as np
 
+from softcath import models
 from softcath.core.plotting import pyplot
-from softcath.fem.nonlinear import bend_curve
 from softcath.fem.nonlinear.outputs import plot_curve, plot_deformed
-from softcath.fem.section_model import section_model
-from softcath.fem.section_model.finite_strain import section_curve
+from softcath.models.fem_nonlinear import FEM_NONLINEAR
+from softcath.models.section_nonlinear import SECTION_NONLINEAR
 from softcath.studies.demo.context import DEMO_MAX_STRAIN, DemoContext, SectionOutput
-from softcath.studies.demo.paper import paper_response
 from softcath.studies.report.html_blocks import figure, fmt, table
 
 __all__ = ["DEMO_LARGE_BEND_PRESSURES_MPA", "DEMO_SECTION_CURVE_PRESSURES_MPA", "section_large_bends"]
@@ -37,24 +45,39 @@ def _pressure_for(angle: float, pressure, bend) -> float | None:
     return float(p[i - 1] + (angle - a[i - 1]) * (p[i] - p[i - 1]) / (a[i] - a[i - 1]))
 
 
-def four_tiers(d, fem_curve, path, *, paper_options=None) -> tuple[list, dict]:
+def _bend_of(tier: str, d, load: str, options) -> Callable[[object], np.ndarray]:
+    """``d``'s bend angle [rad] against pressures [MPa] from the registry's ``tier``, with its ``options``."""
+    model = models.get(tier)
+
+    def bend(p) -> np.ndarray:
+        pressures = np.atleast_1d(np.asarray(p, dtype=float))
+        return model.response(d, pressures, load=load, options=options).bend_angle_rad
+
+    return bend
+
+
+def four_tiers(d, fem_curve, path, *, options: Mapping[str, Mapping] | None = None) -> tuple[list, dict]:
     """The four tiers' bend angle against pressure (``path``: the PNG) and their pressures for 90 degrees.
 
-    ``paper_options`` are the paper tier's options (:func:`~softcath.studies.demo.paper.paper_response`).
+    ``options`` are the tiers' options, tier name -> its options (the demo's ``--model-option``);
+    ``fem_curve`` is the ``fem-nonlinear`` tier's record, or ``None``.
     """
     plt = pyplot()
     from scipy.optimize import brentq
 
+    opts = options or {}
     length = float(d.tip.bending_length)
     fine = np.linspace(0.0, DEMO_SECTION_CURVE_PRESSURES_MPA[-1], 101)
-    lin = section_model(d, loads=("lumen",))
     linear_tiers = {  # their own bend angle: kappa p over the stretched length (eq. 9)
-        "paper's formula (eq. 7, cap load)": lambda p: paper_response(d, p, "cap", paper_options).bend_angle,
-        "linear section model": lambda p: lin.response(p, "lumen").bend_angle,
+        "paper's formula (eq. 7, cap load)": _bend_of("paper", d, "cap", opts.get("paper")),
+        "linear section model": _bend_of("section", d, "lumen", opts.get("section")),
     }
-    fs = section_curve(d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen", linear_gain=False)
+    fs = SECTION_NONLINEAR.record(
+        d, DEMO_SECTION_CURVE_PRESSURES_MPA, load="lumen", options=opts.get("section-nonlinear")
+    )
+    fs_response = fs.to_response(tier=SECTION_NONLINEAR.name)  # the tier's answer from its record
     tiers = {name: (fine, np.asarray(f(fine), float)) for name, f in linear_tiers.items()}
-    tiers["finite-strain section model (tip angle)"] = (fs.pressure, fs.bend_angle_rad)
+    tiers["finite-strain section model (tip angle)"] = (fs_response.pressures, fs_response.bend_angle_rad)
     if fem_curve is not None:
         tiers["3-D finite-strain FEM, tip end section"] = (fem_curve.pressure, fem_curve.bend_angle)
         rate = np.asarray(fem_curve.bend_rate_mid, float)
@@ -73,7 +96,7 @@ def four_tiers(d, fem_curve, path, *, paper_options=None) -> tuple[list, dict]:
     plt.close(fig)
     p90 = {name: _pressure_for(np.pi / 2, p, a) for name, (p, a) in tiers.items()}
     for name, f in linear_tiers.items():  # beyond the plotted range: solve their own closed form
-        p90[name] = float(brentq(lambda p, f=f: float(f(p)) - np.pi / 2, 0.0, 100.0, xtol=1e-12))
+        p90[name] = float(brentq(lambda p, f=f: float(f(p)[0]) - np.pi / 2, 0.0, 100.0, xtol=1e-12))
     reached = {name: (float(p[-1]), float(np.degrees(a[-1]))) for name, (p, a) in tiers.items()}
     return [(name, p90[name], *reached[name]) for name in tiers], {"section_curve": fs, "p90": p90}
 
@@ -82,12 +105,14 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
     if not ctx.fem:
         return _three_tiers_only(ctx)
     d = ctx.design
-    c = bend_curve(d, DEMO_LARGE_BEND_PRESSURES_MPA, load="lumen")
+    c = FEM_NONLINEAR.record(
+        d, DEMO_LARGE_BEND_PRESSURES_MPA, load="lumen", options=ctx.options.get(FEM_NONLINEAR.name)
+    )
     f1, f2 = ctx.out_dir / "large_bends_curve.png", ctx.out_dir / "large_bends_tip.png"
     f0 = ctx.out_dir / "large_bends_tiers.png"
     plot_curve(c, f1)
     plot_deformed(c, f2)
-    rows90, tiers = four_tiers(d, c, f0, paper_options=ctx.options.get("paper"))
+    rows90, tiers = four_tiers(d, c, f0, options=ctx.options)
     over = [float(p) for p, e in zip(c.pressure, c.max_strain, strict=True) if e > DEMO_MAX_STRAIN]
     ratio = float(c.bend_angle[-1] / c.linear_bend_angle[-1])
     html = (
@@ -111,7 +136,7 @@ def section_large_bends(ctx: DemoContext) -> SectionOutput:
 def _three_tiers_only(ctx: DemoContext) -> SectionOutput:
     """The section without the finite-strain FEM (``--no-fem``): the other three tiers of the bend."""
     f0 = ctx.out_dir / "large_bends_tiers.png"
-    rows90, _ = four_tiers(ctx.design, None, f0, paper_options=ctx.options.get("paper"))
+    rows90, _ = four_tiers(ctx.design, None, f0, options=ctx.options)
     return SectionOutput(
         "<p>Finite-strain FEM switched off (--no-fem): three tiers of the bend.</p>"
         + figure(f0.name, "Bend angle vs lumen pressure: formula, linear and finite-strain section models.")

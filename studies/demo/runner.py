@@ -18,10 +18,10 @@ from softcath.studies.report.html_blocks import esc, note, page
 
 __all__ = ["DemoResult", "OPTION_TIERS", "default_data", "run_sections"]
 
-#: The tiers whose options the demo takes: the paper's formula, which every section asks through the
-#: registry. The section models and the 3-D FEM of its sections are solved with their own settings
-#: (curves, fields and views the tiers' responses do not hold), so their options are refused.
-OPTION_TIERS = ("paper",)
+#: The tiers whose options the demo takes: every tier its sections show. Each section asks a tier
+#: through the registry, or, where it draws what a response does not hold (curves, fields, the 3-D
+#: views), through the tier's record, which solves with the same options.
+OPTION_TIERS = ("paper", "section", "section-nonlinear", "fem", "fem-nonlinear")
 
 log = logging.getLogger(__name__)
 
@@ -79,8 +79,9 @@ def run_sections(
     fem
         Run the FEM (section 2 and the sweep's FEM evaluator) when ``fem.check`` is installed.
     options
-        Tier name -> options of the paper's formula (:data:`OPTION_TIERS`): every formula number
-        of the demo and its sweep take them; recorded in ``demo.json`` as ``model_options``.
+        Tier name -> its options (:data:`OPTION_TIERS`): every number of that tier in the demo
+        takes them (the sweep those of the tiers it evaluates); recorded in ``demo.json`` as
+        ``model_options``.
     """
     from tqdm import tqdm
 

@@ -18,11 +18,13 @@ from softcath.studies.selection import select, write_selection
 from softcath.studies.sweep import fem_check_function, load_spec, run_sweep
 from softcath.studies.sweep.results import read_results
 
-__all__ = ["DEMO_SELECT_PRESSURE_MPA", "demo_sweep_spec", "section_sweep"]
+__all__ = ["DEMO_SELECT_PRESSURE_MPA", "DEMO_SWEEP_TIERS", "demo_sweep_spec", "section_sweep"]
 
 #: The selection's check pressure [MPa]: within the bench's range, where the section model's silicone
 #: strain of the paper design (0.92 per MPa under the lumen load) stays below the linear models' trust bound.
 DEMO_SELECT_PRESSURE_MPA = 0.5
+#: The tiers the demo's sweep evaluates (the 3-D FEM checks only the chosen design afterwards).
+DEMO_SWEEP_TIERS = ("paper", "section")
 
 
 def demo_sweep_spec(options: dict | None = None) -> str:
@@ -35,6 +37,7 @@ def demo_sweep_spec(options: dict | None = None) -> str:
     tables = "".join(
         f"\n[sweep.options.{tier}]\n" + "".join(f"{k} = {json.dumps(v)}\n" for k, v in opts.items())
         for tier, opts in (options or {}).items()
+        if tier in DEMO_SWEEP_TIERS  # the other tiers' options are the demo's other sections'
     )
     return f"""# The softcath demo sweep: lumen offsets h x lumen widths a_int,
 # paper's formula and section model.
@@ -43,7 +46,7 @@ name = "demo"
 base = "paper"
 pressures_MPa = {sorted({*DEMO_PRESSURES_MPA, DEMO_SELECT_PRESSURE_MPA})}
 loads = ["cap", "lumen"]
-evaluators = ["paper", "section"]
+evaluators = {json.dumps(list(DEMO_SWEEP_TIERS))}
 
 {tables}
 [sweep.feasibility]
@@ -104,7 +107,9 @@ def _check_chosen(ctx: DemoContext, check, run_dir: Path, sel, df) -> str:
     did = sel.ranked[0]["design_id"]
     p = DEMO_SELECT_PRESSURE_MPA
     t0 = time.perf_counter()
-    batches = models.responses([design_of(run_dir, did)], [p], tier="fem", loads=models.LOADS)
+    batches = models.responses(
+        [design_of(run_dir, did)], [p], tier="fem", loads=models.LOADS, options=ctx.options.get("fem")
+    )
     seconds = time.perf_counter() - t0
     out = []
     for load, b in batches.items():

@@ -5,6 +5,11 @@ eq. 7, cap force only: what the paper predicts for either load), and κ/p
 against the silicone's Poisson ratio from the section model (the 3-D FEM
 stops at ν = 0.49, where the answer is steepest). When the 3-D FEM runs, a
 rotatable view of its deformed tip (:mod:`softcath.fem.html_view`, inline WebGL).
+
+The section model and the 3-D FEM are their tiers' records
+(:meth:`~softcath.models.section.SectionTier.record`, :meth:`~softcath.models.fem3d.FemTier.record`:
+the DOFs, the gains and the solution the view draws), solved with the tiers' options
+(``--model-option``) as their responses are.
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ from softcath.design.load_cases import LOADS
 from softcath.fem.export import to_grid
 from softcath.fem.html_view import surface_of_grid, tip_view_fragment
 from softcath.fem.section_model import section_model
+from softcath.models.fem3d import FEM
+from softcath.models.section import SECTION
 from softcath.studies.demo.context import SectionOutput
 from softcath.studies.demo.paper import paper_gains
 from softcath.studies.report.figures import _plt, _save
@@ -79,8 +86,8 @@ def section_tiers(ctx):
 
     d = ctx.design
     k_f, e_f = paper_gains(d, "cap", ctx.options.get("paper"))
-    sm = section_model(d)
-    fem, fem_seconds, why, result = _run_fem_tier(d, ctx.fem)
+    sm = SECTION.record(d, options=ctx.options.get(SECTION.name))
+    fem, fem_seconds, why, result = _run_fem_tier(d, ctx.fem, ctx.options.get(FEM.name))
     html = _tiers_table(k_f, e_f, sm, fem, fem_seconds)
     html += _tiers_facts(sm, fem, fem_seconds)
     if fem:
@@ -101,17 +108,18 @@ def section_tiers(ctx):
     return SectionOutput(html, (fpath,))
 
 
-def _run_fem_tier(d, enabled: bool):
-    """The 3-D FEM at 1 MPa: per-load records, seconds, why it did not run (or ``""``) and its result."""
+def _run_fem_tier(d, enabled: bool, options=None):
+    """The 3-D FEM at 1 MPa with the ``fem`` tier's ``options``: per-load records, seconds, why it did
+    not run (or ``""``) and its result."""
 
     fem, fem_seconds, why, result = None, None, "", None
     if not enabled:
         why = "Not run:</b> the 3-D FEM (switched off with --no-fem)"
-    elif (check := fem_check_function()) is None:
+    elif fem_check_function() is None:
         why = "Not available:</b> the 3-D FEM (fem.check is not importable)"
     else:
         t0 = time.perf_counter()
-        result = check(d, pressures=[1.0], loads=LOADS)  # at 1 MPa: the values are per MPa
+        result = FEM.record(d, [1.0], loads=LOADS, options=options)  # at 1 MPa: the values are per MPa
         fem_seconds = time.perf_counter() - t0
         rows = fem_records(result)
         fem = {ld: rows[(ld, 1.0)] for ld in LOADS if (ld, 1.0) in rows}

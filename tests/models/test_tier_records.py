@@ -14,12 +14,15 @@ import math
 import numpy as np
 import pytest
 
-from softcath import design
+from softcath import design, models
 from softcath.core.response import TipResponse
 from softcath.design.errors import DesignError
 from softcath.fem.nonlinear.bend import NonlinearFemCurve
+from softcath.fem.section_model import section_model
 from softcath.fem.section_model.bilinear import BilinearCoilCurve, bend_curve
 from softcath.fem.section_model.finite_strain import SectionCurve, section_curve
+from softcath.models.section import SECTION
+from softcath.models.section_nonlinear import SECTION_NONLINEAR
 from softcath.studies.outputs.section import curve_response
 
 PAPER = design.preset("paper")
@@ -160,3 +163,19 @@ def test_bend_curve_is_a_deprecated_alias(module, new):
     assert old is new
     with pytest.raises(AttributeError, match="NoSuchCurve"):
         mod.NoSuchCurve  # noqa: B018
+
+
+def test_a_tiers_record_is_solved_with_its_options_as_its_responses_are():
+    """``record`` (what a picture needs beyond the response) maps the tier's options as ``response`` does."""
+    pressures = [0.2, 0.4]
+    opts = {"mesh_size": 0.1}
+    curve = SECTION_NONLINEAR.record(PAPER, pressures, load="lumen", options=opts)
+    r = models.response(PAPER, pressures, tier="section-nonlinear", load="lumen", options=opts)
+    np.testing.assert_array_equal(curve.to_response().bend_angle_rad, r.bend_angle_rad)  # the same walk
+    assert curve.dofs != SECTION_NONLINEAR.record(PAPER, pressures, load="lumen").dofs  # the mesh option
+    sm = SECTION.record(PAPER, options={"silicone_poisson": 0.45, "poisson_cap": None})
+    assert sm.curvature_per_mm_per_MPa == section_model(PAPER, silicone_poisson=0.45).curvature_per_mm_per_MPa
+    with pytest.raises(DesignError, match=r"options\.size.*section accepts the options mesh_size"):
+        SECTION.record(PAPER, options={"size": 0.1})
+    with pytest.raises(DesignError, match=r"load.*section-nonlinear answers the loads cap, lumen"):
+        SECTION_NONLINEAR.record(PAPER, pressures, load="wall")
