@@ -4,7 +4,9 @@ Linear (default): writes DIR/fem.json (curvature, elongation, tip pose,
 strain, run facts and the analytic values for the same design, pressure and
 load model), DIR/tip.vtu (open in ParaView), DIR/tip.png (deformed tip
 coloured by strain) and DIR/tip.html (the same, rotatable in a browser, offline;
-skipped with --no-png like tip.png).
+skipped with --no-png like tip.png). fem.json states the curvature's discretisation error
+(``discretisation_error_estimate`` from a second solve at twice the mesh size, Richardson);
+``--convergence`` adds convergence.csv/.json/.png (mesh sizes 2h, h, h/2).
 
 ``--nonlinear``: the finite-strain pressure sweep (docs/nonlinear.md), writing
 DIR/fem.json (the linear check's keys plus steps and Newton iterations),
@@ -133,8 +135,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     nl.add_argument(
         "--convergence",
         action="store_true",
-        help="three-mesh study (L/2, L, 2L layers): observed order, extrapolated curvature, "
-        "convergence.csv/.json/.png",
+        help="three-mesh study (linear: mesh sizes 2h, h, h/2; --nonlinear: L/2, L, 2L layers): "
+        "observed order, extrapolated curvature, convergence.csv/.json/.png",
     )
     nl.add_argument(
         "--compare-linear",
@@ -150,6 +152,7 @@ class LinearSettings:
     pressure: float
     load: str
     mesh_size: float
+    convergence: bool = False
 
 
 def linear_settings(args: argparse.Namespace) -> LinearSettings:
@@ -160,6 +163,7 @@ def linear_settings(args: argparse.Namespace) -> LinearSettings:
         pressure=args.pressure,
         load=args.load or DEFAULT_LOAD["linear"],
         mesh_size=args.mesh_size if args.mesh_size is not None else DEFAULT_MESH_SIZE["linear"],
+        convergence=bool(args.convergence),
     )
 
 
@@ -207,11 +211,13 @@ def run(args: argparse.Namespace) -> int:
         check_assembly(d.assembly)  # the finite-strain FEM fuses every interface
         return _run_nonlinear(d, args, out)
     s = linear_settings(args)
-    check_fem_budget(d, mesh_size=s.mesh_size, param="--mesh-size")  # before minutes of meshing
-    stages = iter(range(1, 5))
+    finest = s.mesh_size / 2 if s.convergence else s.mesh_size  # the study's finest mesh
+    check_fem_budget(d, mesh_size=finest, param="--mesh-size")  # before minutes of meshing
+    n_stages = 15 if s.convergence else 5  # mesh, assemble, solve, fit (x3 meshes), error estimate
+    stages = iter(range(1, n_stages + 1))
 
     def status(stage: str) -> None:
-        print(f"[{next(stages, 4)}/4] {stage} ...", file=sys.stderr, flush=True)
+        print(f"[{next(stages, n_stages)}/{n_stages}] {stage} ...", file=sys.stderr, flush=True)
 
     fc = fem_check(
         d,
@@ -222,8 +228,9 @@ def run(args: argparse.Namespace) -> int:
         coil_modulus=args.coil_modulus,
         use_cache=not args.no_cache,
         progress=status,
+        convergence=s.convergence,
     )
-    fc.write(out, picture=not args.no_png)
+    names = fc.write(out, picture=not args.no_png)
     result, c, formula = fc.result, fc.case, fc.paper_formula()
     ratio = formula["ratio_fem_over_formula"]
     print(
@@ -238,7 +245,33 @@ def run(args: argparse.Namespace) -> int:
         f"mesh {result.n_elements} tets ({result.mesher}, "
         f"{'cached' if result.mesh_cached else f'{result.mesh_seconds:.1f} s'}), "
         f"{result.dofs} dofs, solve {result.solve_seconds:.1f} s, "
-        f"backward error {result.residual:.1e}; wrote {out}/fem.json, tip.vtu"
-        + ("" if args.no_png else ", tip.png")
+        f"backward error {result.residual:.1e}; wrote {out}/{', '.join(names)}"
     )
+    for line in _error_lines(fc):
+        print(line)
     return 0
+
+
+def _error_lines(fc) -> list[str]:
+    """The summary's lines on the discretisation error (and the three-mesh study's order)."""
+    est, c = fc.result.discretisation_error, fc.case
+    lines = []
+    if fc.study is not None:
+        st = fc.study
+        q = st.observed_order
+        ext = st.extrapolated[-1]
+        lines.append(
+            f"convergence (mesh {'/'.join(f'{h:g}' for h in st.mesh_size)} mm, "
+            f"{'/'.join(str(n) for n in st.ndofs)} dofs): observed order "
+            + ("n/a (not monotone)" if not math.isfinite(q) else f"{q:.3g}")
+            + ", extrapolated curvature "
+            + ("n/a" if not math.isfinite(ext) else f"{ext:.5g} 1/mm")
+        )
+    if est is not None and math.isfinite(c.discretisation_error_estimate):
+        lines.append(
+            f"estimated discretisation error of the curvature at mesh {est.mesh_size_mm:g} mm: "
+            f"{100 * c.discretisation_error_estimate:.2g} % "
+            f"(Richardson vs {est.companion_mesh_size_mm:g} mm, "
+            f"order {est.order:.3g} {est.order_source}; {est.companion_seconds:.1f} s more)"
+        )
+    return lines

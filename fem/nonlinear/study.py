@@ -32,7 +32,14 @@ from softcath.fem.nonlinear.convergence import (
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.reference import ErrorEstimate, estimate_error
 
-__all__ = ["ConvergenceStudy", "convergence_study", "write_study", "STUDY_COLUMNS"]
+__all__ = [
+    "ConvergenceStudy",
+    "convergence_study",
+    "write_study",
+    "write_study_csv",
+    "plot_study",
+    "STUDY_COLUMNS",
+]
 
 #: Columns of ``convergence.csv`` (one row per mesh and pressure).
 STUDY_COLUMNS = (
@@ -89,6 +96,13 @@ class ConvergenceStudy:
         """|f − f_extrapolated| / |f_extrapolated| per mesh and pressure."""
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(self.curvature_mid - self.extrapolated) / np.abs(self.extrapolated)
+
+    # what the picture reads (shared with the linear check's study, softcath.fem.mesh_study)
+    mesh_labels = property(lambda self: tuple(f"{n} layers" for n in self.layers))
+    values = property(lambda self: self.curvature_mid)
+    spacing = property(lambda self: 1.0 / np.asarray(self.layers, float))
+    value_label = "mid-span curvature [1/mm]"
+    spacing_label = "1 / layers"
 
     def error_estimate(self) -> ErrorEstimate:
         """The middle mesh's error estimate from the coarse one, with the top pressure's observed order.
@@ -203,30 +217,41 @@ def write_study(study: ConvergenceStudy, out: Path) -> list[str]:
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "convergence.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=STUDY_COLUMNS)
-        w.writeheader()
-        for row in study.rows():
-            w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
+    write_study_csv(study, out / "convergence.csv")
     (out / "convergence.json").write_text(json.dumps(study.to_json(), indent=2), encoding="utf-8")
     plot_study(study, out / "convergence.png")
     return ["convergence.csv", "convergence.json", "convergence.png"]
 
 
-def plot_study(study: ConvergenceStudy, path: Path) -> None:
-    """Left: mid-span curvature vs pressure per mesh and extrapolated; right: error vs 1/layers (log-log)."""
+def write_study_csv(study, path: Path) -> None:
+    """``convergence.csv`` of a three-mesh study: its ``rows()``, floats to 9 digits."""
+    rows = study.rows()
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+def plot_study(study, path: Path) -> None:
+    """Left: curvature vs pressure per mesh and extrapolated; right: error vs mesh spacing (log-log).
+
+    ``study`` is a :class:`ConvergenceStudy` or the linear check's
+    :class:`~softcath.fem.mesh_study.MeshStudy`: per mesh ``mesh_labels``, ``values`` (mesh ×
+    pressure), ``spacing`` (1/layers or h) and their axis labels.
+    """
     plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6))
-    for m, n in enumerate(study.layers):
-        a.plot(study.pressure, study.curvature_mid[m], "o-", ms=3, label=f"{n} layers")
+    for m, label in enumerate(study.mesh_labels):
+        a.plot(study.pressure, study.values[m], "o-", ms=3, label=label)
     a.plot(study.pressure, study.extrapolated, "k--", label="extrapolated")
     a.set_xlabel("pressure [MPa]")
-    a.set_ylabel("mid-span curvature [1/mm]")
+    a.set_ylabel(study.value_label)
     a.legend(fontsize=8)
     a.grid(alpha=0.3)
     rel = study.relative_error[:, -1]
-    h = 1.0 / np.asarray(study.layers, float)
+    h = np.asarray(study.spacing, float)
     ok = np.isfinite(rel) & (rel > 0)
     if ok.any():
         b.loglog(h[ok], rel[ok], "o-", label=f"p = {study.pressure[-1]:g} MPa")
@@ -234,7 +259,7 @@ def plot_study(study: ConvergenceStudy, path: Path) -> None:
         if np.isfinite(q):
             b.loglog(h, rel[ok][-1] * (h / h[ok][-1]) ** q, ":", label=f"slope {q:.2g} (observed)")
         b.legend(fontsize=8)
-    b.set_xlabel("1 / layers")
+    b.set_xlabel(study.spacing_label)
     b.set_ylabel("relative error vs extrapolated")
     b.grid(alpha=0.3, which="both")
     fig.tight_layout()

@@ -4,7 +4,9 @@
 and returns a :class:`FemCheck`, whose :meth:`~FemCheck.write` writes what
 ``softcath fem`` writes: ``fem.json`` (the check's keys, the as-built options, the
 analytic values under the same load and ``paper_formula``), ``tip.vtu`` and, with
-pictures, ``tip.png`` and ``tip.html``. :func:`nonlinear_fem_check` runs the
+pictures, ``tip.png`` and ``tip.html``; with ``convergence`` the three-mesh study's
+``convergence.csv``, ``convergence.json`` and ``convergence.png``
+(:mod:`softcath.fem.mesh_study`). :func:`nonlinear_fem_check` runs the
 finite-strain sweep (:func:`softcath.fem.nonlinear.outputs.run_check`) and gives its
 ``fem.json`` the same ``paper_formula`` block.
 
@@ -27,7 +29,9 @@ from softcath.design import TipDesign
 from softcath.fem.api import FemCase, FemResult, check
 from softcath.fem.export import render_png, write_vtu
 from softcath.fem.html_view import write_tip_html
+from softcath.fem.mesh_study import MeshStudy, mesh_study
 from softcath.fem.nonlinear.outputs import NonlinearSettings, run_check
+from softcath.fem.nonlinear.study import plot_study, write_study_csv
 from softcath.studies.model_validity import warn_linear_range
 
 __all__ = ["FemCheck", "fem_check", "nonlinear_fem_check", "paper_formula"]
@@ -35,12 +39,14 @@ __all__ = ["FemCheck", "fem_check", "nonlinear_fem_check", "paper_formula"]
 
 @dataclass(frozen=True)
 class FemCheck:
-    """One linear FEM check: the design, its result and the load and pressure it ran at."""
+    """One linear FEM check: the design, its result and the load and pressure it ran at, and
+    the three-mesh study it came from (None: one mesh and its companion)."""
 
     design: TipDesign
     result: FemResult
     load: str
     pressure: float
+    study: MeshStudy | None = None
 
     @property
     def case(self) -> FemCase:
@@ -60,7 +66,8 @@ class FemCheck:
         return doc
 
     def write(self, folder: str | Path, *, picture: bool = True) -> tuple[str, ...]:
-        """Write ``fem.json``, ``tip.vtu`` and (``picture``) ``tip.png``, ``tip.html``, all or none."""
+        """Write ``fem.json``, ``tip.vtu``, (``picture``) ``tip.png``, ``tip.html`` and (a study)
+        ``convergence.csv/.json/.png``, all or none."""
         names = ["fem.json", "tip.vtu"]
         sol, ld, p = self.result.solution, self.load, self.pressure
         if sol is None:  # a result read back from fem.json has numbers, no fields
@@ -72,6 +79,11 @@ class FemCheck:
                 render_png(sol, ld, p, o.path("tip.png"))
                 write_tip_html(sol, ld, p, o.path("tip.html"))
                 names += ["tip.png", "tip.html"]
+            if self.study is not None:
+                write_study_csv(self.study, o.path("convergence.csv"))
+                o.json("convergence.json", self.study.to_json())
+                plot_study(self.study, o.path("convergence.png"))
+                names += ["convergence.csv", "convergence.json", "convergence.png"]
         return tuple(names)
 
 
@@ -85,25 +97,24 @@ def fem_check(
     coil_modulus: str = "tension",
     use_cache: bool = True,
     progress=None,
+    convergence: bool = False,
 ) -> FemCheck:
     """Run the linear FEM check of ``design`` at ``pressure`` [MPa] under ``load``.
 
-    The keywords are :func:`softcath.fem.check`'s. Warns (log) when the answer leaves the
-    linear range (bend angle, strain).
+    The keywords are :func:`softcath.fem.check`'s; ``convergence`` runs the three-mesh study
+    (:func:`softcath.fem.mesh_study.mesh_study`, ``mesh_size`` in the middle) and answers with
+    its middle mesh. Warns (log) when the answer leaves the linear range (bend angle, strain).
     """
-    result = check(
-        design,
-        pressures=[pressure],
-        loads=(load,),
-        mesh_size=mesh_size,
-        mesher=mesher,
-        coil_modulus=coil_modulus,
-        use_cache=use_cache,
-        progress=progress,
-    )
+    options = {"mesher": mesher, "coil_modulus": coil_modulus, "use_cache": use_cache, "progress": progress}
+    study = None
+    if convergence:
+        study = mesh_study(design, [pressure], load=load, mesh_size=mesh_size, **options)
+        result = study.result
+    else:
+        result = check(design, pressures=[pressure], loads=(load,), mesh_size=mesh_size, **options)
     c = result.case(load, pressure)
     warn_linear_range(pressure, c.bend_angle_rad, max_strain=c.max_strain, model="the linear FEM")
-    return FemCheck(design=design, result=result, load=load, pressure=pressure)
+    return FemCheck(design=design, result=result, load=load, pressure=pressure, study=study)
 
 
 def nonlinear_fem_check(design, settings: NonlinearSettings, folder: str | Path) -> tuple[dict, list[str]]:
