@@ -52,13 +52,15 @@ COMPANION_RATIO = 2.0
 MAX_MESH_SIZE = 0.5
 
 
-def companion_mesh_size(mesh_size: float) -> float:
-    """The companion solve's mesh size [mm]: ``COMPANION_RATIO × mesh_size``, or half of it when
-    that exceeds :data:`MAX_MESH_SIZE` (a finer companion, costlier but still an estimate)."""
-    if not (math.isfinite(mesh_size) and 0 < mesh_size <= MAX_MESH_SIZE):
-        raise DesignError("mesh_size", mesh_size, f"must be in (0, {MAX_MESH_SIZE:g}] mm")
+def companion_mesh_size(mesh_size: float, *, largest: float = MAX_MESH_SIZE) -> float:
+    """The companion solve's mesh size [mm]: ``COMPANION_RATIO × mesh_size``, or that much finer
+    when the coarser one would exceed ``largest`` (the tip's radius or :data:`MAX_MESH_SIZE`,
+    the largest size the check resolves; a finer companion costs more, it still states the error).
+    """
+    if not (math.isfinite(mesh_size) and 0 < mesh_size <= largest):
+        raise DesignError("mesh_size", mesh_size, f"must be in (0, {largest:g}] mm")
     coarse = COMPANION_RATIO * mesh_size
-    return coarse if coarse <= MAX_MESH_SIZE else mesh_size / COMPANION_RATIO
+    return coarse if coarse <= largest else mesh_size / COMPANION_RATIO
 
 
 @dataclass(frozen=True)
@@ -169,14 +171,17 @@ def estimate_from(
     )
 
 
-def companion_estimate(sol, solve: Callable[[float], object], *, mesh_size: float) -> DiscretisationEstimate:
-    """Solve again with ``solve(companion_mesh_size(mesh_size))`` (a ``TipSolution``) and estimate
-    the error of ``sol`` (the check's ``TipSolution``) with the assumed order.
+def companion_estimate(
+    sol, solve: Callable[[float], object], *, mesh_size: float, largest: float = MAX_MESH_SIZE
+) -> DiscretisationEstimate:
+    """Solve again with ``solve(companion_mesh_size(mesh_size, largest=largest))`` (a
+    ``TipSolution``) and estimate the error of ``sol`` (the check's ``TipSolution``) with the
+    assumed order.
 
     The companion solution is dropped here (its factorisation with it); only its curvatures,
     size and time are kept.
     """
-    h2 = companion_mesh_size(mesh_size)
+    h2 = companion_mesh_size(mesh_size, largest=largest)
     t0 = time.perf_counter()
     other = solve(h2)
     seconds = time.perf_counter() - t0

@@ -19,8 +19,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from softcath.design import resolve
+from softcath.design.errors import DesignError
 from softcath.fem.api import FemResult, check
-from softcath.fem.discretisation import ASSUMED_ORDER, COMPANION_RATIO, estimate_from
+from softcath.fem.discretisation import ASSUMED_ORDER, COMPANION_RATIO, MAX_MESH_SIZE, estimate_from
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.nonlinear.convergence import extrapolate, observed_order
 from softcath.fem.nonlinear.study import TRUSTED_ORDER
@@ -165,13 +166,21 @@ def mesh_study(design, pressures, *, load: str = "lumen", mesh_size: float = 0.1
         One load case (``"lumen"`` or ``"cap"``).
     mesh_size
         The middle mesh's size h [mm]; the others are h·r and h/r
-        (:func:`study_mesh_sizes`; h·r at most 0.5 mm, the mesher's largest).
+        (:func:`study_mesh_sizes`; h·r at most the tip's radius and 0.5 mm).
     **options
         Further keywords of :func:`~softcath.fem.api.check` (``mesher``, ``axial_ratio``,
         ``coil_modulus``, ``use_cache``, ``method``, ``progress``).
     """
     sizes = study_mesh_sizes(mesh_size)
     d = resolve(design)
+    largest = min(MAX_MESH_SIZE, d.coil.outer_diameter / 2)  # check_fem_budget's bound
+    if not sizes[0] <= largest:
+        raise DesignError(
+            "mesh_size",
+            mesh_size,
+            f"must be <= {largest / COMPANION_RATIO:g} mm for a three-mesh study "
+            f"(its coarse mesh, {COMPANION_RATIO:g} x, must resolve the section: <= {largest:g} mm)",
+        )
     # the finest mesh is the costly one: refused before any solve, not after two
     check_fem_budget(d, mesh_size=sizes[-1], axial_ratio=options.get("axial_ratio", 5.0), param="mesh_size")
     results, seconds, unit = [], [], []

@@ -234,7 +234,8 @@ def write_study_csv(study, path: Path) -> None:
 
 
 def plot_study(study, path: Path) -> None:
-    """Left: curvature vs pressure per mesh and extrapolated; right: error vs mesh spacing (log-log).
+    """Left: curvature vs pressure per mesh and extrapolated (one pressure: vs the mesh spacing);
+    right: error vs mesh spacing (log-log).
 
     ``study`` is a :class:`ConvergenceStudy` or the linear check's
     :class:`~softcath.fem.mesh_study.MeshStudy`: per mesh ``mesh_labels``, ``values`` (mesh ×
@@ -243,10 +244,15 @@ def plot_study(study, path: Path) -> None:
     plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6))
-    for m, label in enumerate(study.mesh_labels):
-        a.plot(study.pressure, study.values[m], "o-", ms=3, label=label)
-    a.plot(study.pressure, study.extrapolated, "k--", label="extrapolated")
-    a.set_xlabel("pressure [MPa]")
+    if study.pressure.size == 1:  # one pressure: the value against the mesh spacing
+        a.plot(study.spacing, study.values[:, 0], "o-", label=f"p = {study.pressure[0]:g} MPa")
+        a.axhline(study.extrapolated[0], color="k", ls="--", label="extrapolated")
+        a.set_xlabel(study.spacing_label)
+    else:
+        for m, label in enumerate(study.mesh_labels):
+            a.plot(study.pressure, study.values[m], "o-", ms=3, label=label)
+        a.plot(study.pressure, study.extrapolated, "k--", label="extrapolated")
+        a.set_xlabel("pressure [MPa]")
     a.set_ylabel(study.value_label)
     a.legend(fontsize=8)
     a.grid(alpha=0.3)
