@@ -46,7 +46,7 @@ __all__ = [
 #: Order of convergence in 1/h assumed for the companion estimate (see the module notes).
 ASSUMED_ORDER = 2.0
 #: Companion mesh size / the check's mesh size: 2 halves the layers (paper design at 0.16 mm:
-#: 33k instead of 59k DOFs, 2-4 s more on a 6-9 s check).
+#: 33k instead of 59k DOFs, ~4 s more on a 6-9 s check).
 COMPANION_RATIO = 2.0
 #: Largest mesh size the mesher takes [mm] (``softcath.fem.mesh.mesh_tip``).
 MAX_MESH_SIZE = 0.5
@@ -147,27 +147,27 @@ def estimate_from(
     *,
     mesh_size: float,
     companion_mesh_size: float,
-    **run,
+    order: float = ASSUMED_ORDER,
+    order_source: str = "assumed",
+    companion_dofs: int = 0,
+    companion_seconds: float = 0.0,
 ) -> DiscretisationEstimate:
-    """The :class:`DiscretisationEstimate` of two solves' curvatures per MPa (load -> 1/mm/MPa).
-
-    ``run`` gives ``order`` (default :data:`ASSUMED_ORDER`), ``order_source`` (``"assumed"``),
-    ``companion_dofs`` and ``companion_seconds`` (0).
-    """
+    """The :class:`DiscretisationEstimate` of two solves' curvatures per MPa (load -> 1/mm/MPa)
+    on ``mesh_size`` and ``companion_mesh_size`` [mm], with ``order`` (``order_source`` says
+    whether assumed or observed) and the second solve's size and wall time [s]."""
     if math.isclose(mesh_size, companion_mesh_size):
         raise DesignError("companion_mesh_size", companion_mesh_size, f"must differ from {mesh_size:g} mm")
-    order = float(run.get("order", ASSUMED_ORDER))
     if not (math.isfinite(order) and order > 0):
         raise DesignError("order", order, "must be > 0")
     return DiscretisationEstimate(
         mesh_size_mm=float(mesh_size),
         companion_mesh_size_mm=float(companion_mesh_size),
-        order=order,
-        order_source=str(run.get("order_source", "assumed")),
+        order=float(order),
+        order_source=order_source,
         unit_curvature={ld: float(k) for ld, k in unit_curvature.items()},
         companion_unit_curvature={ld: float(companion_unit_curvature[ld]) for ld in unit_curvature},
-        companion_dofs=int(run.get("companion_dofs", 0)),
-        companion_seconds=float(run.get("companion_seconds", 0.0)),
+        companion_dofs=int(companion_dofs),
+        companion_seconds=float(companion_seconds),
     )
 
 

@@ -96,11 +96,19 @@ class MeshStudy:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(self.values - self.extrapolated) / np.abs(self.extrapolated)
 
-    # what the shared writers and picture read (softcath.fem.nonlinear.study)
-    mesh_labels = property(lambda self: tuple(f"h = {h:g} mm" for h in self.mesh_size))
-    spacing = property(lambda self: np.asarray(self.mesh_size, float))
+    #: Axis labels of the shared picture (:func:`~softcath.fem.nonlinear.study.plot_study`).
     value_label = "curvature [1/mm]"
     spacing_label = "mesh size h [mm]"
+
+    @property
+    def mesh_labels(self) -> tuple[str, ...]:
+        """Legend label of each mesh."""
+        return tuple(f"h = {h:g} mm" for h in self.mesh_size)
+
+    @property
+    def spacing(self) -> np.ndarray:
+        """Each mesh's size h [mm] (the picture's abscissa)."""
+        return np.asarray(self.mesh_size, float)
 
     def rows(self) -> list[dict]:
         """``convergence.csv`` rows (:data:`MESH_STUDY_COLUMNS`)."""

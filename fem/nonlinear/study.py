@@ -97,12 +97,24 @@ class ConvergenceStudy:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.abs(self.curvature_mid - self.extrapolated) / np.abs(self.extrapolated)
 
-    # what the picture reads (shared with the linear check's study, softcath.fem.mesh_study)
-    mesh_labels = property(lambda self: tuple(f"{n} layers" for n in self.layers))
-    values = property(lambda self: self.curvature_mid)
-    spacing = property(lambda self: 1.0 / np.asarray(self.layers, float))
+    #: Axis labels of :func:`plot_study` (shared with the linear check's study, softcath.fem.mesh_study).
     value_label = "mid-span curvature [1/mm]"
     spacing_label = "1 / layers"
+
+    @property
+    def mesh_labels(self) -> tuple[str, ...]:
+        """Legend label of each mesh."""
+        return tuple(f"{n} layers" for n in self.layers)
+
+    @property
+    def values(self) -> np.ndarray:
+        """The plotted quantity per mesh and pressure: the mid-span curvature [1/mm]."""
+        return self.curvature_mid
+
+    @property
+    def spacing(self) -> np.ndarray:
+        """Each mesh's 1/layers (the picture's abscissa)."""
+        return 1.0 / np.asarray(self.layers, float)
 
     def error_estimate(self) -> ErrorEstimate:
         """The middle mesh's error estimate from the coarse one, with the top pressure's observed order.
