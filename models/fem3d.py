@@ -35,6 +35,7 @@ FEM_KEYS = (
     "dofs",
     "mesh_seconds",
     "solve_seconds",
+    "discretisation_error_estimate",
 )
 
 _CONTAINERS = ("cases", "results", "rows", "records")
@@ -125,7 +126,8 @@ class FemTier(Tier):
 
     Its tip-level curvature is the end section's rotation over L (the FEM's own second
     estimate); extras: ``curvature_variation``, ``residual``, ``n_elements``, ``dofs``,
-    ``mesh_seconds``, ``solve_seconds`` (the sweep's ``fem_*`` columns).
+    ``mesh_seconds``, ``solve_seconds`` (the sweep's ``fem_*`` columns) and
+    ``discretisation_error_estimate`` (the curvature's, relative; ``softcath.fem.discretisation``).
     """
 
     def available(self) -> bool:
