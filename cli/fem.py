@@ -213,7 +213,7 @@ def run(args: argparse.Namespace) -> int:
     s = linear_settings(args)
     finest = s.mesh_size / 2 if s.convergence else s.mesh_size  # the study's finest mesh
     check_fem_budget(d, mesh_size=finest, param="--mesh-size")  # before minutes of meshing
-    n_stages = 15 if s.convergence else 5  # mesh, assemble, solve, fit (x3 meshes), error estimate
+    n_stages = 12 if s.convergence else 5  # mesh, assemble, solve, fit (x3 meshes); error estimate
     stages = iter(range(1, n_stages + 1))
 
     def status(stage: str) -> None:

@@ -110,11 +110,16 @@ class DiscretisationEstimate:
     @property
     def method(self) -> str:
         """One line saying how the estimate was made."""
+        h, h2 = self.mesh_size_mm, self.companion_mesh_size_mm
+        formula = (
+            "|k_h - k_h2| / ((h2/h)^order - 1) / |k_h|, a coarser second mesh"
+            if h2 > h
+            else "|k_h - k_h2| (h/h2)^order / ((h/h2)^order - 1) / |k_h|, a finer second mesh"
+        )
         return (
-            f"Richardson from a second solve at mesh size {self.companion_mesh_size_mm:g} mm beside "
-            f"{self.mesh_size_mm:g} mm, order {self.order:.3g} in 1/h ({self.order_source}): "
-            "|k_h - k_h2| / ((h2/h)^order - 1) / |k_h| for a coarser second mesh; the linear answer "
-            "is proportional to pressure, so the relative error holds at every pressure"
+            f"Richardson from a second solve at mesh size {h2:g} mm beside {h:g} mm, order "
+            f"{self.order:.3g} in 1/h ({self.order_source}): {formula}; the linear answer is "
+            "proportional to pressure, so the relative error holds at every pressure"
         )
 
     def to_json(self, load: str, pressure_MPa: float) -> dict:

@@ -87,6 +87,7 @@ def test_the_estimate_is_the_true_error_on_a_power_law(h2):
     est = estimate_from(k, kc, mesh_size=h, companion_mesh_size=h2, order=2.0)
     assert est.extrapolated("lumen") == pytest.approx(k0, rel=1e-12)
     assert est.relative("lumen") == pytest.approx(abs(k["lumen"] - k0) / k["lumen"], rel=1e-9)
+    assert ("a coarser second mesh" if h2 > h else "a finer second mesh") in est.method
     with pytest.raises(design.DesignError, match="companion_mesh_size"):
         estimate_from(k, kc, mesh_size=h, companion_mesh_size=h)
     with pytest.raises(design.DesignError, match="order"):
