@@ -112,10 +112,13 @@ def test_option_defaults_are_the_direct_calls_defaults():
     def defaults(fn):
         return {k: p.default for k, p in inspect.signature(fn).parameters.items()}
 
+    # ...except where the tier passes its own default explicitly: the 3-D check's companion solve
+    # (its stated error, ~50 % of a solve) is not made for sweep rows, which do not carry it
+    explicit = {("fem", "error_estimate"): (True, False)}
     for name, fn in (("section", section_model), ("fem", check), ("fem-nonlinear", bend_curve)):
         d = defaults(fn)
         for option, value in models.get(name).options.items():
-            assert d[option] == value, (name, option)
+            assert (d[option], value) == explicit.get((name, option), (value, value)), (name, option)
     assert models.get("section").options["mesh_size"] == MESH_SIZE
 
 

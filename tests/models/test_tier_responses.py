@@ -114,6 +114,16 @@ def test_fem_response_is_fem_check():
     # its tip-level curvature is its own second estimate: the end section's rotation over L
     assert r.tip_curvature_per_mm[0] == pytest.approx(case.curvature_rotation_per_mm, rel=1e-12)
     assert r.parameters["mesh_size"] == 0.25 and r.extras["dofs"][0] > 0
+    # no companion solve unless asked for: the stated error is NaN by default
+    assert np.isnan(r.extras["discretisation_error_estimate"][0])
+    asked = models.response(
+        PAPER, [0.1], tier="fem", load="cap", options={"mesh_size": 0.25, "error_estimate": True}
+    )
+    stated = fem.check(PAPER, pressures=[0.1], loads=("cap",), mesh_size=0.25, error_estimate=True)
+    assert asked.extras["discretisation_error_estimate"][0] == pytest.approx(
+        stated.cases[0].discretisation_error_estimate, rel=1e-6
+    )
+    assert 0 < asked.extras["discretisation_error_estimate"][0] < 0.1
 
 
 @pytest.mark.slow
