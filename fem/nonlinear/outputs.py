@@ -26,7 +26,7 @@ from softcath.fem.export import render_grid_png
 from softcath.fem.nonlinear.convergence import MIN_ESTIMATE_LAYERS
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.post import max_principal_strain
-from softcath.fem.nonlinear.reference import reference_curve
+from softcath.fem.nonlinear.reference import StatedError, estimate_section, reference_curve
 from softcath.fem.nonlinear.study import convergence_study, write_study
 
 __all__ = ["NonlinearSettings", "run_check", "write_outputs"]
@@ -129,11 +129,7 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
     for k, v in summary.get("departure_5pct_deg", {}).items():
         lines.append(f"  {k} departs by 5 %: " + ("not within the sweep" if v is None else f"at {v:.1f} deg"))
     if error is not None and np.isfinite(error.relative[-1]):
-        lines.append(
-            f"  {curve.layers} layers: estimated discretisation error of the mid-span curvature "
-            f"{100 * error.relative[-1]:.2g} % (vs {error.coarse_layers} layers, order "
-            f"{error.order:.2g} {error.order_source})"
-        )
+        lines.append(_error_line(curve, error))
     if tip is not None and np.isfinite(tip.relative[-1]):
         lines.append(
             f"  tip angle: estimated discretisation error {100 * tip.relative[-1]:.2g} %, extrapolated "
@@ -142,6 +138,24 @@ def run_check(design, settings: NonlinearSettings, out: Path) -> tuple[dict, lis
     lines.extend(study_lines)
     lines.append(f"  wrote {out}/fem.json, pressure_sweep.csv, tip_series.pvd, deformed_tip.png")
     return summary, lines
+
+
+def _error_line(curve, error) -> str:
+    """The summary line of the stated error: the total and its parts."""
+    lay = error.layers_part
+    line = (
+        f"  {curve.layers} layers: estimated discretisation error of the mid-span curvature "
+        f"{100 * error.relative[-1]:.2g} %: layers {100 * lay.relative[-1]:.2g} % (vs "
+        f"{lay.coarse_layers} layers, order {lay.order:.2g} {lay.order_source})"
+    )
+    sec = error.section_part
+    if sec is None:
+        return line + ", section not estimated"
+    (s1, n1) = sec.refined_section
+    return line + (
+        f" + section {100 * sec.relative:.2g} % (vs size {s1:.3g} mm, {n1} segments at "
+        f"{sec.pressure:.2g} MPa, order {sec.order:g} {sec.order_source})"
+    )
 
 
 def _solve_with_error(design, s: NonlinearSettings, out: Path):
@@ -163,9 +177,11 @@ def _solve_with_error(design, s: NonlinearSettings, out: Path):
             f"  convergence ({'/'.join(map(str, study.layers))} layers): observed order {q:.3g}, "
             f"extrapolated mid-span curvature {k:.4g} 1/mm; wrote {', '.join(names)}"
         )
-        return study.curves[1], study.error_estimate(), [line], None
+        curve = study.curves[1]
+        stated = StatedError(study.error_estimate(), estimate_section(design, curve, **opts))
+        return curve, stated, [line], None
     ref = reference_curve(design, s.pressures, layers=s.layers, **opts)
-    return ref.curve, ref.error, [], ref.tip
+    return ref.curve, ref.stated, [], ref.tip
 
 
 def _add_tip_estimate(path: Path, tip) -> None:
@@ -223,9 +239,10 @@ def write_outputs(
         Name written into ``fem.json``.
     compare_linear : bool
         Add the bend angles where the linear FEM and the analytic model depart by 5 %.
-    error : softcath.fem.nonlinear.reference.ErrorEstimate or None
-        The discretisation error estimate: ``discretisation_error_estimate`` in fem.json
-        (per pressure, with its method) and a column of pressure_sweep.csv (NaN/null without).
+    error : softcath.fem.nonlinear.reference.StatedError or ErrorEstimate or None
+        The stated discretisation error: ``discretisation_error_estimate`` in fem.json (final
+        pressure), ``discretisation_error`` (per pressure, its parts and method) and columns of
+        pressure_sweep.csv: the total and its layers and section parts (NaN/null without).
 
     Returns
     -------
@@ -319,7 +336,11 @@ def _error_keys(curve, error) -> dict:
 
 def _write_sweep_csv(curve, path: Path, error=None) -> None:
     """One row per pressure of the sweep."""
-    rel = np.full(curve.pressure.size, np.nan) if error is None else np.asarray(error.relative, float)
+    nan = np.full(curve.pressure.size, np.nan)
+    rel = nan if error is None else np.asarray(error.relative, float)
+    lay = nan if error is None else np.asarray(getattr(error, "layers_part", error).relative, float)
+    sec = getattr(error, "section_part", None)
+    sec = nan if sec is None else np.full(curve.pressure.size, sec.relative)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
@@ -337,6 +358,8 @@ def _write_sweep_csv(curve, path: Path, error=None) -> None:
                 "linear_fem_bend_angle_rad",
                 "analytic_bend_angle_rad",
                 "discretisation_error_estimate",
+                "discretisation_error_layers",
+                "discretisation_error_section",
             ]
         )
         for i in range(curve.pressure.size):
@@ -355,6 +378,8 @@ def _write_sweep_csv(curve, path: Path, error=None) -> None:
                     f"{curve.linear_bend_angle[i]:.9g}",
                     f"{curve.analytic_bend_angle[i]:.9g}",
                     f"{rel[i]:.3g}",
+                    f"{lay[i]:.3g}",
+                    f"{sec[i]:.3g}",
                 ]
             )
 

@@ -7,6 +7,10 @@ with the order of convergence assumed (:data:`~softcath.fem.nonlinear.convergenc
 or, from a three-mesh study (:mod:`softcath.fem.nonlinear.study`), observed; and
 the tip's angle extrapolated from the same two solves (:func:`estimate_tip`:
 the bend rate and the end-zone deficit each with its own order).
+
+The stated error (:class:`StatedError`, ``discretisation_error_estimate`` of ``fem.json``) is that
+layers part plus the cross-section part of two small-load solves
+(:func:`~softcath.fem.nonlinear.section_error.section_error`), summed.
 """
 
 from __future__ import annotations
@@ -24,14 +28,22 @@ from softcath.fem.nonlinear.convergence import (
     richardson_error,
 )
 from softcath.fem.nonlinear.errors import SettingError
+from softcath.fem.nonlinear.section_error import (
+    SectionError,
+    combined_error,
+    section_error,
+    small_pressure,
+)
 
 log = logging.getLogger(__name__)
 
 __all__ = [
     "ErrorEstimate",
+    "StatedError",
     "TipEstimate",
     "ReferenceCurve",
     "estimate_error",
+    "estimate_section",
     "estimate_tip",
     "reference_curve",
     "QUANTITY",
@@ -152,15 +164,105 @@ class TipEstimate:
 
 
 @dataclass(frozen=True)
+class StatedError:
+    """The stated discretisation error of the mid-span curvature: the layers part plus the section part.
+
+    Reads as an :class:`ErrorEstimate` (a superset): ``relative`` and ``extrapolated`` are the
+    combined ones; ``layers``, ``coarse_layers``, ``order`` and ``order_source`` are the layers
+    part's.
+
+    Attributes
+    ----------
+    layers_part
+        The half-layer Richardson estimate, per pressure.
+    section_part
+        The section estimate (one relative error applied at every pressure), or None.
+    """
+
+    layers_part: ErrorEstimate
+    section_part: SectionError | None = None
+
+    @property
+    def quantity(self) -> str:
+        """Output name of the quantity estimated."""
+        return self.layers_part.quantity
+
+    @property
+    def layers(self) -> int:
+        """Element layers of the run (the layers part's fine mesh)."""
+        return self.layers_part.layers
+
+    @property
+    def coarse_layers(self) -> int:
+        """Element layers of the half-layer companion."""
+        return self.layers_part.coarse_layers
+
+    @property
+    def order(self) -> float:
+        """The layers part's order of convergence in 1/layers."""
+        return self.layers_part.order
+
+    @property
+    def order_source(self) -> str:
+        """The layers part's ``"assumed"`` or ``"observed"``."""
+        return self.layers_part.order_source
+
+    @property
+    def relative(self) -> np.ndarray:
+        """Layers part + section part per pressure [-] (:func:`~.section_error.combined_error`)."""
+        sec = np.nan if self.section_part is None else self.section_part.relative
+        return combined_error(self.layers_part.relative, sec)
+
+    @property
+    def extrapolated(self) -> np.ndarray:
+        """The mid-span curvature extrapolated to infinitely many layers and corrected for the section:
+        the layers part's extrapolation × (1 + the section's signed relative correction)."""
+        if self.section_part is None or not np.isfinite(self.section_part.correction):
+            return self.layers_part.extrapolated
+        return self.layers_part.extrapolated * (1.0 + self.section_part.correction)
+
+    @property
+    def method(self) -> str:
+        """One line saying how the estimate was made."""
+        if self.section_part is None:
+            return f"layers part only (no section estimate): {self.layers_part.method}"
+        return (
+            "layers part + section part, summed (conservative: both are magnitudes); extrapolated = "
+            "the layers extrapolation x (1 + the section correction). Layers: "
+            f"{self.layers_part.method}. Section: {self.section_part.method}"
+        )
+
+    def to_json(self) -> dict:
+        """``ErrorEstimate.to_json`` with the combined values and ``parts``: ``layers`` and ``section``."""
+        return {
+            **self.layers_part.to_json(),
+            "relative": [_none(x) for x in self.relative],
+            "extrapolated": [_none(x) for x in self.extrapolated],
+            "method": self.method,
+            "parts": {
+                "layers": self.layers_part.to_json(),
+                "section": None if self.section_part is None else self.section_part.to_json(),
+            },
+        }
+
+
+@dataclass(frozen=True)
 class ReferenceCurve:
     """A 3-D bend curve, its half-layer companion and the error estimates from the two (None below
     :data:`~softcath.fem.nonlinear.convergence.MIN_ESTIMATE_LAYERS` layers: no half-layer mesh):
-    ``error`` of the mid-span curvature, ``tip`` of the tip's angle."""
+    ``error`` of the mid-span curvature in the layers, ``tip`` of the tip's angle, ``section`` the
+    cross-section part (None when not asked for) and :attr:`stated` the two combined."""
 
     curve: object
     coarse: object | None = field(repr=False)
     error: ErrorEstimate | None
     tip: TipEstimate | None = None
+    section: SectionError | None = None
+
+    @property
+    def stated(self) -> StatedError | None:
+        """The stated error (layers + section part), None without a layers part."""
+        return None if self.error is None else StatedError(self.error, self.section)
 
 
 def _none(x) -> float | None:
@@ -222,7 +324,9 @@ def estimate_tip(curve, coarse, *, length: float) -> TipEstimate:
     )
 
 
-def reference_curve(design, pressures, *, layers: int | None = None, **options) -> ReferenceCurve:
+def reference_curve(
+    design, pressures, *, layers: int | None = None, section: bool = True, **options
+) -> ReferenceCurve:
     """The 3-D bend of ``design`` (:func:`~softcath.fem.nonlinear.bend.bend_curve`) with its error stated.
 
     Parameters
@@ -232,6 +336,9 @@ def reference_curve(design, pressures, *, layers: int | None = None, **options) 
     layers
         Element layers (default: :func:`~softcath.fem.nonlinear.convergence.default_layers`);
         the companion solve has :func:`~softcath.fem.nonlinear.convergence.coarse_layers`.
+    section
+        Also estimate the cross-section part
+        (:func:`~softcath.fem.nonlinear.section_error.section_error`: two small-load solves).
     **options
         Further keyword options of ``bend_curve`` (not ``mesh``: the layers must be known).
     """
@@ -242,4 +349,14 @@ def reference_curve(design, pressures, *, layers: int | None = None, **options) 
         return ReferenceCurve(curve=curve, coarse=None, error=None)
     coarse = bend_curve(design, pressures, layers=coarse_layers(curve.layers), **options)
     tip = estimate_tip(curve, coarse, length=float(design.tip.bending_length))
-    return ReferenceCurve(curve=curve, coarse=coarse, error=estimate_error(curve, coarse), tip=tip)
+    sec = estimate_section(design, curve, **options) if section else None
+    return ReferenceCurve(
+        curve=curve, coarse=coarse, error=estimate_error(curve, coarse), tip=tip, section=sec
+    )
+
+
+def estimate_section(design, curve, **options) -> SectionError:
+    """The section part of ``curve``'s error: :func:`~.section_error.section_error` at the small load of
+    :func:`~.section_error.small_pressure`, with ``curve``'s options (``bend_curve``'s keywords)."""
+    opts = {k: v for k, v in options.items() if k not in ("substeps",)}
+    return section_error(design, pressure=small_pressure(curve), **opts)
