@@ -14,9 +14,11 @@ pressure_sweep.csv (per pressure: pressure_MPa, bend_angle_rad, bend_angle_deg,
 curvature_per_mm (theta/s of the whole tip), curvature_mid_per_mm and
 bend_rate_mid_per_mm (d theta/ds and d theta/dZ over the mid-span), elongation,
 tip_x_mm, tip_y_mm, newton_iterations, linear_fem_bend_angle_rad,
-analytic_bend_angle_rad, discretisation_error_estimate), tip_series.pvd + vtu/,
+analytic_bend_angle_rad, discretisation_error_estimate and its two parts
+discretisation_error_layers, discretisation_error_section), tip_series.pvd + vtu/,
 deformed_tip.png and bend_curve.png. The element layers default to the expected
-bend and every run states its discretisation error from a half-layer solve;
+bend and every run states its discretisation error: a half-layer solve (the layers
+part) plus two small-load solves on a refined section (the section part);
 ``--convergence`` adds convergence.csv/.json/.png (L/2, L, 2L layers).
 
 Both modes take the real load (lumen wall + cap) unless ``--load cap`` asks for the
