@@ -6,7 +6,8 @@ along each design's own walk up to the pressure at which the finite-strain secti
 it that far (``--points`` pressures evenly spaced up to it; lumen load):
 
 - the 3-D reference: ``fem.nonlinear.reference.reference_curve`` (default layers, the
-  half-layer companion solve and its Richardson error estimate), mid-span curvature;
+  half-layer companion solve and the small-load refined-section solves: its stated error, layers
+  and section parts summed), mid-span curvature;
 - the finite-strain section model's curvature (``section_curve``);
 - the linear section model's curvature (``section_response``);
 - the analytic composite-beam formula (``analytic.response``);
@@ -104,7 +105,8 @@ def compare(d, pressures) -> list[dict]:
                 "pressure_MPa": pressure,
                 "layers": ref.curve.layers,
                 "fem3d_curvature_mid_per_mm": k3,
-                "fem3d_error_estimate": float(ref.error.relative[i]) if ref.error is not None else nan,
+                # the stated error: the layers part plus the cross-section part
+                "fem3d_error_estimate": float(ref.stated.relative[i]) if ref.stated is not None else nan,
                 "fem3d_tip_angle_deg": float(np.degrees(ref.curve.bend_angle[i])),
                 "fem3d_seconds": seconds,
                 "section_nonlinear_ratio": float(fs.curvature_per_mm[i]) / k3,
