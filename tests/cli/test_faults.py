@@ -207,7 +207,7 @@ def test_fem_terminated_during_the_solve_keeps_the_earlier_outputs(tmp_path, cli
     assert cli("fem", "paper", "--pressure", "0.1", "--out", out, "--no-png").status == 0
     good = _digest(out)
     proc = _softcath("fem", "paper", "--pressure", "0.2", "--out", out, "--no-png")
-    assert _wait_for(lambda: "[3/4] solving" in (proc.stderr.readline() or "[3/4] solving"), 120, 0.0)
+    assert _wait_for(lambda: "[3/5] solving" in (proc.stderr.readline() or "[3/5] solving"), 120, 0.0)
     proc.send_signal(signal.SIGTERM)
     _, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130 and "softcath fem: terminated" in stderr and "Traceback" not in stderr

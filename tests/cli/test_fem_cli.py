@@ -39,7 +39,7 @@ def test_cli_writes_json_vtu_png(tmp_path, capsys):
     page = (out / "tip.html").read_text()
     assert "<canvas" in page and "http" not in page and len(page) < 600_000
     text = capsys.readouterr()
-    assert "curvature" in text.out and "[1/4] meshing" in text.err
+    assert "curvature" in text.out and "[1/5] meshing" in text.err
 
 
 def test_cli_bad_input_exits_2_naming_the_parameter(tmp_path):

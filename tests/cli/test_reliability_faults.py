@@ -70,12 +70,12 @@ def test_sigterm_after_gmsh_ran_in_fem_ends_cleanly(tmp_path):
     proc = _softcath("fem", "paper", "--pressure", "0.1", "--out", out, cache=tmp_path / "cache")
     deadline = time.monotonic() + 120
     seen = ""
-    while time.monotonic() < deadline and "[3/4] solving" not in seen:
+    while time.monotonic() < deadline and "[3/5] solving" not in seen:
         line = proc.stderr.readline()
         if not line:
             break
         seen += line
-    assert "[3/4] solving" in seen, seen
+    assert "[3/5] solving" in seen, seen
     proc.send_signal(signal.SIGTERM)
     _, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, seen + stderr
