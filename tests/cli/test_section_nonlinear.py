@@ -47,8 +47,9 @@ def test_nonlinear_section_writes_curve_json_csv_png(tmp_path, capsys):
     # large-bend softening: the finite-strain curvature exceeds the linear gain's at 0.6 MPa
     assert last["curvature_per_mm"] > 1.2 * doc["linear_curvature_per_mm_per_MPa"] * 0.6
     # eq. 9 with the end zones: the arc of the reported curvature over the stretched L - deficit,
-    # then the deficit and the plug straight along its end tangent
-    x, y, _ = tip_pose(last["curvature_per_mm"], last["elongation"], end_zones("paper"))
+    # then the deficit straight along its end tangent and the plug turned on by its tilt at this pressure
+    zones = end_zones("paper")
+    x, y, _ = tip_pose(last["curvature_per_mm"], last["elongation"], zones, pressure=last["pressure_MPa"])
     assert (last["tip_x_mm"], last["tip_y_mm"]) == pytest.approx((float(x), float(y)), rel=1e-9)
     assert last["lumen_volume_change_mm3"] > 0 and 0 < last["max_strain"] < 2
     assert (out / "section_curve.png").stat().st_size > 10_000

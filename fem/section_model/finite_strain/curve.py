@@ -14,12 +14,13 @@ vector k of the uniform mid-span arc, from which
 - the **bend angle** and **tip pose** of the tip: the arc of that curvature
   over the stretched L - deficit, then the end zones straight along its end
   tangent; the angle is :math:`\lambda k_2 (L - \delta)` (L the bending
-  length, :math:`\delta` the end zones' deficit).
+  length, :math:`\delta` the end zones' deficit) plus, under the lumen load,
+  the cap plug's tilt :math:`K (p / E_\mathrm{cap})^2`.
 
 End zones. The uniform arc is the tip far from its ends. The clamped 3-D tip
 turns less: the cap's plug carries no wall pressure and does not bend, and the
 clamp's zone nearly cancels the cap's. :mod:`softcath.fem.section_model.end_zones`
-reduces that to a closed form fitted on converged 3-D solves (within 0.7 % of
+reduces that to a closed form fitted on converged 3-D solves (within 0.3 % of
 the 3-D end rotation on its own bend rate); ``bend_angle`` and the tip pose are
 the tip's, the curvature is mid-span's (the 3-D FEM's ``curvature_mid_per_mm``).
 

@@ -47,7 +47,8 @@ class SectionCurve:
     elongation
         Axial strain of the centroid fibre, lambda (1 + k . x) - 1.
     bend_angle_rad, tip_x_mm, tip_y_mm
-        Uniform arc over the stretched bending length (paper eq. 9 frame).
+        The tip's angle and position (paper eq. 9 frame): the mid-span arc with the end zones
+        (:mod:`softcath.fem.section_model.end_zones`).
     lumen_area_mm2
         Deformed lumen area.
     lumen_volume_change_mm3

@@ -86,7 +86,9 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
     k_c = cols.get("curvature", np.zeros(0))
     length = float(d.tip.bending_length)
     zones = end_zones(d)
-    tip_x, tip_y, _ = end_zone_pose(k_c, cols.get("elongation", np.zeros(0)), zones)
+    # the plug's tilt was fitted under the lumen load only (end_zones): the cap load keeps the deficit
+    tilt_p = p[: len(rows)] if load == "lumen" else None
+    tip_x, tip_y, _ = end_zone_pose(k_c, cols.get("elongation", np.zeros(0)), zones, pressure=tilt_p)
     gain = facts.gain
     return SectionCurve(
         design_name=d.name,
@@ -96,7 +98,7 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
         lateral_curvature_per_mm=cols.get("lateral", np.zeros(0)),
         bend_rate_per_mm=cols.get("rate", np.zeros(0)),
         elongation=cols.get("elongation", np.zeros(0)),
-        bend_angle_rad=tip_angle(cols.get("rate", np.zeros(0)), zones),
+        bend_angle_rad=tip_angle(cols.get("rate", np.zeros(0)), zones, pressure=tilt_p),
         tip_x_mm=np.asarray(tip_x, float),
         tip_y_mm=np.asarray(tip_y, float),
         lumen_area_mm2=cols.get("area", np.zeros(0)),
