@@ -3,8 +3,9 @@
 An ingredient either changes the finite-strain section model that is solved
 (``kind = "model"``: a material, the filler, the coils' initial tension with
 coil-bound coils) or acts on its curve in a way that is exact by construction
-(``kind = "curve"``: a pressure offset, a rest curvature, the vision's under-read). A hypothesis may give an ingredient's
-parameter only values inside its range; the record says which it chose.
+(``kind = "curve"``: a pressure offset, a rest curvature, the vision's under-read).
+A hypothesis may give an ingredient's parameter only values inside its range; the
+record says which it chose.
 """
 
 from __future__ import annotations
