@@ -25,6 +25,9 @@ A hypothesis's prediction at the measured pressures is made of
   (24-step grid to 0.5 MPa), a midpoint F0 against its direct solve: within
   0.84 % of the curve's span at the grid pressures, 1.4 % between them (where
   the opening's kink falls between grid pressures; 1.1 % at a grid F0 itself).
+  The linear model's fallback is coarser: with the grid only to 0.15 MPa (every
+  F0 > 0 closed throughout) it is 10 % above the finite-strain threshold per
+  newton, and a midpoint F0 is within 16 % of its (small) span.
 
 The tube's pre-stretch is a continuous model parameter too (its range from 1 to the
 design's catalogue/as-built wall-area ratio, :func:`.ingredients.tube_prestretch_for`), on
