@@ -191,7 +191,8 @@ def section_curve(
         "initial_tension": initial_tension,
         "compression_modulus": compression_modulus,
     }
-    section_laws(d, **material)  # its bounds checked before any mesh is made
+    if laws is None:  # the options' bounds checked before any mesh is made
+        section_laws(d, **material)
     t0 = time.perf_counter()
     if stretch != 1.0 and not d.assembly.is_default:
         raise DesignError(
