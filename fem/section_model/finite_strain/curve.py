@@ -187,7 +187,7 @@ def section_curve(
         "silicone_poisson": silicone_poisson,
         "hoop_cap": hoop_cap,
         "coil_axial_scale": coil_axial_scale,
-        "coil_bound": bool(coil_bound),
+        "coil_bound": coil_bound,
         "initial_tension": initial_tension,
         "compression_modulus": compression_modulus,
     }

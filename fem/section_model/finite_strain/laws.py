@@ -27,8 +27,12 @@ __all__ = ["COIL_AXIAL_SCALE_MAX", "section_laws"]
 COIL_AXIAL_SCALE_MAX = 100.0
 
 
-def _checked(design, *, silicone_poisson, hoop_cap, coil_axial_scale, initial_tension, compression_modulus):
+def _checked(
+    design, *, silicone_poisson, hoop_cap, coil_axial_scale, coil_bound, initial_tension, compression_modulus
+):
     """Raise :class:`DesignError` (a ``ValueError``) naming the first option out of its bounds."""
+    if not isinstance(coil_bound, bool | np.bool_):  # bool("no") would switch it on
+        raise DesignError("coil_bound", coil_bound, "must be True or False")
     if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
         raise DesignError("silicone_poisson", silicone_poisson, f"must be in [0, {NU_MAX}]")
     if hoop_cap is not None and not (np.isfinite(hoop_cap) and hoop_cap > 0):
@@ -89,6 +93,7 @@ def section_laws(
         silicone_poisson=silicone_poisson,
         hoop_cap=hoop_cap,
         coil_axial_scale=coil_axial_scale,
+        coil_bound=coil_bound,
         initial_tension=initial_tension,
         compression_modulus=compression_modulus,
     )

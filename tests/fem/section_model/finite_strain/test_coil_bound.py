@@ -171,6 +171,8 @@ def test_the_smoothing_does_not_change_the_curve(paper):
 def test_bad_input_is_refused_naming_the_parameter(paper, kwargs, name):
     with pytest.raises(ValueError, match=name):
         section_curve(paper, [0.1], coil_bound=True, **kwargs)
+    with pytest.raises(ValueError, match="coil_bound"):
+        section_curve(paper, [0.1], coil_bound="no")
 
 
 def test_the_law_refuses_a_preload_without_a_stiffer_compression(coil_law):
