@@ -111,6 +111,7 @@ SECTION_NONLINEAR = SectionNonlinearTier(
     "section_nonlinear",
     # each option is section_curve's keyword of its name (the evaluator's table)
     options=SECTION_NONLINEAR_OPTIONS,
+    option_choices={"coil_bound": (False, True)},
     option_bounds={
         "silicone_poisson": OptionBound(0.0, NU_MAX),
         "coil_axial_scale": OptionBound(0.0, COIL_AXIAL_SCALE_MAX, open_low=True),

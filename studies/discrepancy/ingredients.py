@@ -1,11 +1,11 @@
 """The physical ingredients a built tip can have, each with its sourced range.
 
 An ingredient either changes the finite-strain section model that is solved
-(``kind = "model"``: a material, the filler) or acts on its curve in a way
-that is exact by construction (``kind = "curve"``: the coils' initial tension
-through the coil-bound section's transfer, a pressure offset, a rest
-curvature, the vision's under-read). A hypothesis may give an ingredient's
-parameter only values inside its range; the record says which it chose.
+(``kind = "model"``: a material, the filler, the coils' initial tension with
+coil-bound coils) or acts on its curve in a way that is exact by construction
+(``kind = "curve"``: a pressure offset, a rest curvature, the vision's under-read).
+A hypothesis may give an ingredient's parameter only values inside its range; the
+record says which it chose.
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ INGREDIENTS: dict[str, Ingredient] = {
         ),
         Ingredient(
             name="coil_initial_tension",
-            kind="curve",
+            kind="model",
             parameter="initial_tension",
             unit="N",
             low=0.0,

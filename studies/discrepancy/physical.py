@@ -5,15 +5,15 @@ at each measured pressure p is
 
 .. math::
 
-    \kappa(p) = f\,\bigl(t\,\varphi(p - p_0; F_0)\,\kappa_\text{FS}(p - p_0; E, \text{filler}, \nu)
+    \kappa(p) = f\,\bigl(t\,\kappa_\text{FS}(p - p_0; E, \text{filler}, \nu, F_0, \dots)
     + \kappa_0\bigr)
 
-with :math:`\kappa_\text{FS}` the finite-strain section curve (mid-span), t the
-tip-level factor, :math:`\varphi` the coil-bound transfer of the initial
-tension F0 (:mod:`.model_bank`), p0 a pressure offset, kappa0 a rest
+with :math:`\kappa_\text{FS}` the finite-strain section curve (mid-span; with the
+coils' initial tension F0 the model with coil-bound coils, :mod:`.model_bank`), t the
+tip-level factor, p0 a pressure offset, kappa0 a rest
 curvature and f the vision's under-read; an ingredient left out holds its
-neutral value (the design's modulus and filler, t as given, phi = 1, p0 = 0,
-kappa0 = 0, f = 1). The hypothesis's parameters are fitted inside their
+neutral value (the design's modulus and filler, coils without the coil-bound law,
+t as given, p0 = 0, kappa0 = 0, f = 1). The hypothesis's parameters are fitted inside their
 sourced ranges by bounded least squares (several starts), weighted by the
 measurement noise estimated from the data (:mod:`.noise`).
 
@@ -42,7 +42,7 @@ from scipy.optimize import least_squares
 from scipy.stats import binom, chi2, f, t
 
 from softcath.studies.discrepancy.ingredients import INGREDIENTS, SEPARATING
-from softcath.studies.discrepancy.model_bank import MODEL_PARAMETERS, ModelBank, Variant
+from softcath.studies.discrepancy.model_bank import MODEL_PARAMETERS, TENSION, ModelBank
 from softcath.studies.discrepancy.noise import NoiseEstimate, data_noise
 
 __all__ = ["Measured", "score_hypotheses", "decide", "FIT_QUANTILE"]
@@ -98,11 +98,8 @@ def predict(bank: ModelBank, ingredients: Sequence[str], values: dict[str, float
     q = np.asarray(pressure, float) - values.get("pressure_offset", 0.0)
     filler_none = "filler_none" in ingredients
     nu = 0.4999 if "nu_0.4999" in ingredients else None
-    continuous = {n: values[n] for n in MODEL_PARAMETERS if n in ingredients}
+    continuous = {n: values[n] for n in (*MODEL_PARAMETERS, TENSION) if n in ingredients}
     k, e = bank.at_values(continuous, filler_none, nu, q)
-    if "coil_initial_tension" in ingredients:
-        v = Variant(bank.nominal_modulus, filler_none, nu)
-        k = k * bank.coil_bound_share(v, q, values["coil_initial_tension"])
     k = values.get("vision_bias", 1.0) * (tip_factor * k + values.get("rest_curvature", 0.0))
     return k, e
 

@@ -136,3 +136,20 @@ def test_the_section_tier_takes_silicone_poisson_to_the_section_model(paper):
     # linear in pressure: the tier's curvature is the model's gain times the pressure
     assert got.curvature_per_mm[0] == pytest.approx(0.3 * lin.curvature_per_mm_per_MPa["lumen"], rel=1e-12)
     assert got.parameters["silicone_poisson"] == 0.45
+
+
+def test_coil_bound_is_the_curves_with_the_designs_initial_tension(paper):
+    """The option reaches section_curve with F0 the design's coil.initial_tension (the model's own
+    checks of the coil-bound law: tests/fem/section_model/finite_strain/test_coil_bound.py)."""
+    tight = replace(paper, coil=replace(paper.coil, initial_tension=0.005))
+    got = SECTION_NONLINEAR.response(tight, P, load="lumen", options={"coil_bound": True}).curvature_per_mm
+    want = section_curve(paper, P, coil_bound=True, initial_tension=0.005, linear_gain=False)
+    np.testing.assert_array_equal(got, want.curvature_per_mm)
+    # coil-bound turns stiffen the bend: the option is not ignored
+    assert got[-1] < 0.9 * _curvature(tight)[-1]
+    np.testing.assert_array_equal(_curvature(paper, coil_bound=False), _curvature(paper))
+    assert models.parse_tier_options(["coil_bound=true"], tiers=["section-nonlinear"]) == {
+        "section-nonlinear": {"coil_bound": True}
+    }
+    with pytest.raises(DesignError, match="coil_bound"):
+        SECTION_NONLINEAR.responses([paper], P, options={"coil_bound": "yes"})

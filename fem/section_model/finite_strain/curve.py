@@ -44,13 +44,13 @@ import numpy as np
 from softcath import design as design_pkg
 from softcath.core.limits import MAX_PRESSURE_MPA
 from softcath.design.errors import DesignError
-from softcath.fem.adapter import coil_law, geometry_from_design
-from softcath.fem.geometry import CHANNEL, COIL, FILLER, TUBE
-from softcath.fem.hyperelastic.laws import AnisotropicSVK, isotropic_from_young, yeoh_at_modulus
+from softcath.fem.adapter import geometry_from_design
+from softcath.fem.geometry import FILLER, TUBE
 from softcath.fem.section_model.finite_strain.as_built import AsBuiltProblem, as_built_problem, split_section
 from softcath.fem.section_model.finite_strain.discretisation import discretise
 from softcath.fem.section_model.finite_strain.fast import Unsupported
 from softcath.fem.section_model.finite_strain.fast_curve import template_curve
+from softcath.fem.section_model.finite_strain.laws import COIL_AXIAL_SCALE_MAX, section_laws
 from softcath.fem.section_model.finite_strain.lumen import lumen_volume, lumen_wall
 from softcath.fem.section_model.finite_strain.newton import (
     LOADS,
@@ -75,7 +75,6 @@ from softcath.fem.section_model.finite_strain.rows import (
     rest_row,
     state_row,
 )
-from softcath.fem.section_model.laws import NU_MAX
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
 __all__ = [
@@ -95,70 +94,6 @@ SLIP_LIMIT = 0.5
 
 #: Largest pressure [MPa] the model accepts: the package's one bound (far past any tube's burst).
 PRESSURE_MAX = MAX_PRESSURE_MPA
-#: Largest factor on the outer coil's axial moduli (:func:`section_laws`): two decades past any
-#: spring rate a coil's catalogue range spans, well inside the tangent's conditioning.
-COIL_AXIAL_SCALE_MAX = 100.0
-
-
-def section_laws(
-    design,
-    *,
-    silicone_poisson: float | None = None,
-    hoop_cap: float | None = None,
-    coil_axial_scale: float = 1.0,
-) -> dict:
-    """Region label -> finite-strain law whose small-strain limit is the linear section model's.
-
-    Silicones: the decoupled Yeoh law of ``softcath.fem.nonlinear``, its fit scaled to the
-    design's E (neo-Hookean from E, nu when the material has no Yeoh fit); coils: Saint
-    Venant-Kirchhoff with the linear section model's homogenised transversely isotropic tensor.
-
-    Parameters
-    ----------
-    silicone_poisson
-        Replace every silicone's Poisson ratio (e.g. 0.4999 for the incompressible limit).
-    hoop_cap
-        Cap the coils' hoop modulus at this multiple of the stiffest silicone's E, as the
-        3-D finite-strain FEM does for its conditioning (None: no cap).
-    coil_axial_scale
-        Multiply the outer coil's axial modulus and axial shear modulus by this factor in
-        (0, :data:`COIL_AXIAL_SCALE_MAX`] (its axial spring rate scaled; 1: the design's own).
-    """
-
-    if silicone_poisson is not None and not (0.0 <= silicone_poisson <= NU_MAX):
-        raise DesignError("silicone_poisson", silicone_poisson, f"must be in [0, {NU_MAX}]")
-    if hoop_cap is not None and not (np.isfinite(hoop_cap) and hoop_cap > 0):
-        raise DesignError("hoop_cap", hoop_cap, "must be finite and > 0 (or None for no cap)")
-    if not 0.0 < coil_axial_scale <= COIL_AXIAL_SCALE_MAX:
-        raise DesignError("coil_axial_scale", coil_axial_scale, f"must be in (0, {COIL_AXIAL_SCALE_MAX:g}]")
-    silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
-    e_max = max(m.youngs_modulus for m in silicones)
-
-    def silicone(m):
-        nu = m.poisson_ratio if silicone_poisson is None else silicone_poisson
-        yeoh = yeoh_at_modulus(m.yeoh, youngs_modulus=m.youngs_modulus, poisson_ratio=nu)  # the design's E
-        return isotropic_from_young(youngs_modulus=m.youngs_modulus, poisson_ratio=nu, yeoh=yeoh)
-
-    def coil(c, axial_scale=1.0):
-        law = coil_law(c, "tension")
-        if axial_scale != 1.0:  # the outer coil's spring rate as a model parameter
-            law = replace(
-                law,
-                axial_modulus=law.axial_modulus * axial_scale,
-                axial_shear_modulus=law.axial_shear_modulus * axial_scale,
-            )
-        if hoop_cap is not None and law.transverse_modulus > hoop_cap * e_max:
-            law = replace(law, transverse_modulus=hoop_cap * e_max)
-        return AnisotropicSVK(law.tensor())
-
-    laws = {
-        COIL: coil(design.coil, coil_axial_scale),
-        CHANNEL: coil(design.channel),
-        TUBE: silicone(design.tube.material),
-    }
-    if design.filler is not None:
-        laws[FILLER] = silicone(design.filler)
-    return laws
 
 
 def _check_pressures(pressures) -> np.ndarray:
@@ -188,6 +123,9 @@ def section_curve(
     on_pressure: Callable[[int, int], None] | None = None,
     tube_prestretch: float = 1.0,
     coil_axial_scale: float = 1.0,
+    coil_bound: bool = False,
+    initial_tension: float | None = None,
+    compression_modulus: float | None = None,
 ) -> SectionCurve:
     """Finite-strain bend curve of ``design`` at increasing ``pressures`` [MPa].
 
@@ -205,8 +143,12 @@ def section_curve(
         morphs one mesh per section topology and solves on the compiled template path,
         ``gmsh`` meshes afresh and solves on the reference path; the same answers to the
         Newton tolerance on one mesh).
-    silicone_poisson, hoop_cap, coil_axial_scale
-        Material options of :func:`section_laws` (unused where ``laws`` is given).
+    silicone_poisson, hoop_cap, coil_axial_scale, coil_bound, initial_tension, compression_modulus
+        Material options of :func:`section_laws` (unused where ``laws`` is given): with
+        ``coil_bound`` the close-wound coils are coil-bound in compression and closed up to
+        their initial tension (the outer coil's F0 ``initial_tension`` [N], default the
+        design's; its coil-bound modulus ``compression_modulus`` [MPa], default E phi), solved
+        on the reference path; False (the default) leaves the curve exactly as without it.
     laws
         Region label -> finite-strain law, overriding :func:`section_laws` (e.g. the 3-D
         FEM's ``catheter_laws`` for a comparison on equal materials).
@@ -242,6 +184,16 @@ def section_curve(
     """
     d, p = _check_inputs(design, pressures, load)
     stretch = check_prestretch(tube_prestretch)
+    material = {
+        "silicone_poisson": silicone_poisson,
+        "hoop_cap": hoop_cap,
+        "coil_axial_scale": coil_axial_scale,
+        "coil_bound": coil_bound,
+        "initial_tension": initial_tension,
+        "compression_modulus": compression_modulus,
+    }
+    if laws is None:  # the options' bounds checked before any mesh is made
+        section_laws(d, **material)
     t0 = time.perf_counter()
     if stretch != 1.0 and not d.assembly.is_default:
         raise DesignError(
@@ -258,13 +210,7 @@ def section_curve(
             d.assembly.to_dict(),
         )
     elif mesher == "template":
-        law_map = (
-            dict(laws)
-            if laws is not None
-            else section_laws(
-                d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap, coil_axial_scale=coil_axial_scale
-            )
-        )
+        law_map = dict(laws) if laws is not None else section_laws(d, **material)
         total = int(np.count_nonzero(p > 0))
         on_state, close = progress_callback(total, progress, on_pressure)
         try:
@@ -294,9 +240,7 @@ def section_curve(
         segments=segments,
         mesher=mesher,
         laws=laws,
-        silicone_poisson=silicone_poisson,
-        hoop_cap=hoop_cap,
-        coil_axial_scale=coil_axial_scale,
+        material=material,
         linear_gain=linear_gain,
         stretch=stretch,
     )
@@ -355,11 +299,9 @@ def _set_up(
     segments,
     mesher,
     laws,
-    silicone_poisson,
-    hoop_cap,
+    material,
     linear_gain,
     stretch=1.0,
-    coil_axial_scale=1.0,
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
 
@@ -368,13 +310,7 @@ def _set_up(
     section = catheter_section_mesh(
         geometry_from_design(d), mesh_size=mesh_size, segments=segments, mesher=mesher
     )
-    law_map = (
-        dict(laws)
-        if laws is not None
-        else section_laws(
-            d, silicone_poisson=silicone_poisson, hoop_cap=hoop_cap, coil_axial_scale=coil_axial_scale
-        )
-    )
+    law_map = dict(laws) if laws is not None else section_laws(d, **material)
     silicone = tuple(k for k in (TUBE, FILLER) if k in law_map)
     if d.assembly.is_default:
         disc = discretise(section, law_map)

@@ -29,7 +29,7 @@ def _reference(d, load: str):
     dd, p = curve_module._check_inputs(d, PRESSURES, load)
     setup = curve_module._set_up(
         dd, p, load, mesh_size=None, segments=None, mesher="template", laws=None,
-        silicone_poisson=None, hoop_cap=None, linear_gain=True,
+        material={}, linear_gain=True,
     )  # fmt: skip
     states, error = curve_module._walk(setup, False)
     assert error is None
