@@ -183,8 +183,8 @@ def assemble(u, dofs, grads, weights, volumes, pattern_pos, code, prm, split, f_
     a = np.empty((3, 3, 3, 3))
     ue = np.empty((10, 3))
     fe = np.empty((10, 3))
-    ke = np.empty((10, 3, 10, 3))
-    t = np.empty((3, 3, 10, 3))
+    ke = np.empty((30, 30))
+    t = np.empty((3, 3, 30))
     ge = np.empty((10, 3))
     for e in range(ne):
         for n in range(10):
@@ -213,14 +213,13 @@ def assemble(u, dofs, grads, weights, volumes, pattern_pos, code, prm, split, f_
                 _svk(fq, prm, p, a)
             if split:
                 # U'(J̄) cof F and U'(J̄) d(cof F)/dF = U'(J̄) (C_iJ C_kL − C_iL C_kJ) / J
+                cj = u1bar / dets[q]
                 for i in range(3):
                     for jj in range(3):
                         p[i, jj] += u1bar * cq[i, jj]
                         for k in range(3):
                             for ll in range(3):
-                                a[i, jj, k, ll] += (
-                                    u1bar * (cq[i, jj] * cq[k, ll] - cq[i, ll] * cq[k, jj]) / dets[q]
-                                )
+                                a[i, jj, k, ll] += cj * (cq[i, jj] * cq[k, ll] - cq[i, ll] * cq[k, jj])
             for n in range(10):
                 for i in range(3):
                     acc = 0.0
@@ -230,13 +229,13 @@ def assemble(u, dofs, grads, weights, volumes, pattern_pos, code, prm, split, f_
                         acc_g += cq[i, jj] * grads[e, q, n, jj]
                     fe[n, i] += acc * w
                     ge[n, i] += acc_g * w
-            # t[i, J, b, k] = Σ_L A_iJkL ∂_L φ_b, then K[a, i, b, k] += w Σ_J ∂_J φ_a t[i, J, b, k]:
-            # (b, k) innermost and contiguous in both, so the 30-long updates vectorise
+            # t[i, J, 3b + k] = Σ_L A_iJkL ∂_L φ_b, then K[3a + i, 3b + k] += w Σ_J ∂_J φ_a t[i, J, 3b + k]:
+            # the column (b, k) innermost and contiguous in both, so the row updates vectorise
             for i in range(3):
                 for jj in range(3):
                     for b in range(10):
                         for k in range(3):
-                            t[i, jj, b, k] = (
+                            t[i, jj, 3 * b + k] = (
                                 a[i, jj, k, 0] * grads[e, q, b, 0]
                                 + a[i, jj, k, 1] * grads[e, q, b, 1]
                                 + a[i, jj, k, 2] * grads[e, q, b, 2]
@@ -245,28 +244,25 @@ def assemble(u, dofs, grads, weights, volumes, pattern_pos, code, prm, split, f_
             for n in range(10):
                 g0, g1, g2 = grads[e, q, n, 0] * w, grads[e, q, n, 1] * w, grads[e, q, n, 2] * w
                 for i in range(3):
-                    for b in range(n, 10):
-                        for k in range(3):
-                            ke[n, i, b, k] += g0 * t[i, 0, b, k] + g1 * t[i, 1, b, k] + g2 * t[i, 2, b, k]
+                    row = ke[3 * n + i]
+                    t0, t1, t2 = t[i, 0], t[i, 1], t[i, 2]
+                    for c in range(3 * n, 30):
+                        row[c] += g0 * t0[c] + g1 * t1[c] + g2 * t2[c]
         for n in range(10):
             for b in range(n + 1, 10):
                 for i in range(3):
                     for k in range(3):
-                        ke[b, k, n, i] = ke[n, i, b, k]
+                        ke[3 * b + k, 3 * n + i] = ke[3 * n + i, 3 * b + k]
         if split:
             c = prm[3] / volumes[e]  # U''(J̄) / V
             for n in range(10):
                 for i in range(3):
                     for b in range(10):
                         for k in range(3):
-                            ke[n, i, b, k] += c * ge[n, i] * ge[b, k]
+                            ke[3 * n + i, 3 * b + k] += c * ge[n, i] * ge[b, k]
         for n in range(10):
             for i in range(3):
                 f_out[dofs[e, 3 * n + i]] += fe[n, i]
-        r = 0
-        for n in range(10):
-            for i in range(3):
-                for b in range(10):
-                    for k in range(3):
-                        data_out[pattern_pos[e, r]] += ke[n, i, b, k]
-                        r += 1
+        for r in range(30):
+            for c in range(30):
+                data_out[pattern_pos[e, 30 * r + c]] += ke[r, c]
