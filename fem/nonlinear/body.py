@@ -7,7 +7,7 @@ DOF numbering — and the element kernels are batched NumPy contractions
 (``einsum`` over elements × quadrature points) rather than scikit-fem's
 form loop, which is what makes Newton affordable here. For the laws it knows
 (Yeoh, anisotropic SVK) a compiled element loop
-(:mod:`softcath.fem.nonlinear.kernel`) does the same sums 5× faster; the
+(:mod:`softcath.fem.nonlinear.kernel`) does the same sums 4–6× faster; the
 NumPy kernels stay as its reference (``compiled=False``).
 
 Displacement DOFs are node-interleaved: DOF ``3 n + c`` is component ``c`` of
