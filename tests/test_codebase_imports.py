@@ -29,6 +29,7 @@ ALLOWED_LAZY = {
     ("softcath.fem.section_model.template_kernel", "softcath.fem.section_model.element_kernel"): _NUMBA,
     ("softcath.fem.section_model.template_kernel", "softcath.fem.section_model.spd_factor"): _NUMBA,
     ("softcath.fem.section_model.finite_strain.fast", "softcath.fem.section_model.spd_factor"): _NUMBA,
+    ("softcath.fem.nonlinear.body", "softcath.fem.nonlinear.kernel"): _NUMBA,
     (
         "softcath.fem.section_model.finite_strain.fast_curve",
         "softcath.fem.section_model.finite_strain.kernel",

@@ -24,6 +24,8 @@ OVER = {
     "fem/section_model/finite_strain/kernel.py::_yeoh": 9,
     "fem/section_model/finite_strain/kernel.py::assemble": 28,
     "fem/section_model/finite_strain/kernel.py::lumen": 11,
+    "fem/nonlinear/kernel.py::_yeoh": 7,
+    "fem/nonlinear/kernel.py::assemble": 11,
 }
 
 

@@ -298,6 +298,7 @@ def bend_curve(
     substeps: int = 1,
     max_iter: int = 20,
     progress: bool = False,
+    reuse_factors: bool = False,
 ) -> NonlinearFemCurve:
     """Nonlinear bend curve of ``design`` at increasing ``pressures`` [MPa].
 
@@ -334,6 +335,9 @@ def bend_curve(
         Newton iterations per step before a cutback.
     progress
         Show a progress bar.
+    reuse_factors
+        Newton reuses the tangent's factors while it converges fast (off by default; see
+        :func:`~softcath.fem.nonlinear.newton.solve`).
 
     Raises
     ------
@@ -364,6 +368,7 @@ def bend_curve(
         load_factors=_load_factors(p, substeps),
         max_iter=max_iter,
         progress=progress,
+        reuse_factors=reuse_factors,
     )
     curve = _curve(design, p, w, load, cmesh, model, res=res, mesh_seconds=mesh_seconds)
     return replace(curve, layers=layers if mesh is None else None, layer_choice=choice, mixed=bool(mixed))

@@ -69,6 +69,8 @@ class TangentSolver:
         self.factorisations = 0
         self._sym = None
         self._lu = None
+        #: solves with the factors of the last call (``resolve``), ``None`` before the first
+        self._last = None
         if method == "pardiso":
             upper = template.copy()
             upper.data = np.arange(template.nnz, dtype=np.float64)
@@ -105,10 +107,24 @@ class TangentSolver:
         except pardiso.PardisoError as exc:
             raise NonlinearError(str(exc)) from None
 
+    def resolve(self, b: np.ndarray) -> np.ndarray:
+        """Solve with the factors of the last tangent solved (no new factorisation).
+
+        For a modified Newton iteration: the answer is that of the last tangent, not the
+        current one.
+        """
+        if self._last is None:
+            raise NonlinearError("resolve: no tangent has been factorised yet")
+        try:
+            return self._last(b)
+        except pardiso.PardisoError as exc:
+            raise NonlinearError(str(exc)) from None
+
     def _solve(self, k: sp.csr_matrix, b: np.ndarray) -> np.ndarray:
         self.factorisations += 1
         if self.method == "superlu":
-            return spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A").solve(b)
+            self._last = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A").solve
+            return self._last(b)
         d = k.data
         if self.method == "pardiso-lu":
             return self._solve_lu(d, b)
@@ -121,6 +137,7 @@ class TangentSolver:
             x = self._sym.solve(b)
             # PARDISO perturbs tiny pivots; accept only an accurate answer
             if np.linalg.norm(b - k @ x) <= SYMMETRIC_RTOL * np.linalg.norm(b):
+                self._last = self._sym.solve
                 return x
             self.lu_fallbacks += 1
         return self._solve_lu(d, b)
@@ -129,4 +146,5 @@ class TangentSolver:
         if self._lu is None:
             self._lu = pardiso.PardisoHandle(self.template.indptr, self.template.indices, mtype=11)
         self._lu.factorise(d)
+        self._last = self._lu.solve
         return self._lu.solve(b)
