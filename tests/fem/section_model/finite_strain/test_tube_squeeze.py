@@ -191,6 +191,24 @@ def test_rest_state_is_the_pull_of_the_longer_tube(paper, squeezed_paper):
     assert c.lumen_area_mm2[0] < section_curve(paper, [0.0, 0.01], linear_gain=False).lumen_area_mm2[0]
 
 
+def test_full_squeeze_on_coil_bound_coils_keeps_the_tip_straight(paper):
+    c = section_curve(paper, [0.0, 0.3], tube_squeeze=1.0, coil_bound=True, linear_gain=False)
+    today = section_curve(paper, [0.0, 0.3], coil_bound=True, linear_gain=False)
+    ring = TubeRing.from_design(paper)
+    lam = 1 / (paper.section.a * paper.section.b / ring.outer_radius**2)
+    mu = section_laws(paper)[TUBE].shear_modulus
+    # the tube's pull (the incompressible uniaxial force at lambda_z over the catalogue area, 0.47 N)
+    # dwarfs the cap force p A_lumen (0.01 N at 0.3 MPa): the coil-bound coil's turns stay closed
+    pull = mu * (lam - lam**-2) * math.pi * (ring.outer_radius**2 - ring.inner_radius**2)
+    assert 0.3 * c.lumen_area_mm2[1] < 0.1 * pull
+    # so the tip shortens and bends by the coil's stacked-wire compliance alone (measured 3.6e-5
+    # /mm, 8e-6), three to four decades below the open coil's 0.0426 /mm at 0.3 MPa
+    assert abs(c.rest_curvature_per_mm) < 1e-4 and abs(c.rest_elongation) < 1e-4
+    assert np.abs(c.curvature_per_mm).max() < 1e-4
+    # the in-plane pre-stress still narrows the rest lumen (the tube bulges into it)
+    assert c.lumen_area_mm2[0] < today.lumen_area_mm2[0]
+
+
 @pytest.mark.parametrize("bad", [-0.1, 1.5, float("nan"), "x", None])
 def test_squeeze_out_of_range_is_refused(paper, bad):
     with pytest.raises(DesignError, match="tube_squeeze.*must be"):
