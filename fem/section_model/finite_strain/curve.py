@@ -63,6 +63,7 @@ from softcath.fem.section_model.finite_strain.newton import (
     walk,
 )
 from softcath.fem.section_model.finite_strain.prestretch import (
+    Prestretched,
     check_prestretch,
     prestretched_laws,
     rest_state,
@@ -443,7 +444,7 @@ def _curve(d, load, p, setup: _Setup, states, hoop_cap, *, t0) -> SectionCurve:
         hoop_cap=hoop_cap,
         t0=t0,
         mesh_seconds=float(setup.section.seconds),
-        tube_prestretch=float(getattr(tube, "stretch", 1.0)),
+        tube_prestretch=float(tube.stretch) if isinstance(tube, Prestretched) else 1.0,
         tube_squeeze=float(tube.squeeze) if isinstance(tube, Squeezed) else 0.0,
         rest_curvature=float(rest_at["curvature"]),
         rest_elongation=float(rest_at["elongation"]),

@@ -127,8 +127,10 @@ class TubeRing:
             aa, bb, cc = self._axes(s)
             return (x / aa) ** 2 + ((y - cc) / bb) ** 2 - 1.0
 
-        if np.any(excess(bounds[0]) < 0) or np.any(excess(bounds[1]) > 0):
-            raise DesignError("tube_squeeze", None, "a tube point lies off the as-built ring's map")
+        off = (excess(bounds[0]) < 0) | (excess(bounds[1]) > 0)
+        if np.any(off):
+            point = [float(x[off][0]), float(y[off][0])]
+            raise DesignError("tube points", point, "must lie on the as-built ring's map (s in its bracket)")
         for _ in range(_BISECTIONS):
             mid = 0.5 * (bounds[0] + bounds[1])
             out = excess(mid) > 0

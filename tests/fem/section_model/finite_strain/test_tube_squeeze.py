@@ -217,6 +217,13 @@ def test_squeeze_out_of_range_is_refused(paper, bad):
         check_squeeze(bad)
 
 
+def test_a_point_off_the_ring_is_refused():
+    # the lumen's centre and a point past the coil: no s in the bracket maps there
+    for point in ([0.0, 0.17], [0.0, 1.0]):
+        with pytest.raises(DesignError, match=r"tube points = \[.*\]: must lie on the as-built ring's map"):
+            GENERAL.coordinates(np.array([point]))
+
+
 def test_squeeze_refuses_prestretch_and_the_tip_as_built(paper):
     with pytest.raises(DesignError, match=r"tube_squeeze = 0.5: does not combine with tube_prestretch = 1.5"):
         section_curve(paper, [0.1], tube_squeeze=0.5, tube_prestretch=1.5)
