@@ -116,6 +116,7 @@ SECTION_NONLINEAR = SectionNonlinearTier(
         "silicone_poisson": OptionBound(0.0, NU_MAX),
         "coil_axial_scale": OptionBound(0.0, COIL_AXIAL_SCALE_MAX, open_low=True),
         "tube_prestretch": OptionBound(1.0, PRESTRETCH_MAX),
+        "tube_squeeze": OptionBound(0.0, 1.0),
     },
     # its walk through a few pressures against one linear solve: about fifteen Newton iterations of a
     # tangent twice the linear model's size (~1 s for the paper section), 30x the section's cost

@@ -38,13 +38,16 @@ __all__ = [
 #: ``silicone_poisson`` replaces every silicone's Poisson ratio; ``coil_axial_scale``
 #: multiplies the outer coil's axial spring rate (its axial and axial shear moduli);
 #: ``tube_prestretch`` is the as-built tube's axial stretch from its catalogue state (1: none;
-#: above 1 the curve is solved on the reference path); ``coil_bound`` makes the close-wound
+#: above 1 the curve is solved on the reference path); ``tube_squeeze`` is the share of the
+#: squeeze from the catalogue annulus the tube's stress-free state carries (0: none; its own axial
+#: stretch included, so not with ``tube_prestretch``; reference path); ``coil_bound`` makes the close-wound
 #: coils coil-bound in compression and closed up to their initial tension (the design's
 #: ``coil.initial_tension``; also on the reference path).
 SECTION_NONLINEAR_OPTIONS = {
     "mesh_size": None,
     "mesher": "template",
     "tube_prestretch": 1.0,
+    "tube_squeeze": 0.0,
     "silicone_poisson": None,
     "coil_axial_scale": 1.0,
     "coil_bound": False,

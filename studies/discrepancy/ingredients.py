@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-__all__ = ["Ingredient", "INGREDIENTS", "SEPARATING", "tube_prestretch_for"]
+__all__ = ["Ingredient", "INGREDIENTS", "SEPARATING", "tube_prestretch_for", "tube_squeeze_for"]
 
 #: Catalogue over fitted wall area of the sister prototypes' tubes (the authors' scripts: 1.5 mm tip,
 #: OD 0.30 -> 0.20 mm, (0.30/0.20)^2; 2.5 mm tip, 0.597/0.3175 -> 0.30/0.15 mm, wall areas).
@@ -103,6 +103,20 @@ INGREDIENTS: dict[str, Ingredient] = {
             "the tube at rest, and the stretched tube's tangent stiffness changes the gain",
         ),
         Ingredient(
+            name="tube_squeeze",
+            kind="model",
+            parameter="tube_squeeze",
+            unit="",
+            low=0.0,
+            high=1.0,
+            source="the catalogue tube is a circular annulus, squeezed as built into the elliptical ring "
+            "between the coil and the channel; 1 is the whole squeeze (the stress-free state the "
+            "catalogue tube), 0 none (tube_squeeze_for: the design's own numbers)",
+            effect="the tube's stress-free state is the catalogue annulus: the squeezed tube presses on "
+            "the coil and channel and bulges into its lumen, and its thinner wall is a longer tube "
+            "that pulls (not with tube_prestretch, which is that pull alone)",
+        ),
+        Ingredient(
             name="nu_0.4999",
             kind="model",
             parameter=None,
@@ -169,6 +183,8 @@ SEPARATING: dict[str, str] = {
     "filler_none": "a cut section of the tip (is the coil filled?) or the lumen volume against pressure",
     "tube_prestretch": "the tip's length and shape at rest with the line open, against a tip cut free "
     "of its tube (or the tube's length once cut out)",
+    "tube_squeeze": "a cut section of the tip (the tube's shape and wall as built) against the catalogue "
+    "tube, and the tip's length and shape at rest",
     "nu_0.4999": "the tip's elongation against pressure",
     "coil_initial_tension": "the coil's own force-extension curve (the force at which its turns separate)",
     "pressure_offset": "a run from 0 MPa with the gauge zeroed at atmosphere",
@@ -198,4 +214,28 @@ def tube_prestretch_for(design) -> Ingredient:
         f"mm, {catalogue:.4g} mm^2) over the as-built tube's ({built:.4g} mm^2): stretched by up to "
         f"{ratio:.3g} when pulled through the coil by a thread and sealed (incompressible); the sister "
         f"prototypes' scripts give {SISTER_PRESTRETCH[0]:g} and {SISTER_PRESTRETCH[1]:g}",
+    )
+
+
+def tube_squeeze_for(design) -> Ingredient:
+    """The ``tube_squeeze`` ingredient with the source of ``design``'s own tube.
+
+    Its range stays [0, 1] (a share of the squeeze); the source states the catalogue annulus and
+    the as-built ring it is squeezed into (for a tube built at its catalogue shape the squeeze is
+    the identity and the parameter changes nothing).
+    """
+    ing = INGREDIENTS["tube_squeeze"]
+    t, s = design.tube, design.section
+    catalogue = math.pi / 4 * (t.catalogue_outer_diameter**2 - t.catalogue_inner_diameter**2)
+    built = math.pi * (s.a * s.b - s.a_int * s.b_int)
+    outer, inner = t.catalogue_outer_diameter / 2, t.catalogue_inner_diameter / 2
+    pairs = zip((s.a, s.b, s.a_int, s.b_int, s.h), (outer, outer, inner, inner, 0.0), strict=True)
+    if all(math.isclose(x, y, abs_tol=1e-12) for x, y in pairs):
+        return replace(ing, source="the as-built tube is the catalogue annulus: the squeeze is the identity")
+    return replace(
+        ing,
+        source=f"the catalogue annulus ({t.catalogue_outer_diameter:g}/{t.catalogue_inner_diameter:g} mm, "
+        f"wall {catalogue:.4g} mm^2) squeezed into the as-built ring (outer {2 * s.a:.3g} x {2 * s.b:.3g} "
+        f"mm, lumen {2 * s.a_int:.3g} x {2 * s.b_int:.3g} mm, wall {built:.4g} mm^2): 1 the whole "
+        "squeeze, its axial stretch (the wall-area ratio) included",
     )

@@ -32,7 +32,13 @@ A hypothesis's prediction at the measured pressures is made of
 The tube's pre-stretch is a continuous model parameter too (its range from 1 to the
 design's catalogue/as-built wall-area ratio, :func:`.ingredients.tube_prestretch_for`), on
 a grid of six values dense near 1; a pre-stretched variant's curve starts at its rest
-curvature (absolute curvature).
+curvature (absolute curvature). The tube's squeeze (:func:`.ingredients.tube_squeeze_for`, a share
+in [0, 1]) likewise, on the grid 0, 1/8, 1/4, 1/2, 1 and interpolated linearly in the share (its
+range starts at 0; the rest bend grows nearly in proportion to it: -0.108, -0.224, -0.347 mm^-1 at
+0.1, 0.2, 0.3 on the paper design; a share between grid values within 1.5 % of the curve's span
+of its direct solve, measured at 0.0625 and 0.2); a variant with both the squeeze and the
+pre-stretch has no curve (the squeeze carries its own axial stretch), nor one whose rest state is
+not reached (the paper design's stalls at 0.56 with the open coil).
 """
 
 from __future__ import annotations
@@ -49,12 +55,15 @@ from softcath.design.errors import DesignError
 from softcath.fem.section_model.bilinear import bend_curve
 from softcath.fem.section_model.finite_strain import SectionConvergenceError
 from softcath.models.section_nonlinear import SECTION_NONLINEAR
-from softcath.studies.discrepancy.ingredients import INGREDIENTS, tube_prestretch_for
+from softcath.studies.discrepancy.ingredients import INGREDIENTS, tube_prestretch_for, tube_squeeze_for
 
 __all__ = ["Variant", "ModelBank", "MODEL_PARAMETERS", "TENSION"]
 
-#: The continuous parameters that change the finite-strain solve (interpolated in their logs).
-MODEL_PARAMETERS = ("tube_modulus", "coil_spring_rate", "tube_prestretch")
+#: The continuous parameters that change the finite-strain solve (interpolated in their logs, the
+#: squeeze, whose range starts at 0, linearly).
+MODEL_PARAMETERS = ("tube_modulus", "coil_spring_rate", "tube_prestretch", "tube_squeeze")
+#: The parameters interpolated linearly rather than in their logs.
+_LINEAR = ("tube_squeeze",)
 #: The coils' initial tension: a finite-strain solve with coil-bound coils (interpolated along the shift).
 TENSION = "coil_initial_tension"
 
@@ -63,6 +72,8 @@ log = logging.getLogger(__name__)
 _GRID_STEPS = 24
 #: Inner points of the pre-stretch grid, as shares of its range (1.018, 1.073, 1.146, 1.29 for the paper).
 _PRESTRETCH_STEPS = (0.01, 0.04, 0.08, 0.16)
+#: Inner points of the squeeze grid, as shares of its range.
+_SQUEEZE_STEPS = (0.125, 0.25, 0.5)
 #: Initial tensions of the grid (the range's ends included; the module docstring's measured accuracy).
 _TENSION_POINTS = 5
 #: Share of the lower curve's rise above which a curvature level counts in matching the shift (the
@@ -73,8 +84,9 @@ _LEVEL_SHARE = 0.01
 @dataclass(frozen=True)
 class Variant:
     """One finite-strain model of the design: tube modulus [MPa], filler removed, silicone nu,
-    the outer coil's axial spring rate [N/m] (None: the design's own), the tube's pre-stretch and
-    the outer coil's initial tension [N] (None: coils without coil-bound law, the default model)."""
+    the outer coil's axial spring rate [N/m] (None: the design's own), the tube's pre-stretch, the
+    outer coil's initial tension [N] (None: coils without coil-bound law, the default model) and
+    the tube's squeeze (0: none)."""
 
     tube_modulus: float
     filler_none: bool = False
@@ -82,6 +94,7 @@ class Variant:
     coil_spring_rate: float | None = None
     tube_prestretch: float = 1.0
     coil_initial_tension: float | None = None
+    tube_squeeze: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -117,7 +130,12 @@ class ModelBank:
     ) -> None:
         self.design = design
         prestretch = tube_prestretch_for(design)
-        self.ranges = {"tube_prestretch": (prestretch.low, prestretch.high), **(ranges or {})}
+        squeeze = tube_squeeze_for(design)
+        self.ranges = {
+            "tube_prestretch": (prestretch.low, prestretch.high),
+            "tube_squeeze": (squeeze.low, squeeze.high),
+            **(ranges or {}),
+        }
         self.load = load
         self.grid = np.linspace(0.0, float(p_max), _GRID_STEPS + 1)
         self._curves: dict[Variant, _Curve] = {}
@@ -186,6 +204,7 @@ class ModelBank:
             coil_spring_rate=corner.get("coil_spring_rate"),
             tube_prestretch=corner.get("tube_prestretch", 1.0),
             coil_initial_tension=corner.get(TENSION),
+            tube_squeeze=corner.get("tube_squeeze", 0.0),
         )
 
     def at(self, v: Variant, pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -201,7 +220,8 @@ class ModelBank:
 
     def ingredient(self, name: str):
         """The ingredient ``name`` as this design has it (its range and source)."""
-        return tube_prestretch_for(self.design) if name == "tube_prestretch" else INGREDIENTS[name]
+        own = {"tube_prestretch": tube_prestretch_for, "tube_squeeze": tube_squeeze_for}
+        return own[name](self.design) if name in own else INGREDIENTS[name]
 
     def range_of(self, parameter: str) -> tuple[float, float]:
         """The range a hypothesis may choose ``parameter`` in (the sourced one unless overridden)."""
@@ -215,22 +235,25 @@ class ModelBank:
         lo, hi = self.range_of(parameter)
         if parameter == "tube_prestretch":
             return (lo, *(float(lo + (hi - lo) * s) for s in _PRESTRETCH_STEPS), hi)
+        if parameter == "tube_squeeze":
+            return (lo, *(float(lo + (hi - lo) * s) for s in _SQUEEZE_STEPS), hi)
         if parameter == TENSION:  # from 0: evenly, not in the log
             return tuple(float(v) for v in np.linspace(lo, hi, _TENSION_POINTS))
         return (lo, float(np.sqrt(lo * hi)), hi)
 
     def at_values(self, values: dict[str, float], filler_none: bool, nu, pressure):
         """(curvature, elongation) with continuous model parameters ``values`` (``tube_modulus``,
-        ``coil_spring_rate``, ``tube_prestretch``; absent ones at the design's own), multilinear in
-        their logs; with ``coil_initial_tension`` the coil-bound model's curves, interpolated along
-        their pressure shift (module docstring)."""
+        ``coil_spring_rate``, ``tube_prestretch``, ``tube_squeeze``; absent ones at the design's own),
+        multilinear in their logs (the squeeze in itself); with ``coil_initial_tension`` the
+        coil-bound model's curves, interpolated along their pressure shift (module docstring)."""
         names = [n for n in MODEL_PARAMETERS if n in values]
         corners: list[tuple[float, dict[str, float]]] = [(1.0, {})]
         for n in names:
             grid = self.grid_of(n)
-            x = float(np.clip(np.log(values[n]), np.log(grid[0]), np.log(grid[-1])))
-            i = min(int(np.searchsorted(np.log(grid), x, side="right")) - 1, len(grid) - 2)
-            w = (x - np.log(grid[i])) / (np.log(grid[i + 1]) - np.log(grid[i]))
+            axis = np.asarray(grid, float) if n in _LINEAR else np.log(grid)
+            x = float(np.clip(values[n] if n in _LINEAR else np.log(values[n]), axis[0], axis[-1]))
+            i = min(int(np.searchsorted(axis, x, side="right")) - 1, len(grid) - 2)
+            w = (x - axis[i]) / (axis[i + 1] - axis[i])
             corners = [
                 (cw * ww, {**cv, n: g})
                 for cw, cv in corners
@@ -372,12 +395,17 @@ def solve_variant(design, grid: np.ndarray, load: str, v: Variant) -> tuple[_Cur
     nan = np.full(1, np.nan)
     if v.tube_prestretch != 1.0 and not d.assembly.is_default:  # the model's pre-stretch: bonded tips
         return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no pre-stretch for a tip as built"
+    if v.tube_squeeze != 0.0 and not d.assembly.is_default:  # likewise the squeeze
+        return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no squeeze for a tip as built"
+    if v.tube_squeeze != 0.0 and v.tube_prestretch != 1.0:  # the squeeze carries its own axial stretch
+        return _Curve(np.zeros(1), nan, nan, reached=-1.0), f"{v}: no squeeze with a pre-stretch"
     options = {
         "silicone_poisson": v.silicone_poisson,
         "coil_axial_scale": None
         if v.coil_spring_rate is None
         else float(v.coil_spring_rate) / nominal_spring_rate(design),
         "tube_prestretch": v.tube_prestretch,
+        "tube_squeeze": v.tube_squeeze,
         "coil_bound": v.coil_initial_tension is not None,  # F0: the variant design's own
     }
     batch = SECTION_NONLINEAR.responses([d], grid, loads=(load,), options=options)[load]

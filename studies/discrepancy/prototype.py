@@ -234,6 +234,7 @@ _HARD_LIMITS = {
     "pressure_offset": (0.0, 2.0),
     "rest_curvature": (0.0, 1.0),
     "tube_prestretch": (1.0, PRESTRETCH_MAX),
+    "tube_squeeze": (0.0, 1.0),
 }
 
 

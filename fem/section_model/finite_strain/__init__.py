@@ -13,7 +13,8 @@ laws of the 3-D FEM.
 Modules: ``discretisation`` (element pair, quadrature data, projection),
 ``lumen`` (the lumen's volume per unit length, the pressure's potential),
 ``residual`` (internal forces and tangent), ``newton`` (load stepping),
-``prestretch`` (the tube pre-stretched as built and its rest state),
+``prestretch`` (the tube pre-stretched as built and its rest state), ``squeeze`` (the
+tube's stress-free state the catalogue annulus: a per-point pre-deformation),
 ``laws`` (:func:`section_laws`, the regions' finite-strain laws), ``coil_bound`` (a
 close-wound coil's axial law: coil-bound in compression, closed up to its initial tension),
 ``curve`` (:func:`section_curve`, the public entry point).

@@ -63,6 +63,7 @@ from softcath.fem.section_model.finite_strain.newton import (
     walk,
 )
 from softcath.fem.section_model.finite_strain.prestretch import (
+    Prestretched,
     check_prestretch,
     prestretched_laws,
     rest_state,
@@ -74,6 +75,12 @@ from softcath.fem.section_model.finite_strain.rows import (
     progress_callback,
     rest_row,
     state_row,
+)
+from softcath.fem.section_model.finite_strain.squeeze import (
+    Squeezed,
+    TubeRing,
+    check_squeeze,
+    squeeze_rest_state,
 )
 from softcath.fem.section_model.mesh import MESH_SIZE, SEGMENTS, catheter_section_mesh
 
@@ -122,6 +129,7 @@ def section_curve(
     progress: bool = False,
     on_pressure: Callable[[int, int], None] | None = None,
     tube_prestretch: float = 1.0,
+    tube_squeeze: float = 0.0,
     coil_axial_scale: float = 1.0,
     coil_bound: bool = False,
     initial_tension: float | None = None,
@@ -168,6 +176,13 @@ def section_curve(
         ``rest_curvature_per_mm`` and ``rest_elongation``); curvature and elongation stay absolute
         (measured from the straight as-built section), and the curve is solved on the reference
         path (the compiled template path has no pre-stretch).
+    tube_squeeze
+        Share t in [0, 1] of the squeeze from the catalogue annulus to the as-built ring that the
+        tube's stress-free state carries (module ``squeeze``: a per-point pre-deformation, its
+        axial stretch included so that it keeps the silicone's volume); 0, the default, is the
+        tube built stress-free. Above 0 it is solved as ``tube_prestretch`` is (the rest state
+        first, the reference path) and does not combine with it (the squeeze carries its own
+        axial stretch).
 
     Raises
     ------
@@ -184,6 +199,14 @@ def section_curve(
     """
     d, p = _check_inputs(design, pressures, load)
     stretch = check_prestretch(tube_prestretch)
+    squeeze = check_squeeze(tube_squeeze)
+    if stretch != 1.0 and squeeze != 0.0:
+        raise DesignError(
+            "tube_squeeze",
+            squeeze,
+            f"does not combine with tube_prestretch = {stretch:g} (the squeeze carries its own axial "
+            "stretch): give one of them",
+        )
     material = {
         "silicone_poisson": silicone_poisson,
         "hoop_cap": hoop_cap,
@@ -201,8 +224,18 @@ def section_curve(
             stretch,
             "takes the bonded tip only (1 for a tip built with an [assembly] of interfaces or fillers)",
         )
-    if mesher == "template" and stretch != 1.0:
-        log.info("finite-strain section: tube pre-stretch %.4g; solved on the reference path", stretch)
+    if squeeze != 0.0 and not d.assembly.is_default:
+        raise DesignError(
+            "tube_squeeze",
+            squeeze,
+            "takes the bonded tip only (0 for a tip built with an [assembly] of interfaces or fillers)",
+        )
+    if mesher == "template" and (stretch != 1.0 or squeeze != 0.0):
+        log.info(
+            "finite-strain section: tube pre-stretch %.4g, squeeze %.4g; solved on the reference path",
+            stretch,
+            squeeze,
+        )
     elif mesher == "template" and not d.assembly.is_default:
         log.info(
             "finite-strain section: %s is built as %s; solved on the reference path",
@@ -243,6 +276,7 @@ def section_curve(
         material=material,
         linear_gain=linear_gain,
         stretch=stretch,
+        squeeze=squeeze,
     )
     states, error = _walk(setup, progress, on_pressure)
     return _finish(_curve(d, load, p, setup, states, hoop_cap, t0=t0), error)
@@ -302,6 +336,7 @@ def _set_up(
     material,
     linear_gain,
     stretch=1.0,
+    squeeze=0.0,
 ) -> _Setup:
     """Mesh and discretise the section, set up its loading and the rest state."""
 
@@ -331,6 +366,10 @@ def _set_up(
     if stretch != 1.0:  # the bonded tip only (section_curve)
         problem, at_rest = rest_state(problem, stretch)
         disc, law_map, q_rest = problem.disc, prestretched_laws(law_map, stretch), at_rest.q
+        rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
+    if squeeze != 0.0:  # the bonded tip only, never with a pre-stretch (section_curve)
+        problem, at_rest = squeeze_rest_state(problem, TubeRing.from_design(d), squeeze)
+        disc, law_map, q_rest = problem.disc, problem.disc.laws, at_rest.q
         rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
     gain = _linear_gain(problem, q_rest, loading) / p_top if linear_gain else None
     return _Setup(
@@ -371,6 +410,7 @@ def _curve(d, load, p, setup: _Setup, states, hoop_cap, *, t0) -> SectionCurve:
     """The :class:`SectionCurve` of the rest rows and the converged states."""
 
     disc, wall, rest = setup.disc, setup.wall, setup.rest
+    tube = setup.law_map[TUBE]
     n_zero = p.size - setup.positive.size
     rest_at = rest_row(rest.area, rest.volume)
     if setup.rest_state is not None:
@@ -404,7 +444,8 @@ def _curve(d, load, p, setup: _Setup, states, hoop_cap, *, t0) -> SectionCurve:
         hoop_cap=hoop_cap,
         t0=t0,
         mesh_seconds=float(setup.section.seconds),
-        tube_prestretch=float(setup.law_map[TUBE].stretch) if setup.rest_state is not None else 1.0,
+        tube_prestretch=float(tube.stretch) if isinstance(tube, Prestretched) else 1.0,
+        tube_squeeze=float(tube.squeeze) if isinstance(tube, Squeezed) else 0.0,
         rest_curvature=float(rest_at["curvature"]),
         rest_elongation=float(rest_at["elongation"]),
     )

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,7 +46,14 @@ from softcath.fem.section_model.finite_strain.newton import (
     residual_tangent,
 )
 
-__all__ = ["PRESTRETCH_MAX", "Prestretched", "check_prestretch", "prestretched_laws", "rest_state"]
+__all__ = [
+    "PRESTRETCH_MAX",
+    "Prestretched",
+    "check_prestretch",
+    "prestretched_laws",
+    "ramped_rest_state",
+    "rest_state",
+]
 
 log = logging.getLogger(__name__)
 
@@ -162,20 +170,52 @@ def rest_state(
     first, halved after a failure). Raises :class:`SectionConvergenceError` naming the stretch
     reached when the step falls below ``min_step``.
     """
-    q = problem.initial_state()
-    done, step = 1.0, stretch - 1.0
+    return ramped_rest_state(
+        lambda s: _at(problem, s),
+        (1.0, stretch),
+        name="tube_prestretch",
+        tol=tol,
+        max_iter=max_iter,
+        min_step=min_step,
+    )
+
+
+def ramped_rest_state(
+    at: Callable[[float], SectionProblem],
+    span: tuple[float, float],
+    *,
+    name: str,
+    tol: float = 1e-9,
+    max_iter: int = 25,
+    min_step: float = 1e-2,
+) -> tuple[SectionProblem, State]:
+    """``at(target)`` and its equilibrium at zero pressure, the parameter ramped over ``span``.
+
+    Parameters
+    ----------
+    at
+        The problem at a value of the parameter (``at(start)`` is stress-free at rest).
+    span
+        ``(start, target)``: a full step to the target first, halved after a failure.
+    name
+        The parameter's name: :class:`SectionConvergenceError` names it and the value reached
+        when the step falls below ``min_step``.
+    """
+    start, target = (float(v) for v in span)
+    q = at(start).initial_state()
+    done, step = start, target - start
     state = State(q, 0.0, 0, 0.0, 0.0)
     spent = 0
-    while done < stretch:
-        trial = min(done + step, stretch)
-        got = _newton(_at(problem, trial), state.q, tol=tol, max_iter=max_iter)
+    while done < target:
+        trial = min(done + step, target)
+        got = _newton(at(trial), state.q, tol=tol, max_iter=max_iter)
         if got is None:
             step /= 2
             if step < min_step:
-                raise SectionConvergenceError(done, stretch, "tube_prestretch")
-            log.debug("tube pre-stretch: cut back to step %.3g at %.4g", step, done)
+                raise SectionConvergenceError(done, target, name)
+            log.debug("%s: cut back to step %.3g at %.4g", name, step, done)
             continue
         spent += got.iterations
         state, done = got, trial
-    log.info("tube pre-stretch %.4g: rest state in %d Newton iterations", stretch, spent)
-    return _at(problem, stretch), replace(state, iterations=spent)
+    log.info("%s %.4g: rest state in %d Newton iterations", name, target, spent)
+    return at(target), replace(state, iterations=spent)

@@ -64,10 +64,13 @@ class SectionCurve:
         None when not asked for (``linear_gain=False``).
     tube_prestretch
         The as-built tube's axial stretch from its stress-free state (1: none).
+    tube_squeeze
+        The share of the squeeze from the catalogue annulus the tube's stress-free state
+        carries (0: none; module ``squeeze``).
     rest_curvature_per_mm, rest_elongation
         Curvature and elongation of the centroid fibre at 0 MPa: zero unless the tube is
-        pre-stretched. ``curvature_per_mm`` and ``elongation`` include them (absolute, from the
-        straight as-built section).
+        pre-stretched or squeezed. ``curvature_per_mm`` and ``elongation`` include them
+        (absolute, from the straight as-built section).
     interface_slip_per_element
         The tip as built: largest in-plane tangential slip at a sliding interface divided by
         the median interface edge length, per pressure (the normal tie is imposed in the
@@ -102,6 +105,7 @@ class SectionCurve:
     interface_slip_per_element: np.ndarray | None = None
     state: object = field(default=None, repr=False, compare=False)
     tube_prestretch: float = 1.0
+    tube_squeeze: float = 0.0
     rest_curvature_per_mm: float = 0.0
     rest_elongation: float = 0.0
 

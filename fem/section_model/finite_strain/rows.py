@@ -36,6 +36,7 @@ class CurveFacts:
     t0: float
     mesh_seconds: float
     tube_prestretch: float = 1.0
+    tube_squeeze: float = 0.0
     rest_curvature: float = 0.0
     rest_elongation: float = 0.0
 
@@ -118,6 +119,7 @@ def curve_from_rows(d, load: str, p: np.ndarray, rows: list[dict], facts: CurveF
         mesh_seconds=float(facts.mesh_seconds),
         state=state,
         tube_prestretch=float(facts.tube_prestretch),
+        tube_squeeze=float(facts.tube_squeeze),
         rest_curvature_per_mm=float(facts.rest_curvature),
         rest_elongation=float(facts.rest_elongation),
     )

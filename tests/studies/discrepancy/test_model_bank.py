@@ -130,6 +130,35 @@ def test_tube_prestretch_between_grid_points_is_within_half_a_percent_of_a_direc
     np.testing.assert_allclose(k, direct, atol=0.005 * 0.2)
 
 
+def test_tube_squeeze_is_a_share_of_the_designs_own_squeeze(bank):
+    assert INGREDIENTS["tube_squeeze"].kind == "model"
+    assert bank.range_of("tube_squeeze") == (0.0, 1.0)
+    source = bank.ingredient("tube_squeeze").source
+    assert "0.6/0.3 mm" in source and "0.424 x 0.3 mm" in source  # the paper's catalogue and built tube
+    grid = [v.tube_squeeze for v in bank.variants_for(("tube_squeeze",))]
+    assert grid == pytest.approx([0.0, 0.125, 0.25, 0.5, 1.0])
+    # no squeeze is the design's own curve (the interpolation's corner at 0, nothing else solved)
+    p = np.array([0.2, 0.5])
+    k, _ = bank.at_values({"tube_squeeze": 0.0}, False, None, p)
+    np.testing.assert_array_equal(k, bank.at(Variant(bank.nominal_modulus), p)[0])
+
+
+def test_tube_squeeze_between_grid_points_is_within_two_percent_of_a_direct_solve(bank):
+    p = np.array([0.0, 0.2, 0.35, 0.5])
+    k, _ = bank.at_values({"tube_squeeze": 0.0625}, False, None, p)
+    direct = section_curve(bank.design, p, tube_squeeze=0.0625, linear_gain=False).curvature_per_mm
+    # linear in the share between 0 and 1/8: measured 1.5 % of the curve's span (0.16 1/mm), the rest
+    # bend's slight convexity in the share
+    np.testing.assert_allclose(k, direct, atol=0.02 * np.ptp(direct))
+
+
+def test_a_squeeze_with_a_prestretch_has_no_curve(bank):
+    v = Variant(bank.nominal_modulus, tube_squeeze=0.5, tube_prestretch=1.5)
+    curve, note = solve_variant(bank.design, np.array([0.1]), "lumen", v)
+    assert np.isnan(curve.curvature).all() and curve.reached < 0
+    assert "no squeeze with a pre-stretch" in note
+
+
 @pytest.mark.slow
 def test_a_stalled_walk_keeps_its_curve_up_to_the_pressure_reached():
     # 100 MPa is past what the paper section carries: the tier's partial response is the curve
