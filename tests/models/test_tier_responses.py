@@ -120,8 +120,11 @@ def test_fem_response_is_fem_check():
         PAPER, [0.1], tier="fem", load="cap", options={"mesh_size": 0.25, "error_estimate": True}
     )
     stated = fem.check(PAPER, pressures=[0.1], loads=("cap",), mesh_size=0.25, error_estimate=True)
+    # each call meshes the companion afresh, and two meshes of one size differ at the mesher's round-off:
+    # the coarse curvature moves by ~1e-6 of itself and the stated error, a difference of near-equal
+    # curvatures (0.45 %), by up to 2e-4 of itself (measured over repeated calls in one process)
     assert asked.extras["discretisation_error_estimate"][0] == pytest.approx(
-        stated.cases[0].discretisation_error_estimate, rel=1e-6
+        stated.cases[0].discretisation_error_estimate, rel=1e-3
     )
     assert 0 < asked.extras["discretisation_error_estimate"][0] < 0.1
 
