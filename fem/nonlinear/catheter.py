@@ -43,6 +43,7 @@ from softcath.fem.hyperelastic.laws import (
 )
 from softcath.fem.mesh import initialize_gmsh
 from softcath.fem.nonlinear.errors import NonlinearError, SettingError
+from softcath.fem.nonlinear.true_area import area_true, section_curves
 from softcath.fem.tags import tag_facets
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
@@ -184,7 +185,13 @@ def _extrude(pts2, tri, cls, z_levels, keep):
 
 
 def mesh_catheter(
-    design, *, size: float = 0.15, layers: int = 6, contact: float = 0.03, curvature_points: int = 24
+    design,
+    *,
+    size: float = 0.15,
+    layers: int = 6,
+    contact: float = 0.03,
+    curvature_points: int = 24,
+    true_area: bool = False,
 ) -> CatheterMesh:
     """Tetrahedral mesh of the tip of ``design`` (see module docstring).
 
@@ -202,6 +209,11 @@ def mesh_catheter(
     curvature_points
         Segments per full circle on curved boundaries: polygon area error 1.1 % at 24
         (1 − sin(2π/n) n/2π), which the coil's r⁴ bending stiffness doubles.
+    true_area
+        Move the vertices inside each curve's arcs outward so that every polygon holds its
+        curve's area (:func:`~softcath.fem.nonlinear.true_area.area_true`); off by default.
+        On the paper design (0.02 MPa, 4 layers) it takes the default section's mid-span
+        curvature from 2.2 % to 0.7 % under the finest section's, at no cost in unknowns.
     """
     from skfem import MeshTet
 
@@ -223,6 +235,10 @@ def mesh_catheter(
     pts2, tri, cls = _section_triangles(
         design.section, size=size, contact=contact, curvature_points=int(curvature_points)
     )
+    if not isinstance(true_area, bool):
+        raise SettingError("true_area", true_area, "must be True or False")
+    if true_area:
+        pts2 = area_true(pts2, tri, section_curves(design.section, contact=contact))
     has_filler = design.filler is not None
 
     def keep(c, zmid):
