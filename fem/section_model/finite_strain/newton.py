@@ -49,6 +49,8 @@ log = logging.getLogger(__name__)
 class SectionConvergenceError(DesignError):
     """Newton did not converge; names the last load reached."""
 
+    assemblies: list  # set by the fast walk (``fast_walk.walk``): the converged states' assemblies
+
     def __init__(self, reached: float, target: float, what: str = "pressure") -> None:
         self.reached, self.target = float(reached), float(target)
         self.states: list = []  # the states converged before the failure
