@@ -21,6 +21,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -209,7 +210,10 @@ def observed_order(values, layers) -> float:
     g_lo, g_hi = _order_equation(lo, h, ratio), _order_equation(hi, h, ratio)
     if g_lo * g_hi > 0:
         return float("nan")
-    return float(brentq(_order_equation, lo, hi, args=(h, ratio), xtol=1e-10))
+    root = cast(
+        float, brentq(_order_equation, lo, hi, args=(h, ratio), xtol=1e-10)
+    )  # full_output=False: the root
+    return float(root)
 
 
 def extrapolate(values, layers, order: float) -> float:
