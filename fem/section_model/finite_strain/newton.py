@@ -314,7 +314,7 @@ def newton(
 def walk(
     problem: SectionProblem,
     loading: Loading,
-    factors: Sequence[float],
+    factors: Sequence[float] | np.ndarray,
     *,
     tol: float = 1e-6,
     max_iter: int = 25,
