@@ -26,6 +26,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.design.load_cases import LOADS
+from softcath.fem.section_model.finite_strain.as_built import AsBuiltProblem
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 from softcath.fem.section_model.finite_strain.lumen import LumenWall, lumen_volume
 from softcath.fem.section_model.finite_strain.residual import internal, with_globals
@@ -263,7 +264,7 @@ def pressures_after(problem, tan, step: np.ndarray) -> dict:
 
 
 def newton(
-    problem: SectionProblem,
+    problem: SectionProblem | AsBuiltProblem,
     q0: np.ndarray,
     loading: Loading,
     factor: float,
@@ -312,7 +313,7 @@ def newton(
 
 
 def walk(
-    problem: SectionProblem,
+    problem: SectionProblem | AsBuiltProblem,
     loading: Loading,
     factors: Sequence[float] | np.ndarray,
     *,
