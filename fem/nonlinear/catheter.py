@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -44,6 +45,9 @@ from softcath.fem.hyperelastic.laws import (
 from softcath.fem.mesh import initialize_gmsh
 from softcath.fem.nonlinear.errors import NonlinearError, SettingError
 from softcath.fem.tags import tag_facets
+
+if TYPE_CHECKING:  # scikit-fem loads with the first mesh; named here for the checker
+    from skfem import Mesh
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
@@ -73,7 +77,7 @@ class CatheterMesh:
         Bending length L [mm].
     """
 
-    mesh: object
+    mesh: Mesh
     labels: np.ndarray
     base_facets: np.ndarray
     lumen_facets: np.ndarray

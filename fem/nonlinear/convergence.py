@@ -154,7 +154,7 @@ def coarse_layers(layers: int) -> int:
 
 
 def richardson_error(
-    fine, coarse, *, layers: int, coarse_layers: int, order: float = ASSUMED_ORDER
+    fine, coarse, *, layers: float, coarse_layers: float, order: float = ASSUMED_ORDER
 ) -> np.ndarray:
     """Relative discretisation error of ``fine`` estimated from a coarser solve (Richardson).
 
@@ -167,7 +167,7 @@ def richardson_error(
     fine, coarse
         The same quantity (e.g. the mid-span curvature per pressure) on the two meshes.
     layers, coarse_layers
-        Layer counts of the two meshes (``layers > coarse_layers``).
+        Layer counts of the two meshes (``layers > coarse_layers``), or any two mesh densities 1/h.
     order
         Assumed order of convergence in 1/layers (> 0).
     """
