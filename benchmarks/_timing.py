@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Any
 
 
-def best_of(fn: Callable[[], object], repeat: int = 3) -> tuple[float, object]:
+def best_of(fn: Callable[[], object], repeat: int = 3) -> tuple[float, Any]:
     """Best wall time of ``repeat`` calls (s) and the last result."""
     best, out = float("inf"), None
     for _ in range(repeat):

@@ -177,7 +177,7 @@ def through_sweep(n: int, chunks: list[int]) -> None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--designs", type=int, default=40, help="random designs of the in-process part")
     ap.add_argument("--rounds", type=int, default=5, help="alternating rounds of the in-process part")
     ap.add_argument("--seed", type=int, default=11)

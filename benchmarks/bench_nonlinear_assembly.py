@@ -31,7 +31,7 @@ from softcath.fem.nonlinear.catheter import catheter_laws, mesh_catheter  # noqa
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--layers", type=int, default=12)
     ap.add_argument("--size", type=float, default=0.15)
     ap.add_argument("--curvature-points", type=int, default=12)

@@ -130,7 +130,7 @@ def main() -> None:
     from softcath import design
     from softcath.studies.sweep.random_designs import random_designs
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--designs", type=int, default=3, help="designs (the paper's first)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the random valid designs")
     ap.add_argument("--skip-paper", action="store_true", help="random designs only (--designs of them)")

@@ -339,7 +339,9 @@ def check_option_effects(args: argparse.Namespace, command: str, defaults: dict)
                 raise DesignError(terms.get(dest, dest), value, why)
 
 
-def add_model_option(parser: argparse.ArgumentParser, *, tiers: tuple = (), where: str = "") -> None:
+def add_model_option(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup, *, tiers: tuple = (), where: str = ""
+) -> None:
     """``--model-option [TIER.]NAME=VALUE`` (repeatable): an option of a model tier the command runs.
 
     ``tiers`` are the registry's :class:`~softcath.models.Tier` objects the command may run;

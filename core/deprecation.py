@@ -77,6 +77,8 @@ def renamed_keyword(*, old: str, new: str) -> Callable[[T], T]:
             setattr(target, "__init__", _renamed_call(target.__init__, owner, old, new))  # noqa: B010
             setattr(target, old, _old_attribute(owner, old, new))
             return target
+        if not callable(target):
+            raise TypeError(f"renamed_keyword: {owner} is neither a class nor a function")
         return _renamed_call(target, owner, old, new)
 
     return decorate

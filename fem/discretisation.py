@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 from softcath.design.errors import DesignError
 from softcath.fem.nonlinear.convergence import extrapolate
+from softcath.fem.pipeline import TipSolution
 
 __all__ = [
     "ASSUMED_ORDER",
@@ -177,7 +178,11 @@ def estimate_from(
 
 
 def companion_estimate(
-    sol, solve: Callable[[float], object], *, mesh_size: float, largest: float = MAX_MESH_SIZE
+    sol: TipSolution,
+    solve: Callable[[float], TipSolution],
+    *,
+    mesh_size: float,
+    largest: float = MAX_MESH_SIZE,
 ) -> DiscretisationEstimate:
     """Solve again with ``solve(companion_mesh_size(mesh_size, largest=largest))`` (a
     ``TipSolution``) and estimate the error of ``sol`` (the check's ``TipSolution``) with the

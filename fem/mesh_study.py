@@ -22,6 +22,7 @@ from softcath.design import resolve
 from softcath.design.errors import DesignError
 from softcath.fem.api import FemResult, check
 from softcath.fem.discretisation import ASSUMED_ORDER, COMPANION_RATIO, MAX_MESH_SIZE, estimate_from
+from softcath.fem.errors import FemError
 from softcath.fem.limits import check_fem_budget
 from softcath.fem.nonlinear.convergence import extrapolate, observed_order
 from softcath.fem.nonlinear.study import TRUSTED_ORDER
@@ -196,6 +197,8 @@ def mesh_study(design, pressures, *, load: str = "lumen", mesh_size: float = 0.1
         t0 = time.perf_counter()
         r = check(d, pressures=pressures, loads=(load,), mesh_size=h, error_estimate=False, **options)
         seconds.append(time.perf_counter() - t0)
+        if r.solution is None:
+            raise FemError("the FEM check kept no solution to read the unit curvature from")
         unit.append(float(r.solution.fits[load].curvature_per_mm))
         results.append(r if h == mesh_size else replace(r, solution=None))  # frees the factors
     k = np.array(unit)

@@ -26,6 +26,8 @@ import logging
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
 from softcath.core.response import ResponseBatch, TipResponse
 from softcath.design.errors import DesignError
 from softcath.models.fem3d import FEM
@@ -170,7 +172,7 @@ def linear_names() -> tuple[str, ...]:
 
 def response(
     design,
-    pressures: Sequence[float],
+    pressures: Sequence[float] | np.ndarray,
     *,
     tier: str,
     load: str | None = None,
@@ -202,7 +204,7 @@ def response(
 
 def responses(
     designs: Sequence,
-    pressures: Sequence[float],
+    pressures: Sequence[float] | np.ndarray,
     *,
     tier: str,
     loads: Sequence[str] | None = None,

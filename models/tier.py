@@ -237,7 +237,7 @@ class Tier:
     # -- answering ------------------------------------------------------------------------------
 
     def response(
-        self, design, pressures: Sequence[float], *, load: str | None = None, options=None
+        self, design, pressures: Sequence[float] | np.ndarray, *, load: str | None = None, options=None
     ) -> TipResponse:
         """The response of one ``design`` at ``pressures`` [MPa] under ``load`` (default: the default load).
 
@@ -253,7 +253,7 @@ class Tier:
     def responses(
         self,
         designs: Sequence,
-        pressures: Sequence[float],
+        pressures: Sequence[float] | np.ndarray,
         *,
         loads: Sequence[str] | None = None,
         options=None,

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -32,6 +33,7 @@ from softcath.fem.hyperelastic.tensors import cofactor, det
 __all__ = [
     "Yeoh",
     "AnisotropicSVK",
+    "IsotropicLaw",
     "neo_hookean",
     "isotropic_from_young",
     "yeoh_at_modulus",
@@ -41,6 +43,23 @@ __all__ = [
 
 _I = np.eye(3)
 _II = np.einsum("ik,JL->iJkL", _I, _I)  # I⊠I: dF_iJ/dF_kL
+
+
+class IsotropicLaw(Protocol):
+    """An isotropic finite-strain law as the section model's wrappers (pre-stretch, squeeze) see
+    it: :class:`Yeoh`, or one already wrapped."""
+
+    @property
+    def bulk_modulus(self) -> float: ...
+
+    @property
+    def shear_modulus(self) -> float: ...
+
+    def small_strain_tensor(self) -> np.ndarray: ...
+
+    def energy(self, f: np.ndarray, *, volumetric: bool = True) -> np.ndarray: ...
+
+    def stress_tangent(self, f: np.ndarray, *, volumetric: bool = True) -> tuple[np.ndarray, np.ndarray]: ...
 
 
 def _check_positive(name: str, value: float) -> float:

@@ -347,20 +347,17 @@ def bend_curve(
         Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
     """
     p, w = _check_inputs(pressures, load, midspan, substeps)
-    choice = None
-    if mesh is None and layers is None:
-        choice = default_layers(design, float(p[-1]), load=load)
-        layers = choice.layers
-        log.info("bend curve: %d layers (%s)", layers, choice.to_json())
     if mixed is None:
         mixed = needs_mixed(design)
-    t0 = time.perf_counter()
-    cmesh = (
-        mesh
-        if mesh is not None
-        else mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
-    )
-    mesh_seconds = time.perf_counter() - t0 if mesh is None else 0.0
+    choice, cmesh, mesh_seconds = None, mesh, 0.0
+    if cmesh is None:
+        if layers is None:
+            choice = default_layers(design, float(p[-1]), load=load)
+            layers = choice.layers
+            log.info("bend curve: %d layers (%s)", layers, choice.to_json())
+        t0 = time.perf_counter()
+        cmesh = mesh_catheter(design, size=size, layers=layers, curvature_points=curvature_points)
+        mesh_seconds = time.perf_counter() - t0
     model = _Model(design, cmesh, load=load, mixed=mixed)
     p_max = float(p[-1])
     res = solve(

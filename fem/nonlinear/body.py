@@ -212,7 +212,7 @@ class HyperelasticBody:
         u = np.ascontiguousarray(u, dtype=float)
         for ch in self._chunks:
             split = self.mixed and ch.law.splits_volume
-            if ch.compiled is not None:
+            if ch.compiled is not None and self._assemble is not None:  # (compiled: the kernel loaded)
                 code, prm = ch.compiled
                 pos = ch.pattern_pos.reshape(-1, 900)
                 self._assemble(u, ch.dofs, ch.grads, ch.weights, ch.volumes, pos, code, prm, split, f, data)

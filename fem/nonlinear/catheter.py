@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -45,6 +46,9 @@ from softcath.fem.mesh import initialize_gmsh
 from softcath.fem.nonlinear.errors import NonlinearError, SettingError
 from softcath.fem.nonlinear.true_area import area_true, section_curves
 from softcath.fem.tags import tag_facets
+
+if TYPE_CHECKING:  # scikit-fem loads with the first mesh; named here for the checker
+    from skfem import Mesh
 
 __all__ = ["REGIONS", "CatheterMesh", "mesh_catheter", "catheter_laws", "from_tip_mesh"]
 
@@ -74,7 +78,7 @@ class CatheterMesh:
         Bending length L [mm].
     """
 
-    mesh: object
+    mesh: Mesh
     labels: np.ndarray
     base_facets: np.ndarray
     lumen_facets: np.ndarray

@@ -21,6 +21,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -153,7 +154,7 @@ def coarse_layers(layers: int) -> int:
 
 
 def richardson_error(
-    fine, coarse, *, layers: int, coarse_layers: int, order: float = ASSUMED_ORDER
+    fine, coarse, *, layers: float, coarse_layers: float, order: float = ASSUMED_ORDER
 ) -> np.ndarray:
     """Relative discretisation error of ``fine`` estimated from a coarser solve (Richardson).
 
@@ -166,7 +167,7 @@ def richardson_error(
     fine, coarse
         The same quantity (e.g. the mid-span curvature per pressure) on the two meshes.
     layers, coarse_layers
-        Layer counts of the two meshes (``layers > coarse_layers``).
+        Layer counts of the two meshes (``layers > coarse_layers``), or any two mesh densities 1/h.
     order
         Assumed order of convergence in 1/layers (> 0).
     """
@@ -209,7 +210,10 @@ def observed_order(values, layers) -> float:
     g_lo, g_hi = _order_equation(lo, h, ratio), _order_equation(hi, h, ratio)
     if g_lo * g_hi > 0:
         return float("nan")
-    return float(brentq(_order_equation, lo, hi, args=(h, ratio), xtol=1e-10))
+    root = cast(
+        float, brentq(_order_equation, lo, hi, args=(h, ratio), xtol=1e-10)
+    )  # full_output=False: the root
+    return float(root)
 
 
 def extrapolate(values, layers, order: float) -> float:

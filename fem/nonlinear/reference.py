@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from softcath.fem.nonlinear.bend import bend_curve
+from softcath.fem.nonlinear.bend import NonlinearFemCurve, bend_curve
 from softcath.fem.nonlinear.convergence import (
     ASSUMED_ORDER,
     MIN_ESTIMATE_LAYERS,
@@ -253,8 +253,8 @@ class ReferenceCurve:
     ``error`` of the mid-span curvature in the layers, ``tip`` of the tip's angle, ``section`` the
     cross-section part (None when not asked for) and :attr:`stated` the two combined."""
 
-    curve: object
-    coarse: object | None = field(repr=False)
+    curve: NonlinearFemCurve
+    coarse: NonlinearFemCurve | None = field(repr=False)
     error: ErrorEstimate | None
     tip: TipEstimate | None = None
     section: SectionError | None = None
@@ -344,6 +344,8 @@ def reference_curve(
     """
 
     curve = bend_curve(design, pressures, layers=layers, **options)
+    if curve.layers is None:
+        raise SettingError("mesh", "given", "the reference curve meshes its own layers")
     if curve.layers < MIN_ESTIMATE_LAYERS:
         log.info("%d layers: no half-layer mesh, no error estimate", curve.layers)
         return ReferenceCurve(curve=curve, coarse=None, error=None)

@@ -206,14 +206,15 @@ def convergence_study(design, pressures, *, layers: int | None = None, **options
         t0 = time.perf_counter()
         curves.append(bend_curve(design, pressures, layers=n, **options))
         seconds.append(time.perf_counter() - t0)
+    lo, mid, hi = curves  # the three meshes of study_layers
     k = np.array([c.curvature_mid for c in curves])
     counts = tuple(c.layers for c in curves)
     order = np.array([observed_order(k[:, j], counts) for j in range(k.shape[1])])
     return ConvergenceStudy(
         pressure=np.asarray(curves[0].pressure, float),
         layers=counts,
-        ndofs=tuple(int(c.ndofs) for c in curves),
-        seconds=tuple(float(s) for s in seconds),
+        ndofs=(int(lo.ndofs), int(mid.ndofs), int(hi.ndofs)),
+        seconds=(float(seconds[0]), float(seconds[1]), float(seconds[2])),
         curvature_mid=k,
         bend_angle=np.array([c.bend_angle for c in curves]),
         order=order,

@@ -258,7 +258,7 @@ def _section_problem(d, coils, f0, ec, *, load, coil_model, ring_points, **optio
 
 def bend_curve(
     design,
-    pressures: Sequence[float],
+    pressures: Sequence[float] | np.ndarray,
     *,
     load: str = "lumen",
     coil_model: str = "resolved",
@@ -335,7 +335,7 @@ def bend_curve(
     )
 
 
-def _checked_inputs(coil_model: str, pressures: Sequence[float]) -> np.ndarray:
+def _checked_inputs(coil_model: str, pressures: Sequence[float] | np.ndarray) -> np.ndarray:
     """The pressures as a flat array; :class:`DesignError` for an unknown placement or no finite pressures."""
     if coil_model not in PLACEMENTS:
         raise DesignError("coil_model", coil_model, f"must be one of {PLACEMENTS}")

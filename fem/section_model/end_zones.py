@@ -240,7 +240,7 @@ def tip_pose(
 
 
 def tip_pose_arrays(
-    curvature, elongation, *, length, plug, saint_venant, tilt=0.0
+    curvature, elongation, *, length, plug, saint_venant, tilt: float | np.ndarray = 0.0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`tip_pose` with the zones as arrays broadcast against the curvature (many designs at once).
 

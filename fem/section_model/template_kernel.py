@@ -32,10 +32,13 @@ class _Kernel:
         self.template = template
         dofs = basis.element_dofs  # (nb, nel)
         nb, nel = dofs.shape
-        if not np.array_equal(dofs[nb - 2 :], basis.interior_dofs):
+        interior = basis.interior_dofs
+        if interior is None:
+            raise RuntimeError("unexpected CCR DOF layout: the basis has no bubbles")
+        if not np.array_equal(dofs[nb - 2 :], interior):
             raise RuntimeError("unexpected CCR DOF layout: bubbles are not the last local DOFs")
         self.nb, self.nel, self.N = nb, nel, basis.N
-        self.n = basis.N - basis.interior_dofs.size
+        self.n = basis.N - interior.size
         X, W = basis.X, basis.W
         self.W = W
         scalar = ElementTriCCR()

@@ -106,7 +106,7 @@ class Expr:
                     return df[name].to_numpy(dtype=float)
                 except (TypeError, ValueError):
                     raise SelectionError(f"in '{self.text}': column '{name}' is not numeric") from None
-            if isinstance(n, ast.Constant):
+            if isinstance(n, ast.Constant) and isinstance(n.value, (int, float)):  # (checked: numbers only)
                 return np.float64(n.value)  # numpy division: x/0 is ±inf per row, not an exception
             if isinstance(n, ast.UnaryOp):
                 v = ev(n.operand)
@@ -121,7 +121,7 @@ class Expr:
                     if isinstance(n.op, ast.Mult):
                         return a * b
                     return a / b
-            if isinstance(n, ast.Call):
+            if isinstance(n, ast.Call) and isinstance(n.func, ast.Name):  # (checked: abs(x) only)
                 return _FUNCS[n.func.id](ev(n.args[0]))
             raise AssertionError(f"unchecked node {n!r}")  # _check_tree rejects everything else
 

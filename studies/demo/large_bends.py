@@ -11,6 +11,7 @@ and the text need besides the bend (DOFs, the deformed tip, Newton's record).
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from typing import cast
 
 import numpy as np
 
@@ -96,7 +97,8 @@ def four_tiers(d, fem_curve, path, *, options: Mapping[str, Mapping] | None = No
     plt.close(fig)
     p90 = {name: _pressure_for(np.pi / 2, p, a) for name, (p, a) in tiers.items()}
     for name, f in linear_tiers.items():  # beyond the plotted range: solve their own closed form
-        p90[name] = float(brentq(lambda p, f=f: float(f(p)[0]) - np.pi / 2, 0.0, 100.0, xtol=1e-12))
+        root = brentq(lambda p, f=f: float(f(p)[0]) - np.pi / 2, 0.0, 100.0, xtol=1e-12)
+        p90[name] = float(cast(float, root))  # full_output=False: the root alone
     reached = {name: (float(p[-1]), float(np.degrees(a[-1]))) for name, (p, a) in tiers.items()}
     return [(name, p90[name], *reached[name]) for name in tiers], {"section_curve": fs, "p90": p90}
 

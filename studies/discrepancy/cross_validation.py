@@ -8,6 +8,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from softcath.analytic.effects.fit import ChainFit, Segment, fit_chain, predict_chain
+from softcath.design.errors import DataError
 from softcath.studies.discrepancy.prepare import Prepared
 
 __all__ = ["CVScore", "Step", "cross_validate", "fit_all"]
@@ -56,6 +57,8 @@ def _folds(prep: Prepared, n_blocks: int = 3) -> list[tuple[list[Segment], list[
             train = [s for j, s in enumerate(segs) if j != i]
             out.append((train, [segs[i]]))
         return out
+    if not segs:
+        raise DataError("cross-validation: no data segments to hold out")
     s = segs[0]
     idx = np.flatnonzero(s.mask)
     blocks = np.array_split(idx, n_blocks)

@@ -123,7 +123,7 @@ class DiscrepancyResult:
         )
 
 
-def _clean(x):
+def _clean(x) -> Any:
     if isinstance(x, dict):
         return {str(k): _clean(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):

@@ -101,7 +101,7 @@ def propagate(
     errors: list[str] = []
     groups: dict[tuple, list[tuple[int, Any]]] = {}
     for i, (d, sampled, err) in enumerate(_variants(table, values)):
-        if d is None:
+        if err is not None:  # (no design: its error)
             errors.append(err)
         else:
             groups.setdefault(tuple(sorted(sampled.items())), []).append((i, d))

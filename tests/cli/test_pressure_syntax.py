@@ -78,7 +78,7 @@ def test_increasing_when_asked():
     ],
 )
 def test_every_pressure_option_shows_the_one_syntax(command, option):
-    sub = build_parser()._subparsers._group_actions[0].choices[command]
+    sub = build_parser()._subparsers._group_actions[0].choices[command]  # pyright: ignore[reportOptionalMemberAccess, reportOptionalSubscript, reportIndexIssue]  # argparse's private parts
     action = next(a for a in sub._actions if option in a.option_strings)
     assert action.metavar == PRESSURE_SYNTAX
 

@@ -100,7 +100,7 @@ def test_from_import_of_an_old_path_warns_at_the_importer():
 
 def test_moved_names_refuses_unknown_and_missing_names():
     new = types.ModuleType("pkg.new")
-    new.Thing = object()
+    new.Thing = object()  # pyright: ignore[reportAttributeAccessIssue]  # a module made on the spot
     module_getattr = moved_names("pkg.old", new, ("Thing",))
     with pytest.raises(AttributeError, match="module 'pkg.old' has no attribute 'Other'"):
         module_getattr("Other")

@@ -63,9 +63,9 @@ def test_a_frozen_dataclass_takes_the_old_field_name_and_reads_it_with_a_warning
         rebuilt = Problem(**fields)
     assert rebuilt == problem
     with pytest.warns(DeprecationWarning, match=rf"Problem: {OLD}"):
-        assert problem.pressures_MPa == (0.5,)
+        assert problem.pressures_MPa == (0.5,)  # pyright: ignore[reportAttributeAccessIssue]  # added by the decorator
     with pytest.raises(AttributeError):
-        problem.pressures_MPa = (1.0,)  # read-only, like the field it stands for
+        problem.pressures_MPa = (1.0,)  # pyright: ignore[reportAttributeAccessIssue]  # read-only, like the field it stands for
     assert "pressures_MPa" not in {f.name for f in dataclasses.fields(Problem)}
     shipped = pickle.loads(pickle.dumps(problem))  # process backends ship it
     assert shipped.pressures == (0.5,) and shipped.variables == problem.variables
@@ -76,7 +76,7 @@ def test_the_sweep_spec_keeps_its_file_key_and_deprecates_the_attribute():
     assert spec.pressures == (0.5, 1.0)
     assert spec.to_json()["pressures_MPa"] == [0.5, 1.0]  # the file format keeps its key
     with pytest.warns(DeprecationWarning, match=rf"SweepSpec: {OLD}"):
-        assert spec.pressures_MPa == spec.pressures
+        assert spec.pressures_MPa == spec.pressures  # pyright: ignore[reportAttributeAccessIssue]  # added by the decorator
     fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(spec)}
     fields["pressures_MPa"] = fields.pop("pressures")
     with pytest.warns(DeprecationWarning, match=rf"SweepSpec: {OLD}"):

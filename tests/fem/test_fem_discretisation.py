@@ -111,4 +111,5 @@ def test_the_default_estimate_bounds_the_error_against_a_finer_mesh(paper):
     assert lumen.discretisation_error_estimate < 4 * abs(
         lumen.curvature_per_mm / fine.case("lumen", 0.1).curvature_per_mm - 1
     )
+    assert r.discretisation_error is not None
     assert np.isfinite(r.discretisation_error.companion_seconds)

@@ -36,6 +36,7 @@ def test_the_default_study_of_the_lumen_load(tmp_path):
     c = st.result.case("lumen", 0.1)
     assert c.curvature_per_mm == pytest.approx(0.1 * k[1], rel=1e-12)
     est = st.result.discretisation_error
+    assert est is not None
     assert est.order_source == "observed" and est.order == pytest.approx(q)
     stated = richardson_error([k[1]], [k[0]], layers=1 / 0.16, coarse_layers=1 / 0.32, order=q)[0]
     assert c.discretisation_error_estimate == pytest.approx(stated, rel=1e-9)

@@ -40,7 +40,7 @@ def _fem_curve() -> NonlinearFemCurve:
     }
     arrays["pressure"] = np.array([0.05, 0.1, 0.2])
     return NonlinearFemCurve(
-        **arrays,
+        **arrays,  # pyright: ignore[reportArgumentType]  # the record's array fields, drawn at random
         midspan=(0.25, 0.75),
         midspan_axis=(0.0, 0.1),
         load="cap",
@@ -48,7 +48,7 @@ def _fem_curve() -> NonlinearFemCurve:
         n_tets=2,
         n_nodes=5,
         mesh_seconds=0.5,
-        result=None,
+        result=None,  # pyright: ignore[reportArgumentType]  # a record without its solve
     )
 
 

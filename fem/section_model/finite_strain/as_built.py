@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 from scipy import sparse
@@ -60,6 +61,11 @@ def split_section(section, assembly):
     normal only, and the axial groups (the linear as-built model's, unchanged)."""
     split, tie = bodies_and_ties(section, assembly)
     return split, tie, axial_plan(assembly, np.unique(section.labels))
+
+
+def _shape(m: sparse.spmatrix) -> tuple[int, int]:
+    """A sparse matrix's (rows, columns) (scipy leaves ``shape`` unannotated: the checker sees None)."""
+    return cast(tuple[int, int], m.shape)
 
 
 @dataclass(frozen=True)
@@ -104,12 +110,12 @@ class AsBuiltProblem:
     @cached_property
     def n_hat(self) -> int:
         """Reduced in-plane unknowns."""
-        return int(self.projection.shape[1]) - self.n_groups - 2
+        return int(_shape(self.projection)[1]) - self.n_groups - 2
 
     @property
     def ndofs(self) -> int:
         """Reduced unknowns: in-plane, one stretch per group, two curvatures."""
-        return int(self.projection.shape[1])
+        return int(_shape(self.projection)[1])
 
     @cached_property
     def carrier(self) -> int:
@@ -121,12 +127,11 @@ class AsBuiltProblem:
         """P: reduced unknowns -> the split mesh's full unknowns (u, lambda_g, k_1, k_2)."""
         t = self.ties.T
         n_u = self.disc.n_u
-        bubbles = n_u - t.shape[0]
+        bubbles = n_u - _shape(t)[0]
         if bubbles < 0:
             raise RuntimeError("the tie projection covers more DOFs than the basis has")
-        return sparse.block_diag(
-            [t, sparse.identity(bubbles), sparse.identity(self.n_groups + 2)], format="csr"
-        )
+        blocks = [t, sparse.identity(bubbles), sparse.identity(self.n_groups + 2)]
+        return cast(sparse.csr_matrix, sparse.block_diag(blocks, format="csr"))
 
     @cached_property
     def free(self) -> np.ndarray:
@@ -183,7 +188,8 @@ class AsBuiltProblem:
         """Reduced stiffness of the interfaces' tangential spring layer."""
         k = self.ties.spring(self.slip_modulus)
         n = self.ndofs
-        return sparse.block_diag([k, sparse.csr_matrix((n - k.shape[0], n - k.shape[0]))], format="csr")
+        m = n - _shape(k)[0]
+        return cast(sparse.csr_matrix, sparse.block_diag([k, sparse.csr_matrix((m, m))], format="csr"))
 
     def initial_state(self) -> np.ndarray:
         """The unloaded tip: no displacement, every stretch 1, no curvature."""
@@ -206,7 +212,7 @@ class AsBuiltProblem:
 
     def slip_ratio(self, q: np.ndarray) -> float:
         """Largest tangential interface slip of ``q`` over the median interface edge length."""
-        s = self.ties.slip @ q[: self.ties.slip.shape[1]]
+        s = self.ties.slip @ q[: _shape(self.ties.slip)[1]]
         return float(np.abs(s).max() / self.interface_size) if s.size else 0.0
 
     def _assemble(self, q, loading, factor, pressure, load_blocks):

@@ -116,7 +116,7 @@ def _check_pressures(pressures) -> np.ndarray:
 
 def section_curve(
     design,
-    pressures: Sequence[float],
+    pressures: Sequence[float] | np.ndarray,
     *,
     load: str = "lumen",
     mesh_size: float | None = None,
@@ -363,11 +363,11 @@ def _set_up(
     q_rest = problem.initial_state()
     rest = lumen_volume(wall, np.zeros(disc.n_u), np.array([1.0, 0.0, 0.0]))
     at_rest = None
-    if stretch != 1.0:  # the bonded tip only (section_curve)
+    if stretch != 1.0 and isinstance(problem, SectionProblem):  # the bonded tip only (section_curve)
         problem, at_rest = rest_state(problem, stretch)
         disc, law_map, q_rest = problem.disc, prestretched_laws(law_map, stretch), at_rest.q
         rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])
-    if squeeze != 0.0:  # the bonded tip only, never with a pre-stretch (section_curve)
+    if squeeze != 0.0 and isinstance(problem, SectionProblem):  # the bonded tip only, never pre-stretched
         problem, at_rest = squeeze_rest_state(problem, TubeRing.from_design(d), squeeze)
         disc, law_map, q_rest = problem.disc, problem.disc.laws, at_rest.q
         rest = lumen_volume(wall, q_rest[: disc.n_u], q_rest[disc.n_u :])

@@ -28,11 +28,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.section_model.element import _rigid_pins
+
+if TYPE_CHECKING:  # scikit-fem loads with the first discretisation; named here for the checker
+    from skfem import CellBasis, Mesh
 
 __all__ = ["Discretisation", "discretise", "N_GLOBAL"]
 
@@ -71,8 +75,8 @@ class Discretisation:
         Three in-plane DOFs that remove the section's rigid in-plane motion.
     """
 
-    mesh: object
-    basis: object
+    mesh: Mesh
+    basis: CellBasis
     dofs: np.ndarray
     weights: np.ndarray
     points: np.ndarray

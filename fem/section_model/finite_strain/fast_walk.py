@@ -21,6 +21,7 @@ from scipy import sparse
 from scipy.sparse.linalg import splu
 
 from softcath.design.errors import DesignError
+from softcath.fem.errors import SolverError
 from softcath.fem.pardiso import PardisoError
 from softcath.fem.section_model.finite_strain.fast import FastProblem
 from softcath.fem.section_model.finite_strain.newton import SectionConvergenceError, State
@@ -61,6 +62,12 @@ class StateAssembly:
     volume: np.ndarray  # (V', a, s_1, s_2)
     load_u: np.ndarray  # unit-pressure forces on the free retained unknowns (lumen load)
     load_g: np.ndarray
+
+    def tangent_blocks(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(data, k_ug, k_gu, k_gg): the condensed tangent of an assembly made with one."""
+        if self.data is None or self.k_ug is None or self.k_gu is None or self.k_gg is None:
+            raise SolverError("a residual-only assembly (a modified Newton step) has no tangent to factorise")
+        return self.data, self.k_ug, self.k_gu, self.k_gg
 
 
 def assemble(
@@ -170,37 +177,43 @@ class _Factor:
     def __init__(self, prob: FastProblem, a: StateAssembly, b_u: np.ndarray | None = None) -> None:
         self.tpl = prob.tpl
         self.a = a
-        rhs = a.k_ug if b_u is None else np.column_stack([a.k_ug, b_u])
+        self.data, self.k_ug, self.k_gu, k_gg = a.tangent_blocks()
+        rhs = self.k_ug if b_u is None else np.column_stack([self.k_ug, b_u])
         try:  # Cholesky: a stable state's retained block is positive definite
             y = self._cholesky(np.ascontiguousarray(rhs))
             self._solve = self._spd_solve
         except PardisoError:  # not positive definite: SuperLU on the same block
             k = self.tpl.k
-            mat = sparse.csc_matrix((a.data, k.indices, k.indptr), shape=(k.free.size, k.free.size))
+            mat = sparse.csc_matrix((self.data, k.indices, k.indptr), shape=(k.free.size, k.free.size))
             lu = splu(mat, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1)
             y = lu.solve(rhs)
             self._solve = lu.solve
         self.y = y[:, :3]
         self.first = None if b_u is None else y[:, 3]
-        self.schur = a.k_gg - a.k_gu @ self.y
+        self.schur = k_gg - self.k_gu @ self.y
 
     def _cholesky(self, rhs: np.ndarray) -> np.ndarray:
         spd = self.tpl.spd()
-        spd.factorise(self.a.data)
+        spd.factorise(self.data)
         self.tpl.factorisations += 1
         self.stamp = self.tpl.factorisations
         return spd.solve(rhs, check=False)[0]
 
     def _spd_solve(self, b: np.ndarray) -> np.ndarray:
         if self.tpl.factorisations != self.stamp:  # the template's handle was refactorised since
-            self._cholesky(self.a.k_ug)
+            self._cholesky(self.k_ug)
         return self.tpl.spd().solve(b, check=False)[0]
 
     def solve(self, b_u: np.ndarray | None, b_g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(retained, global) solution with right-hand side (b_u, b_g); ``b_u`` None: the one given
         at factorisation."""
-        y0 = self.first if b_u is None else self._solve(np.ascontiguousarray(b_u[:, None]))[:, 0]
-        dg = np.linalg.solve(self.schur, b_g - self.a.k_gu @ y0)
+        if b_u is not None:
+            y0 = self._solve(np.ascontiguousarray(b_u[:, None]))[:, 0]
+        elif self.first is not None:
+            y0 = self.first
+        else:
+            raise SolverError("no right-hand side: none was given at factorisation")
+        dg = np.linalg.solve(self.schur, b_g - self.k_gu @ y0)
         return y0 - self.y @ dg, dg
 
 
@@ -233,7 +246,7 @@ def _renew(norm: float, previous: float, target: float) -> bool:
     return np.log(target / norm) / np.log(rate) > CHORD_STEPS
 
 
-def _newton(prob, q0, p, load, given, lu, *, tol, max_iter):
+def _newton(prob, q0, p, load, given, lu: _Factor | None, *, tol, max_iter):
     """Newton iterations on the u-p pair at pressure ``p`` from ``q0``: the factorised tangent ``lu``
     (of an earlier state, or None) is kept while its steps cut the residual by :data:`CONTRACTION`,
     and renewed at the iterate where they do not. Returns (state, factor, the state's assembly)."""
@@ -253,7 +266,9 @@ def _newton(prob, q0, p, load, given, lu, *, tol, max_iter):
         try:
             if not a.tangent and previous is not None and _renew(a.norm, previous, tol * scale):
                 a = assemble(prob, q, p, load, given)  # the old tangent is too far off: renew it here
-            if a.tangent:
+                if a is None:
+                    return fail
+            if a.tangent or lu is None:  # (lu is None only for an assembly with its tangent)
                 lu = _Factor(prob, a, -a.r_u)
                 du, dg = lu.solve(None, -a.r_g)
             else:
@@ -283,11 +298,15 @@ def rest_state(prob: FastProblem) -> np.ndarray:
     return q
 
 
-def linear_rate(prob: FastProblem, load: str, p_top: float) -> tuple[np.ndarray, tuple]:
+def linear_rate(
+    prob: FastProblem, load: str, p_top: float
+) -> tuple[np.ndarray, tuple[StateAssembly, _Factor, np.ndarray]]:
     """dq/dfactor at rest, the linear solution under ``p_top`` (its k_2 is ``curve._linear_gain``),
     and the rest state's (assembly, factor, rate) for :func:`walk`'s first predictor."""
     q = rest_state(prob)
     a = assemble(prob, q, 0.0, load, None)
+    if a is None:
+        raise SolverError("the rest state of the template assembled as an inverted state")
     lu = _Factor(prob, a)
     rate = _rate(prob, lu, a, load, p_top)
     return rate, (a, lu, rate)
@@ -297,13 +316,13 @@ def walk(
     prob: FastProblem,
     p_top: float,
     load: str,
-    factors: Sequence[float],
+    factors: Sequence[float] | np.ndarray,
     *,
     tol: float = 1e-6,
     max_iter: int = 25,
     min_step: float = 1e-4,
     on_state: Callable[[State], None] | None = None,
-    rest: tuple | None = None,
+    rest: tuple[StateAssembly, _Factor, np.ndarray] | None = None,
 ) -> tuple[list[State], list[StateAssembly]]:
     """Converged states at each load factor of the pressure ``p_top`` (``newton.walk``), with the
     assembly of each converged state (its lumen volume).
@@ -352,6 +371,8 @@ def walk(
                     raise error
                 log.debug("cut back to step %.3g at factor %.4g", step, done)
                 continue
+            if new_tan is None:
+                raise SolverError("a converged Newton state came without its assembly")
             previous = (q, done)
             q, done, tan = state.q, state.factor / p_top, new_tan
             lu = new_lu if new_lu is not None else lu

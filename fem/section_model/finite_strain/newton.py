@@ -26,6 +26,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.design.load_cases import LOADS
+from softcath.fem.section_model.finite_strain.as_built import AsBuiltProblem
 from softcath.fem.section_model.finite_strain.discretisation import N_GLOBAL, Discretisation
 from softcath.fem.section_model.finite_strain.lumen import LumenWall, lumen_volume
 from softcath.fem.section_model.finite_strain.residual import internal, with_globals
@@ -48,6 +49,8 @@ log = logging.getLogger(__name__)
 
 class SectionConvergenceError(DesignError):
     """Newton did not converge; names the last load reached."""
+
+    assemblies: list  # set by the fast walk (``fast_walk.walk``): the converged states' assemblies
 
     def __init__(self, reached: float, target: float, what: str = "pressure") -> None:
         self.reached, self.target = float(reached), float(target)
@@ -261,7 +264,7 @@ def pressures_after(problem, tan, step: np.ndarray) -> dict:
 
 
 def newton(
-    problem: SectionProblem,
+    problem: SectionProblem | AsBuiltProblem,
     q0: np.ndarray,
     loading: Loading,
     factor: float,
@@ -310,9 +313,9 @@ def newton(
 
 
 def walk(
-    problem: SectionProblem,
+    problem: SectionProblem | AsBuiltProblem,
     loading: Loading,
-    factors: Sequence[float],
+    factors: Sequence[float] | np.ndarray,
     *,
     tol: float = 1e-6,
     max_iter: int = 25,

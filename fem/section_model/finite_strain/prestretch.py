@@ -36,6 +36,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import TUBE
+from softcath.fem.hyperelastic.laws import IsotropicLaw
 from softcath.fem.section_model.finite_strain.newton import (
     Loading,
     SectionConvergenceError,
@@ -81,7 +82,7 @@ class Prestretched:
     reported Poisson ratio stay those of the unstretched material).
     """
 
-    law: object
+    law: IsotropicLaw
     stretch: float
 
     @property
@@ -139,7 +140,7 @@ def _newton(problem: SectionProblem, q0: np.ndarray, *, tol: float, max_iter: in
     q, pressure, first = q0.copy(), None, None
     for it in range(1, max_iter + 1):
         r, k, _, tan = residual_tangent(problem, q, loading, 0.0, pressure)
-        if r is None:
+        if r is None or k is None:  # (both None together: an inverted state)
             return None
         norm = float(np.linalg.norm(r[free]))
         first = norm if first is None else first

@@ -7,6 +7,8 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from softcath.core.response import TipResponse, tip_curvature
+from softcath.fem.section_model.finite_strain.discretisation import Discretisation
+from softcath.fem.section_model.finite_strain.newton import State
 
 __all__ = ["CSV_COLUMNS", "SectionCurve"]
 
@@ -103,7 +105,7 @@ class SectionCurve:
     seconds: float
     mesh_seconds: float
     interface_slip_per_element: np.ndarray | None = None
-    state: object = field(default=None, repr=False, compare=False)
+    state: tuple[Discretisation | None, list[State]] | None = field(default=None, repr=False, compare=False)
     tube_prestretch: float = 1.0
     tube_squeeze: float = 0.0
     rest_curvature_per_mm: float = 0.0

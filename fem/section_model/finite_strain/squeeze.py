@@ -46,6 +46,7 @@ import numpy as np
 
 from softcath.design.errors import DesignError
 from softcath.fem.geometry import TUBE
+from softcath.fem.hyperelastic.laws import IsotropicLaw
 from softcath.fem.section_model.finite_strain.newton import SectionProblem, State
 from softcath.fem.section_model.finite_strain.prestretch import ramped_rest_state
 
@@ -178,7 +179,7 @@ class Squeezed:
     those of the unsqueezed material).
     """
 
-    law: object
+    law: IsotropicLaw
     pre: np.ndarray
     squeeze: float = 1.0
 

@@ -79,7 +79,7 @@ def _stated(a=-40.0, b=-0.4, n=12, small_n=4):
     f_inf = np.array([0.024, 0.2])
     h0 = 2 * math.pi / 12
 
-    def f(layers, h, scale=f_inf):
+    def f(layers, h, scale: float | np.ndarray = f_inf):
         return scale * (1 + a / layers**3) * (1 + b * h**2)
 
     e = ErrorEstimate(
@@ -109,6 +109,7 @@ def _stated(a=-40.0, b=-0.4, n=12, small_n=4):
 
 def test_stated_error_sums_the_parts_and_extrapolates_to_the_converged_value():
     stated, f_inf, section_true = _stated()
+    assert stated.section_part is not None
     assert stated.section_part.correction == pytest.approx(section_true, rel=1e-10)
     np.testing.assert_allclose(stated.relative, stated.layers_part.relative + abs(section_true), rtol=1e-12)
     # layers extrapolated exactly (order 3) and the section corrected exactly (order 2): f_inf itself

@@ -22,6 +22,7 @@ def test_finite_strain_section_model_tracks_the_converged_3d_at_mid_span():
     d = random_designs(4, seed=1)[3]  # the section model turns it 61 deg at 0.6 MPa
     p = [0.15, 0.3]
     ref = reference_curve(d, p, load="lumen")
+    assert ref.curve.layers is not None and ref.error is not None
     k3 = np.asarray(ref.curve.curvature_mid)
     assert ref.curve.layers >= 8 and np.all(ref.error.relative < 0.01)  # the reference is converged
     fs = section_curve(d, p, laws=catheter_laws(d), linear_gain=False).curvature_per_mm / k3

@@ -115,7 +115,11 @@ def _closed_form_over_3d(c_sv=None, k_tilt=None) -> np.ndarray:
             z = replace(z, saint_venant_mm=c_sv * d.coil.outer_diameter)
         tip = np.radians(tip_deg)
         rate = tip / (d.tip.bending_length - deficit)
-        tilt = z.cap_tilt(p) if k_tilt is None else k_tilt * (p / z.cap_modulus_mpa) ** 2
+        if k_tilt is None:
+            tilt = z.cap_tilt(p)
+        else:
+            assert z.cap_modulus_mpa is not None
+            tilt = k_tilt * (p / z.cap_modulus_mpa) ** 2
         out.append((rate * z.effective_length_mm + tilt) / tip)
     return np.array(out)
 
@@ -171,6 +175,7 @@ def test_section_response_reports_the_tips_angle_and_keeps_the_mid_span_curvatur
     np.testing.assert_allclose(np.c_[out.tip_x, out.tip_y, out.bend_angle], np.c_[x, y, th])
     uniform = replace(r, end_zones=None).response(p, "lumen")
     np.testing.assert_allclose(uniform.bend_angle, k * p * 5.0 * (1 + e * p))
+    assert r.end_zones is not None
     assert out.bend_angle[-1] == pytest.approx(uniform.bend_angle[-1] * r.end_zones.factor, rel=1e-12)
     assert r.to_json()["end_zones"]["deficit_mm"] == pytest.approx(r.end_zones.deficit_mm)
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import re
+from typing import cast
 
 import numpy as np
 import pytest
@@ -27,7 +28,8 @@ from softcath.studies.report.html_blocks import fmt
 def _linear_section_p90(d, **options) -> float:
     """The linear section model's pressure for 90 degrees under the lumen load, solved directly."""
     r = section_model(d, loads=("lumen",), **options)
-    return brentq(lambda p: float(r.response(p, "lumen").bend_angle) - math.pi / 2, 0.0, 100.0, xtol=1e-12)
+    root = brentq(lambda p: float(r.response(p, "lumen").bend_angle) - math.pi / 2, 0.0, 100.0, xtol=1e-12)
+    return cast(float, root)  # full_output=False: the root alone
 
 
 def _row(html: str, name: str) -> list[str]:

@@ -108,7 +108,9 @@ def test_tube_prestretch_range_is_the_designs_catalogue_over_built_wall(bank):
     t = d.tube
     catalogue = np.pi / 4 * (t.catalogue_outer_diameter**2 - t.catalogue_inner_diameter**2)
     # the as-built wall from the section mesh's tube region (its polygonal ellipses: 1.1 % off)
-    disc = section_curve(d, [0.0, 0.01], mesher="gmsh", linear_gain=False).state[0]
+    state = section_curve(d, [0.0, 0.01], mesher="gmsh", linear_gain=False).state
+    assert state is not None and state[0] is not None
+    disc = state[0]
     built = float(disc.weights[disc.cells[TUBE]].sum())
     assert lo == 1.0
     assert hi == pytest.approx(catalogue / built, rel=0.02)
@@ -156,7 +158,7 @@ def test_a_squeeze_with_a_prestretch_has_no_curve(bank):
     v = Variant(bank.nominal_modulus, tube_squeeze=0.5, tube_prestretch=1.5)
     curve, note = solve_variant(bank.design, np.array([0.1]), "lumen", v)
     assert np.isnan(curve.curvature).all() and curve.reached < 0
-    assert "no squeeze with a pre-stretch" in note
+    assert note is not None and "no squeeze with a pre-stretch" in note
 
 
 @pytest.mark.slow
@@ -166,7 +168,9 @@ def test_a_stalled_walk_keeps_its_curve_up_to_the_pressure_reached():
     v = Variant(float(d.tube.material.youngs_modulus))
     curve, note = solve_variant(d, np.array([0.0, 0.3, 100.0]), "lumen", v)
     assert curve.pressure.tolist() == [0.0, 0.3] and curve.reached == 0.3
-    assert note.startswith(f"{v}: the finite-strain model stops at 0.3 MPa (pressure = 100: not reached")
+    assert note is not None and note.startswith(
+        f"{v}: the finite-strain model stops at 0.3 MPa (pressure = 100: not reached"
+    )
     direct = section_curve(d, [0.0, 0.3], linear_gain=False)
     # the walk toward 100 MPa takes other load steps to 0.3 MPa: equal to the Newton tolerance
     np.testing.assert_allclose(curve.curvature, direct.curvature_per_mm, rtol=1e-5, atol=1e-12)

@@ -28,6 +28,7 @@ def test_one_validity_rule():
     assert linear_tier_warning("section-nonlinear", 90.0, 0.6, how="x", way_out="y") is None
     assert linear_tier_warning("section", LINEAR_BEND_LIMIT_DEG * 0.9, 0.6, how="x", way_out="y") is None
     msg = linear_tier_warning("section", 106.7, 0.6, how="designs", way_out="give --model section-nonlinear")
+    assert msg is not None
     assert "linear tier, valid to ~5 deg" in msg and "107 deg at 0.6 MPa" in msg
 
 

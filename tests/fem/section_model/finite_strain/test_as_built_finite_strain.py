@@ -82,6 +82,7 @@ def test_small_load_is_the_linear_as_built_model(name):
     assert c.curvature_per_mm[0] / p == pytest.approx(kappa, rel=5e-3)
     assert c.elongation[0] / p == pytest.approx(eps, rel=5e-3)
     slip = c.interface_slip_per_element
+    assert slip is not None
     assert slip.shape == (1,) and np.isfinite(slip).all() and 0.0 <= slip[0] < 1e-2
 
 
@@ -119,6 +120,7 @@ def test_a_sliding_tip_at_0_6_MPa_reports_its_slip():
     c = section_curve(d, [0.0, 0.2, 0.4, 0.6], mesher="gmsh")
     bonded = section_curve(_paper(), [0.6], mesher="gmsh", linear_gain=False)
     slip = c.interface_slip_per_element
+    assert slip is not None
     assert slip.shape == (4,) and slip[0] == 0.0
     assert np.all(np.diff(slip) > 0)  # grows with the bend
     assert slip[-1] < 0.5  # inside the small-sliding limit on the paper tip

@@ -19,6 +19,7 @@ lumen; 2.5 % below: the line's secant through the curvature's finite-strain bend
 from __future__ import annotations
 
 import dataclasses
+from typing import cast
 
 import numpy as np
 import pytest
@@ -65,7 +66,10 @@ def test_the_bar_opens_at_the_initial_tension_and_follows_the_bilinear_law(paper
     assert n_open == pytest.approx(F0, rel=1e-5)
     for share in (-2.0, 0.3, 0.9, 1.1, 3.0):
         n = share * F0
-        lam = brentq(lambda x, n=n: k.area * _bar(coil_law, x)[0] - n, 0.9, 3.0, xtol=1e-15, rtol=1e-15)
+        root = brentq(
+            lambda x, n=n: k.area * _bar(coil_law, x)[0] - n, 0.9, 3.0, xtol=1e-15, rtol=np.float64(1e-15)
+        )
+        lam = cast(float, root)  # full_output=False: the root alone
         if n < n_open:  # coil-bound: A lam E_c E = N
             e = brentq(lambda e, n=n: k.area * np.sqrt(1 + 2 * e) * ec * e - n, -0.1, 0.1, xtol=1e-16)
         else:  # open: A lam (E_t E + sigma_0) = N
@@ -172,7 +176,7 @@ def test_bad_input_is_refused_naming_the_parameter(paper, kwargs, name):
     with pytest.raises(ValueError, match=name):
         section_curve(paper, [0.1], coil_bound=True, **kwargs)
     with pytest.raises(ValueError, match="coil_bound"):
-        section_curve(paper, [0.1], coil_bound="no")
+        section_curve(paper, [0.1], coil_bound="no")  # pyright: ignore[reportArgumentType]  # a wrong type on purpose
 
 
 def test_the_law_refuses_a_preload_without_a_stiffer_compression(coil_law):

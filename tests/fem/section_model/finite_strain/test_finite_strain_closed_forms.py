@@ -49,6 +49,7 @@ def _flexure(n: int, moments) -> list[tuple[float, float, float, float]]:
     section = _block(n)
     disc = discretise(section, {SOLID: LAW})
     basis = disc.basis
+    assert basis.nodal_dofs is not None and basis.facet_dofs is not None and basis.interior_dofs is not None
     # plane strain across the width: every x displacement fixed; one y DOF fixes the
     # translation (with lambda and k it is a gauge of the semi-inverse state)
     ux = np.concatenate([basis.nodal_dofs[0], basis.facet_dofs[0], basis.interior_dofs[0]])

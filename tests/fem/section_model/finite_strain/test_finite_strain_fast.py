@@ -110,6 +110,7 @@ def test_a_stalled_walk_is_reported_with_the_pressure_reached(tmp_path):
         SectionConvergenceError, match=r"pressure = 100: not reached: Newton converged up to"
     ) as e:
         section_curve("paper", [0.0, 0.3, 100.0], linear_gain=False)
+    assert e.value.curve is not None
     assert e.value.curve.pressure.tolist() == [0.0, 0.3]
     assert 0.3 < e.value.reached < 100.0
     assert e.value.curve.bend_angle_rad[-1] == pytest.approx(

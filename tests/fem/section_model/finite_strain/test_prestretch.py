@@ -87,6 +87,7 @@ def test_small_prestretch_is_the_beams_eigenstrain_with_equal_poisson(paper):
     c = section_curve(
         paper, [0.0, 0.01], laws=_equal_poisson(paper, 0.49), tube_prestretch=1 + DELTA, linear_gain=False
     )
+    assert c.state is not None and c.state[0] is not None
     elongation, curvature = _beam(c.state[0], e, DELTA)
     assert curvature < 0  # the tube lies above the centroid: the tip bends toward it
     assert c.rest_elongation == pytest.approx(elongation, rel=1e-3)
@@ -96,6 +97,7 @@ def test_small_prestretch_is_the_beams_eigenstrain_with_equal_poisson(paper):
 
 def test_confinement_stiffens_the_designs_rest_state(paper):
     c = section_curve(paper, [0.0, 0.01], tube_prestretch=1 + DELTA, linear_gain=False)
+    assert c.state is not None and c.state[0] is not None
     elongation, curvature = _beam(c.state[0], _moduli(paper), DELTA)
     # measured 0.64 and 0.75: the coil's hoop confines the silicone (module docstring)
     assert 0.5 < c.rest_elongation / elongation < 0.8
@@ -111,6 +113,7 @@ def _equal_poisson(d, nu: float) -> dict:
 def test_finite_prestretch_tube_force_is_the_uniaxial_law(paper, stretch):
     laws = _equal_poisson(paper, 0.4999)
     c = section_curve(paper, [0.0, 0.01], tube_prestretch=stretch, laws=laws, linear_gain=False)
+    assert c.state is not None and c.state[0] is not None
     disc = c.state[0]
     q = _rest_q(c)
     law = disc.laws[TUBE]
