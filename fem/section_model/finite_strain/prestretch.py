@@ -49,6 +49,7 @@ from softcath.fem.section_model.finite_strain.newton import (
 
 __all__ = [
     "PRESTRETCH_MAX",
+    "PreDeformed",
     "Prestretched",
     "check_prestretch",
     "prestretched_laws",
@@ -73,17 +74,12 @@ def check_prestretch(value) -> float:
     return v
 
 
-@dataclass(frozen=True)
-class Prestretched:
-    """A finite-strain law evaluated at F F_pre: the as-built tube stretched by ``stretch`` from its
-    stress-free (catalogue) state.
-
-    Its small-strain tensor is the base law's (the section's stiffness-weighted centroid and the
-    reported Poisson ratio stay those of the unstretched material).
-    """
+class PreDeformed:
+    """What a law evaluated at F F_pre takes from its base law ``law`` unchanged: the moduli, the
+    volumetric split and the small-strain tensor (the section's stiffness-weighted centroid and the
+    reported Poisson ratio stay those of the undeformed material)."""
 
     law: IsotropicLaw
-    stretch: float
 
     @property
     def splits_volume(self) -> bool:
@@ -97,14 +93,27 @@ class Prestretched:
     def shear_modulus(self) -> float:
         return self.law.shear_modulus
 
+    def small_strain_tensor(self) -> np.ndarray:
+        return self.law.small_strain_tensor()
+
+
+@dataclass(frozen=True)
+class Prestretched(PreDeformed):
+    """A finite-strain law evaluated at F F_pre: the as-built tube stretched by ``stretch`` from its
+    stress-free (catalogue) state.
+
+    Its small-strain tensor is the base law's (the section's stiffness-weighted centroid and the
+    reported Poisson ratio stay those of the unstretched material).
+    """
+
+    law: IsotropicLaw
+    stretch: float
+
     @property
     def diagonal(self) -> np.ndarray:
         """The diagonal of F_pre in (x, y, z)."""
         s = float(self.stretch)
         return np.array([s**-0.5, s**-0.5, s])
-
-    def small_strain_tensor(self) -> np.ndarray:
-        return self.law.small_strain_tensor()
 
     def energy(self, f: np.ndarray, *, volumetric: bool = True) -> np.ndarray:
         """W(F F_pre) per as-built volume [MPa]."""

@@ -48,7 +48,7 @@ from softcath.design.errors import DesignError
 from softcath.fem.geometry import TUBE
 from softcath.fem.hyperelastic.laws import IsotropicLaw
 from softcath.fem.section_model.finite_strain.newton import SectionProblem, State
-from softcath.fem.section_model.finite_strain.prestretch import ramped_rest_state
+from softcath.fem.section_model.finite_strain.prestretch import PreDeformed, ramped_rest_state
 
 __all__ = ["Squeezed", "TubeRing", "check_squeeze", "squeeze_rest_state", "squeezed_laws"]
 
@@ -171,7 +171,7 @@ class TubeRing:
 
 
 @dataclass(frozen=True, eq=False)
-class Squeezed:
+class Squeezed(PreDeformed):
     """A finite-strain law evaluated at F F_pre, F_pre given per point (``pre``: (cells, nq, 3, 3)
     in the order of the region's cells, or one (3, 3) for all).
 
@@ -182,21 +182,6 @@ class Squeezed:
     law: IsotropicLaw
     pre: np.ndarray
     squeeze: float = 1.0
-
-    @property
-    def splits_volume(self) -> bool:
-        return bool(getattr(self.law, "splits_volume", False))
-
-    @property
-    def bulk_modulus(self) -> float:
-        return self.law.bulk_modulus
-
-    @property
-    def shear_modulus(self) -> float:
-        return self.law.shear_modulus
-
-    def small_strain_tensor(self) -> np.ndarray:
-        return self.law.small_strain_tensor()
 
     def energy(self, f: np.ndarray, *, volumetric: bool = True) -> np.ndarray:
         """W(F F_pre) per as-built volume [MPa] (det F_pre = 1)."""

@@ -77,7 +77,7 @@ def test_the_paper_sections_lumen_and_coil_hold_their_areas():
 
 def test_the_option_is_checked():
     with pytest.raises(SettingError, match="true_area"):
-        catheter.mesh_catheter(preset("paper"), layers=2, size=0.3, curvature_points=8, true_area="yes")
+        catheter.mesh_catheter(preset("paper"), layers=2, size=0.3, curvature_points=8, true_area="yes")  # pyright: ignore[reportArgumentType]  # the wrong type on purpose
 
 
 @pytest.mark.slow
