@@ -236,11 +236,11 @@ def mesh_catheter(
     z = np.concatenate([z_body, np.linspace(length - cap, length, n_cap + 1)[1:]])
     if not (isinstance(curvature_points, (int, np.integer)) and curvature_points >= 8):
         raise SettingError("curvature_points", curvature_points, "must be an integer >= 8")
+    if not isinstance(true_area, bool):
+        raise SettingError("true_area", true_area, "must be True or False")
     pts2, tri, cls = _section_triangles(
         design.section, size=size, contact=contact, curvature_points=int(curvature_points)
     )
-    if not isinstance(true_area, bool):
-        raise SettingError("true_area", true_area, "must be True or False")
     if true_area:
         pts2 = area_true(pts2, tri, section_curves(design.section, contact=contact))
     has_filler = design.filler is not None
