@@ -308,7 +308,7 @@ _ACTS_ONLY_WITH: dict[str, tuple] = {
     ),
     "fem": (
         (
-            ("steps", "layers", "curvature_points", "mixed", "compare_linear"),
+            ("steps", "layers", "curvature_points", "area_true_section", "mixed", "compare_linear"),
             lambda a: a.nonlinear,
             "has no effect without --nonlinear",
         ),

@@ -215,9 +215,10 @@ def mesh_catheter(
         (1 − sin(2π/n) n/2π), which the coil's r⁴ bending stiffness doubles.
     true_area
         Move the vertices inside each curve's arcs outward so that every polygon holds its
-        curve's area (:func:`~softcath.fem.nonlinear.true_area.area_true`); off by default.
-        On the paper design (0.02 MPa, 4 layers) it takes the default section's mid-span
-        curvature from 2.2 % to 0.7 % under the finest section's, at no cost in unknowns.
+        curve's area (:func:`~softcath.fem.nonlinear.true_area.area_true`); off by default. On
+        the paper design (0.02 MPa, 4 layers) it takes the size 0.15 mm, 12-segment section's
+        mid-span curvature from 2.2 % to 0.5 % under a converged section's, at no cost in
+        unknowns; on designs with thick coil wire it overshoots (docs/nonlinear.md).
     """
     from skfem import MeshTet
 

@@ -53,6 +53,8 @@ class NonlinearSettings:
         (:func:`~softcath.fem.nonlinear.convergence.default_layers`).
     curvature_points : int
         Mesh segments per full circle.
+    true_area : bool
+        Area-true section polygons (``bend_curve``'s ``true_area``); default: plain inscribed ones.
     mixed : bool or None
         Mixed u-p (P2-P0) formulation for the silicones; None: when they are
         near-incompressible (:func:`~softcath.fem.nonlinear.bend.needs_mixed`).
@@ -69,6 +71,7 @@ class NonlinearSettings:
     mesh_size: float = 0.15
     layers: int | None = None
     curvature_points: int = 12
+    true_area: bool = False
     mixed: bool | None = None
     compare_linear: bool = False
     convergence: bool = False
@@ -166,6 +169,7 @@ def _solve_with_error(design, s: NonlinearSettings, out: Path):
         "load": s.load,
         "size": s.mesh_size,
         "curvature_points": s.curvature_points,
+        "true_area": s.true_area,
         "mixed": s.mixed,
         "progress": True,
     }
@@ -322,6 +326,7 @@ def _error_keys(curve, error) -> dict:
         "layers": getattr(curve, "layers", None),
         "layer_choice": None if choice is None else choice.to_json(),
         "mixed": bool(getattr(curve, "mixed", False)),
+        "true_area": getattr(curve, "true_area", None),
     }
     if error is None:
         keys["discretisation_error_estimate"] = None

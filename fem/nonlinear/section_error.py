@@ -2,18 +2,19 @@
 
 The half-layer solve of :func:`~softcath.fem.nonlinear.reference.reference_curve` states the
 error of the element layers along the bending length; it leaves out the section mesh, which at
-small and moderate bends is the larger part: the default section (size 0.15 mm, 12 segments per
-circle) under-fills the section's circles and makes the tip ~2 % stiff (docs/nonlinear.md).
+small and moderate bends is the larger part (docs/nonlinear.md).
 
 :func:`section_error` solves the tip once more, at a small load (:func:`small_pressure`: about
 :data:`SECTION_ANGLE_DEG` of bend, one load step) on :data:`SECTION_LAYERS` layers, with the run's
 section and with that section refined by :data:`SECTION_RATIO` (:func:`refined_section`: size / r,
-segments per circle × r), and states the run's section error by Richardson with the **assumed**
-order :data:`SECTION_ORDER` (:func:`section_correction`). At ~1.5° the layer error of 4 layers is
-~1e-6 (the φ³ law of docs/nonlinear.md), so the difference is the section's alone.
+segments per circle × r), and states the run's section error by Richardson with an **assumed**
+order (:func:`section_order`, :func:`section_correction`): :data:`SECTION_ORDER` on the plain
+inscribed-polygon section (the default), :data:`AREA_TRUE_SECTION_ORDER` on an area-true one. At
+~1.5° the layer error of 4 layers is ~1e-6 (the φ³ law of docs/nonlinear.md), so the difference is the
+section's alone.
 
 The part is taken as **load-independent**: measured at the small load, applied as the same
-relative error at every pressure of the run (checked at 22° on the paper's design,
+relative error at every pressure of the run (checked at 22° and at the paper's 0.6 MPa,
 docs/nonlinear.md).
 """
 
@@ -35,6 +36,7 @@ log = logging.getLogger(__name__)
 __all__ = [
     "SECTION_ANGLE_DEG",
     "SECTION_LAYERS",
+    "AREA_TRUE_SECTION_ORDER",
     "SECTION_ORDER",
     "SECTION_RATIO",
     "SectionError",
@@ -42,16 +44,24 @@ __all__ = [
     "refined_section",
     "section_correction",
     "section_error",
+    "section_order",
     "small_pressure",
 ]
 
 #: Refinement ratio r of the companion section: size / r and segments per circle × r (one ratio for
 #: both, so the Richardson step is defined; 1.5 costs ~2x the small solve's DOFs, 2 would cost ~3x).
 SECTION_RATIO = 1.5
-#: Order of convergence in the section's segment angle assumed by :func:`section_correction`: a
-#: circle's chord approximation misses an area ∝ (2π/n)², second order; the P2 elements' own error
-#: converges faster. Observed ≈ 2.5 on the paper's design (docs/nonlinear.md), so order 2 errs high.
+#: Order of convergence in the segment angle assumed on a plain section (the default,
+#: ``true_area=False``): a circle's inscribed polygon misses an area ∝ (2π/n)², second order; the
+#: P2 elements' own error converges faster.
 SECTION_ORDER = 2.0
+#: Order assumed on an **area-true** section (``true_area=True``): its polygons hold their curves'
+#: areas, so the second-order area deficit is gone and what is left (the curves' shape, the thin
+#: walls' and thick coils' elements) is not in its asymptotic range at 12 segments (the paper's
+#: 12 → 18 → 27 segments: +0.14 % then +0.36 %; a thick-wire design's: −1.36 % then −1.40 %;
+#: docs/nonlinear.md). Order 1 (factor r / (r − 1) = 3) covers the distance to a converged section
+#: on seven designs of eight (short by 0.08 points on the paper).
+AREA_TRUE_SECTION_ORDER = 1.0
 #: Tip bend [deg] of the small-load solves: large enough to read, small enough that the layers'
 #: error (∝ turn per layer cubed) is ~1e-6 on :data:`SECTION_LAYERS` layers.
 SECTION_ANGLE_DEG = 1.5
@@ -156,6 +166,11 @@ def refined_section(size: float, curvature_points: int, *, ratio: float = SECTIO
     return (float(size) / ratio, math.ceil(int(curvature_points) * ratio - 1e-9))
 
 
+def section_order(true_area: bool) -> float:
+    """The assumed order of :func:`section_correction` for an area-true or a plain section."""
+    return AREA_TRUE_SECTION_ORDER if true_area else SECTION_ORDER
+
+
 def section_correction(
     default, refined, *, ratio: float = SECTION_RATIO, order: float = SECTION_ORDER
 ) -> float:
@@ -210,7 +225,7 @@ def section_error(
     pressure: float,
     layers: int = SECTION_LAYERS,
     ratio: float = SECTION_RATIO,
-    order: float = SECTION_ORDER,
+    order: float | None = None,
     **options,
 ) -> SectionError:
     """The :class:`SectionError` of ``design``'s 3-D bend from two small-load solves.
@@ -224,7 +239,8 @@ def section_error(
     layers
         Element layers of the two solves.
     ratio, order
-        Refinement ratio of the companion section and the assumed order.
+        Refinement ratio of the companion section and the assumed order (default
+        :func:`section_order` of the run's ``true_area``).
     **options
         The run's keyword options of :func:`~softcath.fem.nonlinear.bend.bend_curve` (``size`` and
         ``curvature_points`` the run's section; not ``mesh``, ``layers``, ``substeps``).
@@ -237,6 +253,8 @@ def section_error(
     size = float(options.pop("size", _BEND_DEFAULTS["size"]))
     points = int(options.pop("curvature_points", _BEND_DEFAULTS["curvature_points"]))
     fine = refined_section(size, points, ratio=ratio)
+    if order is None:
+        order = section_order(bool(options.get("true_area", _BEND_DEFAULTS["true_area"])))
     t0 = time.perf_counter()
     values = []
     for s, n in ((size, points), fine):

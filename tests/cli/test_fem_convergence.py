@@ -18,7 +18,12 @@ from softcath import design
 from softcath.cli.main import main
 from softcath.fem.nonlinear.bend import bend_curve
 from softcath.fem.nonlinear.convergence import observed_order, richardson_error
-from softcath.fem.nonlinear.section_error import SECTION_ANGLE_DEG, section_correction
+from softcath.fem.nonlinear.section_error import (
+    AREA_TRUE_SECTION_ORDER,
+    SECTION_ANGLE_DEG,
+    SECTION_ORDER,
+    section_correction,
+)
 
 COARSE = ["--mesh-size", "0.3", "--curvature-points", "8"]
 
@@ -73,13 +78,15 @@ def test_the_stated_section_error_is_richardson_of_two_real_small_load_solves(tm
     p = sec["pressure_MPa"]
     unit = doc["linear_bend_angle_rad"] / doc["pressure_MPa"]
     assert p == pytest.approx(np.radians(SECTION_ANGLE_DEG) / unit, rel=1e-9) and p < 0.04
+
     # the two solves, redone here, give the recorded curvatures and the recorded Richardson step
     k = [
         float(bend_curve(design.resolve("paper"), [p], layers=4, size=s, curvature_points=n).curvature_mid[0])
         for s, n in ((0.3, 8), (0.2, 12))
     ]
     assert sec["curvature_mid_per_mm"] == pytest.approx(k, rel=1e-9)
-    corr = section_correction(k[0], k[1], ratio=1.5, order=2.0)
+    assert sec["order"] == SECTION_ORDER and doc["true_area"] is False
+    corr = section_correction(k[0], k[1], ratio=1.5, order=SECTION_ORDER)
     assert sec["correction"] == pytest.approx(corr, rel=1e-9) and sec["relative"] == pytest.approx(abs(corr))
     # the coarse section under-fills the circles: the refined one bends more (measured +5 % here)
     assert k[1] > k[0]
@@ -92,6 +99,26 @@ def test_the_stated_section_error_is_richardson_of_two_real_small_load_solves(tm
     assert float(row["discretisation_error_estimate"]) == pytest.approx(total, rel=1e-2)
     assert float(row["discretisation_error_layers"]) == pytest.approx(lay["relative"][0], rel=1e-2)
     assert float(row["discretisation_error_section"]) == pytest.approx(sec["relative"], rel=1e-2)
+
+
+def test_the_area_true_section_is_meshed_recorded_and_estimated_at_its_own_order(tmp_path):
+    out = tmp_path / "area_true"
+    args = ["fem", "paper", "--nonlinear", "--pressure", "0.02", "--steps", "1", "--layers", "6"]
+    assert main([*args, *COARSE, "--area-true-section", "--out", str(out)]) == 0
+    doc = json.loads((out / "fem.json").read_text())
+    assert doc["true_area"] is True
+    sec = doc["discretisation_error"]["parts"]["section"]
+    assert sec["order"] == AREA_TRUE_SECTION_ORDER
+    paper = design.resolve("paper")
+
+    def kappa(p, s, n, layers=4):
+        c = bend_curve(paper, [p], layers=layers, size=s, curvature_points=n, true_area=True)
+        return float(c.curvature_mid[0])
+
+    assert doc["curvature_mid_per_mm"] == pytest.approx(kappa(0.02, 0.3, 8, layers=6), rel=1e-9)
+    k = [kappa(sec["pressure_MPa"], s, n) for s, n in ((0.3, 8), (0.2, 12))]
+    assert sec["curvature_mid_per_mm"] == pytest.approx(k, rel=1e-9)
+    assert sec["correction"] == pytest.approx(section_correction(k[0], k[1], ratio=1.5, order=1.0), rel=1e-9)
 
 
 def test_too_few_layers_give_no_estimate_and_say_why(tmp_path):

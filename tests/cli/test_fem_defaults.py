@@ -63,8 +63,14 @@ def test_nonlinear_layers_and_formulation_default_to_the_documented_rules():
     assert "`--mixed` / `--no-mixed` (mixed u–p formulation; default: when a silicone's ν ≥ 0.45)" in (
         " ".join(NONLINEAR_DOC.split())
     )
-    given = fem_cmd.nonlinear_settings(_args("--nonlinear", "--layers", "6", "--no-mixed", "--convergence"))
-    assert (given.layers, given.mixed, given.convergence) == (6, False, True)
+    assert not s.true_area
+    assert "`--area-true-section` (area-true section polygons; default: plain inscribed polygons" in (
+        " ".join(NONLINEAR_DOC.split())
+    )
+    given = fem_cmd.nonlinear_settings(
+        _args("--nonlinear", "--layers", "6", "--no-mixed", "--convergence", "--area-true-section")
+    )
+    assert (given.layers, given.mixed, given.convergence, given.true_area) == (6, False, True, True)
 
 
 def test_both_modes_take_the_real_load_by_default():

@@ -34,6 +34,7 @@ VALUES = {
     "steps": ["--steps", "3"],
     "layers": ["--layers", "3"],
     "curvature_points": ["--curvature-points", "16"],
+    "area_true_section": ["--area-true-section"],
     "mixed": ["--mixed"],
     "compare_linear": ["--compare-linear"],
     "mesher": ["--mesher", "tetwild"],

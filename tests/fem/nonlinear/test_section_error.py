@@ -14,12 +14,14 @@ import pytest
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.reference import ErrorEstimate, StatedError
 from softcath.fem.nonlinear.section_error import (
+    AREA_TRUE_SECTION_ORDER,
     SECTION_ORDER,
     SECTION_RATIO,
     SectionError,
     combined_error,
     refined_section,
     section_correction,
+    section_order,
     small_pressure,
 )
 
@@ -59,6 +61,11 @@ def test_section_correction_is_signed_and_refuses_bad_steps():
         section_correction(1.0, 1.0, order=0.0)
 
 
+def test_the_assumed_order_follows_the_section_kind():
+    assert section_order(True) == AREA_TRUE_SECTION_ORDER == 1.0
+    assert section_order(False) == SECTION_ORDER == 2.0
+
+
 def test_combined_error_sums_the_parts_and_keeps_the_layers_part_without_a_section_part():
     np.testing.assert_allclose(combined_error([0.001, 0.005], 0.02), [0.021, 0.025])
     np.testing.assert_allclose(combined_error([0.001, 0.005], float("nan")), [0.001, 0.005])
@@ -74,13 +81,13 @@ def test_small_pressure_bends_the_linear_tip_by_the_target_and_stays_below_the_s
         small_pressure(curve, angle_deg=0.0)
 
 
-def _stated(a=-40.0, b=-0.4, n=12, small_n=4):
-    """A separable model f(n, h) = f_inf (1 + a / n³)(1 + b h²): layers n, segment angle h."""
+def _stated(a=-40.0, b=-0.4, n=12, small_n=4, q=SECTION_ORDER):
+    """A separable model f(n, h) = f_inf (1 + a / n³)(1 + b h^q): layers n, segment angle h."""
     f_inf = np.array([0.024, 0.2])
     h0 = 2 * math.pi / 12
 
     def f(layers, h, scale: float | np.ndarray = f_inf):
-        return scale * (1 + a / layers**3) * (1 + b * h**2)
+        return scale * (1 + a / layers**3) * (1 + b * h**q)
 
     e = ErrorEstimate(
         quantity="curvature_mid_per_mm",
@@ -100,19 +107,20 @@ def _stated(a=-40.0, b=-0.4, n=12, small_n=4):
         default_value=float(f(small_n, h0, small)),
         refined_value=float(f(small_n, h0 / SECTION_RATIO, small)),
         ratio=SECTION_RATIO,
-        order=SECTION_ORDER,
+        order=q,
         order_source="assumed",
         seconds=1.0,
     )
-    return StatedError(e, s), f_inf, 1.0 / (1 + b * h0**2) - 1.0
+    return StatedError(e, s), f_inf, 1.0 / (1 + b * h0**q) - 1.0
 
 
-def test_stated_error_sums_the_parts_and_extrapolates_to_the_converged_value():
-    stated, f_inf, section_true = _stated()
+@pytest.mark.parametrize("q", [SECTION_ORDER, AREA_TRUE_SECTION_ORDER])
+def test_stated_error_sums_the_parts_and_extrapolates_to_the_converged_value(q):
+    stated, f_inf, section_true = _stated(q=q)
     assert stated.section_part is not None
     assert stated.section_part.correction == pytest.approx(section_true, rel=1e-10)
     np.testing.assert_allclose(stated.relative, stated.layers_part.relative + abs(section_true), rtol=1e-12)
-    # layers extrapolated exactly (order 3) and the section corrected exactly (order 2): f_inf itself
+    # layers extrapolated exactly (order 3) and the section corrected exactly (order q): f_inf itself
     np.testing.assert_allclose(stated.extrapolated, f_inf, rtol=1e-12)
     doc = stated.to_json()
     assert set(stated.layers_part.to_json()) <= set(doc)  # the layers estimate's keys, a superset
