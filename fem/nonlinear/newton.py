@@ -8,6 +8,14 @@ the increment; after ``max_cutbacks`` halvings in a row :class:`ConvergenceError
 is raised with the load reached and the last residual. The next step grows
 back toward the planned increment. Each accepted step records its
 iterations and relative residual history.
+
+Every step after the first starts from an extrapolation of the accepted path
+(:func:`_predict`): quadratic through the last three equilibria, the secant
+through two after the first step. On the paper's tip walked to 54° in 8 steps
+(12 layers) the quadratic predictor, with the first planned step split into a
+short ramp (``bend.first_load_steps``), took the path from 90 tangent
+factorisations (secant predictor, a failed first step) to 43, with the same
+answer to 1e-10.
 """
 
 from __future__ import annotations
@@ -24,9 +32,12 @@ from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError, SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
 
-__all__ = ["StepRecord", "NonlinearResult", "solve"]
+__all__ = ["PREDICTORS", "StepRecord", "NonlinearResult", "solve"]
 
 log = logging.getLogger(__name__)
+
+#: Step predictors of :func:`solve`, by the number of past equilibria they extrapolate less one.
+PREDICTORS = ("secant", "quadratic")
 
 
 @dataclass(frozen=True)
@@ -91,13 +102,14 @@ def solve(
     fixed_values: np.ndarray | None = None,
     loads: Sequence[tuple[FollowerPressure, float]] = (),
     steps: int = 10,
-    load_factors: Sequence[float] | None = None,
+    load_factors: Sequence[float] | np.ndarray | None = None,
     max_iter: int = 20,
     rtol: float = 1e-8,
     max_cutbacks: int = 8,
     method: str | None = None,
     progress: bool = False,
     reuse_factors: bool = False,
+    predictor: str = "quadratic",
 ) -> NonlinearResult:
     """Solve the body under follower pressures and prescribed displacements.
 
@@ -133,13 +145,14 @@ def solve(
         by at least :data:`REUSE_RATIO`, the next one solves with the same factors instead of
         factorising the new tangent (the first iteration of every step factorises). The
         answer is the same to the tolerance ``rtol``; off by default.
-
     Raises
     ------
     ConvergenceError
         When a step fails after ``max_cutbacks`` halvings.
     """
     targets = _load_targets(steps, load_factors, rtol)
+    if predictor not in PREDICTORS:
+        raise SettingError("predictor", predictor, f"must be one of {PREDICTORS}")
     problem = _set_up(
         body,
         fixed_dofs,
@@ -154,7 +167,7 @@ def solve(
     lin = problem.lin
     bar = _progress_bar() if progress else None
     try:
-        records, history = _load_path(problem, targets, bar)
+        records, history = _load_path(problem, targets, bar, depth=PREDICTORS.index(predictor) + 2)
     finally:
         lin.release()
         if bar is not None:
@@ -214,12 +227,15 @@ def _set_up(
     )
 
 
-def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRecord], list[np.ndarray]]:
+def _load_path(
+    problem: _Problem, targets: np.ndarray, bar, *, depth: int = 3
+) -> tuple[list[StepRecord], list[np.ndarray]]:
     """Step the load factor to 1 with cutbacks; returns the step records and displacements."""
     free, fixed = problem.free, problem.fixed
     u = np.zeros(problem.body.ndofs)
     lam, cutbacks = 0.0, 0
-    prev = None
+    # the last ``depth`` accepted equilibria (λ, u), oldest first, for the predictor
+    path: list[tuple[float, np.ndarray]] = [(lam, u)]
     k_target = 0
     dlam = targets[0]
     records: list[StepRecord] = []
@@ -229,7 +245,7 @@ def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRe
         target = lam + dlam
         if abs(target - targets[k_target]) < 1e-12:
             target = targets[k_target]
-        trial = _predict(u, prev, lam, target, free, cutbacks)
+        trial = _predict(path, target, free)
         dfixed = (target - lam) * problem.values[fixed]
         ok, its, res = _newton(
             problem.body,
@@ -254,9 +270,9 @@ def _load_path(problem: _Problem, targets: np.ndarray, bar) -> tuple[list[StepRe
                 raise _convergence_error(lam, target, cutbacks, res, problem.rtol)
             dlam *= 0.5
             continue
-        prev = (lam, u)
         u = trial
         lam = target
+        path = [*path[-(depth - 1) :], (lam, u)]
         records.append(_step_record(lam, problem.loads, its, res, cutbacks))
         history.append(u.reshape(-1, 3).copy())
         log.info("load factor %.4g: %d Newton iterations, residual %.2e", lam, its, res[-1])
@@ -325,16 +341,37 @@ def _progress_bar():
     return tqdm(total=1.0, desc="load factor", unit="", bar_format="{l_bar}{bar}| {n:.3f}/1")
 
 
-def _predict(u, prev, lam, target, free, cutbacks) -> np.ndarray:
-    """Starting guess of the step from ``lam`` to ``target``."""
+#: Largest |Lagrange weight| of the quadratic predictor; beyond it (uneven steps after cutbacks) the
+#: extrapolation amplifies the equilibria's own errors and the secant is used instead. Even steps
+#: give (1, −3, 3); a step doubled after a cutback (3, −8, 6); a doubling ramp's third step (8, −14, 7).
+_MAX_PREDICTOR_WEIGHT = 16.0
+
+
+def _predict(path, target, free) -> np.ndarray:
+    """Starting guess of the step from the last equilibrium of ``path`` to load factor ``target``.
+
+    A bending tip's displacement is a rotation field, far from the tangent's linearised
+    rotation: starting Newton there, the coil's stiff hoop turns the linearised-rotation
+    error into large spurious stresses. Extrapolating the accepted path puts Newton inside
+    its convergence radius: quadratically through the last three equilibria (the rotation's
+    curvature along the path included: relative residuals of 1e-3 to 1e-1 after the
+    prediction on the paper's tip, against ~1 for the secant), by the secant through two.
+    A retried step (after a cutback) extrapolates as well, to its shorter target.
+    """
+    lam, u = path[-1]
     trial = u.copy()
-    if prev is not None and cutbacks == 0:
-        # secant predictor along the load path: a bending tip's displacement is a rotation
-        # field, far from the tangent's linearised rotation; extrapolating the last step
-        # puts Newton inside its convergence radius (the coil's stiff hoop otherwise turns
-        # the linearised-rotation error into large spurious stresses)
-        lam_prev, u_prev = prev
-        trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
+    if len(path) == 1:
+        return trial
+    if len(path) == 3:
+        lams = [p[0] for p in path]
+        w = [
+            np.prod([(target - lams[j]) / (lams[i] - lams[j]) for j in range(3) if j != i]) for i in range(3)
+        ]
+        if max(abs(x) for x in w) <= _MAX_PREDICTOR_WEIGHT:
+            trial[free] = sum(wi * p[1][free] for wi, p in zip(w, path, strict=True))
+            return trial
+    lam_prev, u_prev = path[-2]
+    trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
     return trial
 
 
