@@ -18,7 +18,7 @@ demo: $(STAMP)
 	$(VENV)/bin/softcath demo --out $(OUT)
 
 test: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --durations=25
 
 check: $(STAMP)
 	$(PY) -m pytest -q -m "not slow"

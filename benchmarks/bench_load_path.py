@@ -3,7 +3,7 @@
 The paper's tip walked from 0 to ``--pressure`` in ``--steps`` equal steps on ``--layers``
 element layers (lumen load, the default section), twice: with Newton's default quadratic
 predictor (``newton.solve(predictor="quadratic")``) and with the secant predictor that preceded
-it. Both runs split the first step into the same ramp (``bend.first_load_steps``). Prints, for
+it. Both runs split the first step into the same ramp (``load_path.first_load_steps``). Prints, for
 each, the tangent factorisations (PARDISO's numerical factorisation is ~80 % of a run), the
 Newton iterations, the cutbacks and the wall time, their ratios, and how far the two answers
 (mid-span curvature and tip angle at the top pressure) are apart: Newton's tolerance, nothing

@@ -13,6 +13,7 @@ studies package calls.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import time
@@ -32,6 +33,7 @@ from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_law
 from softcath.fem.nonlinear.convergence import default_layers
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
+from softcath.fem.nonlinear.load_path import first_load_steps
 from softcath.fem.nonlinear.meshes import dofs_of_facets
 from softcath.fem.nonlinear.newton import PREDICTORS, NonlinearResult, solve
 from softcath.fem.nonlinear.post import (
@@ -44,23 +46,13 @@ from softcath.fem.nonlinear.post import (
     midspan_bend,
 )
 
-__all__ = [
-    "NonlinearFemCurve",
-    "bend_curve",
-    "departure_angle",
-    "axial_modulus",
-    "first_load_steps",
-    "needs_mixed",
-    "LOADS",
-]
+__all__ = ["NonlinearFemCurve", "bend_curve", "departure_angle", "axial_modulus", "needs_mixed", "LOADS"]
 
 log = logging.getLogger(__name__)
 
 SILICONE_LABELS = (TUBE, FILLER)
 #: Poisson ratio from which ``bend_curve`` uses the mixed u–p formulation by default.
 MIXED_POISSON = 0.45
-#: Largest linear bend [deg] of the load path's first step (:func:`first_load_steps`).
-FIRST_STEP_DEG = 2.0
 
 
 @dataclass(frozen=True)
@@ -253,7 +245,6 @@ class _Model:
         self.margin = float(design.coil.outer_diameter)
         zc = x[self.body.basis.element_dofs[:4]].mean(axis=0)[:, 2]
         self._strain_cells = np.flatnonzero(np.isin(cmesh.labels, SILICONE_LABELS) & (zc > self.margin))
-        self._unit_angle: float | None = None
 
     def silicone_strain(self, u: np.ndarray) -> float:
         """Largest principal stretch strain in the silicone away from the clamp [-]."""
@@ -280,13 +271,9 @@ class _Model:
             return (float("nan"), float("nan"))
         return (float((w * x[0]).sum() / w.sum()), float((w * x[1]).sum() / w.sum()))
 
+    @functools.cached_property
     def linear_unit_angle(self) -> float:
         """dθ/dp [rad/MPa] of the linear FEM (tangent at zero load, unit pressure; solved once)."""
-        if self._unit_angle is None:
-            self._unit_angle = self._solve_unit_angle()
-        return self._unit_angle
-
-    def _solve_unit_angle(self) -> float:
         body = self.body
         free = np.setdiff1d(np.arange(body.ndofs), self.fixed)
         mask, tmpl = body.pattern.restrict(free)
@@ -369,7 +356,8 @@ def bend_curve(
     predictor
         Newton's starting guess of each load step (``newton.solve``): ``"quadratic"`` (default)
         or ``"secant"``. The first planned step is split into a ramp of at most
-        :data:`FIRST_STEP_DEG` of linear bend for either (:func:`first_load_steps`).
+        :data:`~softcath.fem.nonlinear.load_path.FIRST_STEP_DEG` of linear bend for either
+        (:func:`~softcath.fem.nonlinear.load_path.first_load_steps`).
 
     Raises
     ------
@@ -395,7 +383,7 @@ def bend_curve(
     model = _Model(design, cmesh, load=load, mixed=mixed)
     p_max = float(p[-1])
     factors = _load_factors(p, substeps)
-    ramp = first_load_steps(float(factors[0]), model.linear_unit_angle() * p_max)
+    ramp = first_load_steps(float(factors[0]), model.linear_unit_angle * p_max)
     res = solve(
         model.body,
         fixed_dofs=model.fixed,
@@ -437,25 +425,6 @@ def _check_inputs(pressures, load, midspan, substeps) -> tuple[np.ndarray, tuple
     return p, w
 
 
-def first_load_steps(first_target: float, linear_angle: float) -> np.ndarray:
-    """Load factors of a ramp to ``first_target``, each step at most :data:`FIRST_STEP_DEG` of linear bend.
-
-    The path's first step has no equilibria to extrapolate from (``newton.solve``'s
-    predictor) and starts from the linearised rotation, whose error grows with the
-    square of the step's bend: on the paper's tip a first step of 6.7° failed after 20
-    iterations, one of 1.7° converged in 7. The ramp halves ``first_target`` until its
-    first step bends at most :data:`FIRST_STEP_DEG` (``linear_angle``: the linear FEM's
-    bend [rad] at load factor 1) and returns the stops below it, ``first_target / 2**k, …,
-    first_target / 2``, so that the doubling steps land on it (empty when no halving is
-    needed).
-    """
-    bend_deg = abs(first_target * math.degrees(linear_angle))
-    if not (math.isfinite(bend_deg) and bend_deg > FIRST_STEP_DEG):
-        return np.zeros(0)
-    halvings = math.ceil(math.log2(bend_deg / FIRST_STEP_DEG))
-    return first_target / 2.0 ** np.arange(halvings, 0, -1)
-
-
 def _load_factors(p: np.ndarray, substeps: int):
     """Load factors: ``substeps`` equal steps between consecutive pressures, ending at 1."""
     edges = np.concatenate([[0.0], p / float(p[-1])])
@@ -484,7 +453,7 @@ def _curve(design, p, w, load, cmesh, model, *, res: NonlinearResult, mesh_secon
     ]
     if mids[0].stations.size < 2:
         log.info("mid-span curvature: fewer than two mesh z levels in Z/L in %s; refine layers", w)
-    lin = model.linear_unit_angle() * p
+    lin = model.linear_unit_angle * p
     # The paper's formula is the cap-load composite beam (eq. 7), whatever the FEM's load: its
     # "lumen" variant is the wall-load effect alone (50x smaller), not the paper's prediction.
     ana = analytic.response(design, p, load="cap").bend_angle

@@ -10,10 +10,10 @@ back toward the planned increment. Each accepted step records its
 iterations and relative residual history.
 
 Every step after the first starts from an extrapolation of the accepted path
-(:func:`_predict`): quadratic through the last three equilibria, the secant
+(:func:`~softcath.fem.nonlinear.load_path.predict`): quadratic through the last three equilibria, the secant
 through two after the first step. On the paper's tip walked to 54° in 8 steps
 (12 layers) the quadratic predictor, with the first planned step split into a
-short ramp (``bend.first_load_steps``), took the path from 90 tangent
+short ramp (``load_path.first_load_steps``), took the path from 90 tangent
 factorisations (secant predictor, a failed first step) to 43, with the same
 answer to 1e-10.
 """
@@ -31,6 +31,7 @@ import scipy.sparse as sp
 from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.errors import ConvergenceError, NonlinearError, SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
+from softcath.fem.nonlinear.load_path import predict
 
 __all__ = ["PREDICTORS", "StepRecord", "NonlinearResult", "solve"]
 
@@ -245,7 +246,7 @@ def _load_path(
         target = lam + dlam
         if abs(target - targets[k_target]) < 1e-12:
             target = targets[k_target]
-        trial = _predict(path, target, free)
+        trial = predict(path, target, free)
         dfixed = (target - lam) * problem.values[fixed]
         ok, its, res = _newton(
             problem.body,
@@ -339,40 +340,6 @@ def _progress_bar():
     from tqdm import tqdm
 
     return tqdm(total=1.0, desc="load factor", unit="", bar_format="{l_bar}{bar}| {n:.3f}/1")
-
-
-#: Largest |Lagrange weight| of the quadratic predictor; beyond it (uneven steps after cutbacks) the
-#: extrapolation amplifies the equilibria's own errors and the secant is used instead. Even steps
-#: give (1, −3, 3); a step doubled after a cutback (3, −8, 6); a doubling ramp's third step (8, −14, 7).
-_MAX_PREDICTOR_WEIGHT = 16.0
-
-
-def _predict(path, target, free) -> np.ndarray:
-    """Starting guess of the step from the last equilibrium of ``path`` to load factor ``target``.
-
-    A bending tip's displacement is a rotation field, far from the tangent's linearised
-    rotation: starting Newton there, the coil's stiff hoop turns the linearised-rotation
-    error into large spurious stresses. Extrapolating the accepted path puts Newton inside
-    its convergence radius: quadratically through the last three equilibria (the rotation's
-    curvature along the path included: relative residuals of 1e-3 to 1e-1 after the
-    prediction on the paper's tip, against ~1 for the secant), by the secant through two.
-    A retried step (after a cutback) extrapolates as well, to its shorter target.
-    """
-    lam, u = path[-1]
-    trial = u.copy()
-    if len(path) == 1:
-        return trial
-    if len(path) == 3:
-        lams = [p[0] for p in path]
-        w = [
-            np.prod([(target - lams[j]) / (lams[i] - lams[j]) for j in range(3) if j != i]) for i in range(3)
-        ]
-        if max(abs(x) for x in w) <= _MAX_PREDICTOR_WEIGHT:
-            trial[free] = sum(wi * p[1][free] for wi, p in zip(w, path, strict=True))
-            return trial
-    lam_prev, u_prev = path[-2]
-    trial[free] += (target - lam) / (lam - lam_prev) * (u[free] - u_prev[free])
-    return trial
 
 
 def _convergence_error(lam, target, cutbacks, res, rtol) -> ConvergenceError:

@@ -1,12 +1,12 @@
-"""The load path's predictor and first-step ramp: exact where they must be, and a path without cutbacks."""
+"""The load path's predictor and first-step ramp: exact where they must be, and the same equilibria."""
 
 import math
 
 import numpy as np
 import pytest
 
-from softcath.fem.nonlinear.bend import FIRST_STEP_DEG, bend_curve, first_load_steps
-from softcath.fem.nonlinear.newton import _predict
+from softcath.fem.nonlinear.bend import bend_curve
+from softcath.fem.nonlinear.load_path import FIRST_STEP_DEG, first_load_steps, predict
 
 FREE = np.array([0, 2, 3, 5])
 
@@ -22,7 +22,7 @@ def test_the_predictor_is_exact_on_a_quadratic_path():
         return a + b * lam + c * lam**2
 
     path = _path([0.1, 0.2, 0.3], u)
-    trial = _predict(path, 0.45, FREE)
+    trial = predict(path, 0.45, FREE)
     np.testing.assert_allclose(trial[FREE], u(0.45)[FREE], rtol=1e-12, atol=1e-12)
     # the constrained DOFs stay where the last equilibrium had them (the step moves them itself)
     fixed = np.setdiff1d(np.arange(6), FREE)
@@ -35,14 +35,14 @@ def test_the_predictor_falls_back_to_the_secant_when_the_quadratic_would_amplify
 
     # steps of 0.001 and 0.1, then a step of 0.4: Lagrange weights of hundreds
     path = _path([0.2, 0.201, 0.301], u)
-    trial = _predict(path, 0.701, FREE)
+    trial = predict(path, 0.701, FREE)
     secant = u(0.301) + (0.701 - 0.301) / 0.1 * (u(0.301) - u(0.201))
     np.testing.assert_allclose(trial[FREE], secant[FREE], rtol=1e-12)
 
 
 def test_the_first_step_starts_where_the_last_equilibrium_is():
     path = [(0.0, np.ones(6))]
-    np.testing.assert_array_equal(_predict(path, 0.5, FREE), np.ones(6))
+    np.testing.assert_array_equal(predict(path, 0.5, FREE), np.ones(6))
 
 
 @pytest.mark.parametrize("first_target, bend_deg", [(1.0, 1.5), (0.125, 36.0 * 8), (1.0, 60.0), (0.5, 4.1)])
