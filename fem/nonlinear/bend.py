@@ -33,9 +33,9 @@ from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_law
 from softcath.fem.nonlinear.convergence import default_layers
 from softcath.fem.nonlinear.errors import SettingError
 from softcath.fem.nonlinear.linsolve import TangentSolver
-from softcath.fem.nonlinear.load_path import first_load_steps
+from softcath.fem.nonlinear.load_path import check_predictor, first_load_steps
 from softcath.fem.nonlinear.meshes import dofs_of_facets
-from softcath.fem.nonlinear.newton import PREDICTORS, NonlinearResult, solve
+from softcath.fem.nonlinear.newton import NonlinearResult, solve
 from softcath.fem.nonlinear.post import (
     MIDSPAN,
     bend_angle,
@@ -365,8 +365,7 @@ def bend_curve(
         Bad pressures/load; :class:`~fem.nonlinear.errors.ConvergenceError` if Newton fails.
     """
     p, w = _check_inputs(pressures, load, midspan, substeps)
-    if predictor not in PREDICTORS:
-        raise SettingError("predictor", predictor, f"must be one of {PREDICTORS}")
+    check_predictor(predictor)  # before the meshing
     if mixed is None:
         mixed = needs_mixed(design)
     choice, cmesh, mesh_seconds = None, mesh, 0.0

@@ -13,10 +13,22 @@ import math
 
 import numpy as np
 
-__all__ = ["FIRST_STEP_DEG", "first_load_steps", "predict"]
+from softcath.fem.nonlinear.errors import SettingError
+
+__all__ = ["FIRST_STEP_DEG", "PREDICTORS", "check_predictor", "first_load_steps", "predict"]
 
 #: Largest linear bend [deg] of the walk's first step (:func:`first_load_steps`).
 FIRST_STEP_DEG = 2.0
+#: The predictors of ``newton.solve``: the secant (two equilibria) and the quadratic (three).
+PREDICTORS = ("secant", "quadratic")
+
+
+def check_predictor(predictor: str) -> int:
+    """How many equilibria ``predictor`` (one of :data:`PREDICTORS`) extrapolates; refuses any other name."""
+    if predictor not in PREDICTORS:
+        raise SettingError("predictor", predictor, f"must be one of {PREDICTORS}")
+    return PREDICTORS.index(predictor) + 2
+
 
 #: Largest |Lagrange weight| of the quadratic predictor; beyond it (uneven steps after cutbacks) the
 #: extrapolation amplifies the equilibria's own errors and the secant is used instead. Even steps

@@ -81,3 +81,12 @@ def test_an_unknown_predictor_is_refused_before_any_meshing():
 
     with pytest.raises(SettingError, match=r"predictor.*'cubic'.*must be one of"):
         bend_curve(preset("paper"), [0.1], predictor="cubic")
+
+
+def test_each_predictor_extrapolates_its_own_number_of_equilibria():
+    from softcath.fem.nonlinear.errors import SettingError
+    from softcath.fem.nonlinear.load_path import check_predictor
+
+    assert (check_predictor("secant"), check_predictor("quadratic")) == (2, 3)
+    with pytest.raises(SettingError, match=r"predictor.*'linear'.*must be one of"):
+        check_predictor("linear")
