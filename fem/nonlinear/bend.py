@@ -32,13 +32,12 @@ from softcath.fem.nonlinear.body import FollowerPressure, HyperelasticBody
 from softcath.fem.nonlinear.catheter import HOOP_CAP, CatheterMesh, catheter_laws, mesh_catheter
 from softcath.fem.nonlinear.convergence import default_layers
 from softcath.fem.nonlinear.errors import SettingError
-from softcath.fem.nonlinear.linsolve import TangentSolver
+from softcath.fem.nonlinear.hoop_cap import linear_unit_angle
 from softcath.fem.nonlinear.load_path import check_predictor, first_load_steps
 from softcath.fem.nonlinear.meshes import dofs_of_facets
 from softcath.fem.nonlinear.newton import NonlinearResult, solve
 from softcath.fem.nonlinear.post import (
     MIDSPAN,
-    bend_angle,
     bend_angles,
     curvature_variation,
     max_principal_strain,
@@ -232,6 +231,7 @@ class _Model:
     def __init__(self, design, cmesh: CatheterMesh, *, load: str, mixed: bool, hoop_cap=HOOP_CAP) -> None:
         self.design = design
         self.cmesh = cmesh
+        self.hoop_cap = hoop_cap
         self.body = HyperelasticBody(
             cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=hoop_cap), mixed=mixed
         )
@@ -274,20 +274,7 @@ class _Model:
     @functools.cached_property
     def linear_unit_angle(self) -> float:
         """dθ/dp [rad/MPa] of the linear FEM (tangent at zero load, unit pressure; solved once)."""
-        body = self.body
-        free = np.setdiff1d(np.arange(body.ndofs), self.fixed)
-        mask, tmpl = body.pattern.restrict(free)
-        u0 = np.zeros(body.ndofs)
-        _, data = body.internal(u0)
-        f = np.zeros(body.ndofs)
-        self.pressure.add_to(u0, 1.0, f, np.zeros_like(data))
-        k = tmpl.copy()
-        k.data = data[mask]
-        u = np.zeros(body.ndofs)
-        with TangentSolver(tmpl) as lin:
-            u[free] = lin(k, -f[free])
-        eps = 1e-6 / max(np.abs(u).max(), 1e-300)  # probe the rotation in the small-rotation range
-        return bend_angle(body.nodes, eps * u.reshape(-1, 3), self.end) / eps
+        return linear_unit_angle(self.body, self.pressure, self.fixed, self.end)
 
 
 def bend_curve(

@@ -229,7 +229,7 @@ def _set_up(
 
 
 def _load_path(
-    problem: _Problem, targets: np.ndarray, bar, *, depth: int = 3
+    problem: _Problem, targets: np.ndarray, bar, *, depth: int
 ) -> tuple[list[StepRecord], list[np.ndarray]]:
     """Step the load factor to 1 with cutbacks; returns the step records and displacements."""
     free, fixed = problem.free, problem.fixed
