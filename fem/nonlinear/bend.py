@@ -228,7 +228,9 @@ def axial_modulus(law) -> float:
 class _Model:
     """Mesh + body + loads of one design, reused for the linear and nonlinear solves."""
 
-    def __init__(self, design, cmesh: CatheterMesh, *, load: str, mixed: bool, hoop_cap=HOOP_CAP) -> None:
+    def __init__(
+        self, design, cmesh: CatheterMesh, *, load: str, mixed: bool, hoop_cap: float | None = HOOP_CAP
+    ) -> None:
         self.design = design
         self.cmesh = cmesh
         self.hoop_cap = hoop_cap

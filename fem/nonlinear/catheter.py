@@ -55,7 +55,7 @@ __all__ = [
     "CatheterMesh",
     "mesh_catheter",
     "catheter_laws",
-    "stiffest_silicone_modulus",
+    "capped_hoop_modulus",
     "from_tip_mesh",
 ]
 
@@ -284,10 +284,14 @@ def mesh_catheter(
 HOOP_CAP = 1000.0
 
 
-def stiffest_silicone_modulus(design) -> float:
-    """The largest Young's modulus [MPa] of the design's silicones (tube, filler): the hoop cap's unit."""
+def capped_hoop_modulus(design, coil, hoop_cap: float | None = HOOP_CAP) -> float:
+    """The hoop modulus [MPa] the model gives ``coil``: its homogenised steel value, capped at
+    ``hoop_cap`` times the stiffest silicone's E (tube, filler); ``None`` leaves it uncapped."""
+    steel = coil_stiffness(coil).hoop_modulus
+    if hoop_cap is None:
+        return steel
     silicones = [design.tube.material] + ([design.filler] if design.filler is not None else [])
-    return max(m.youngs_modulus for m in silicones)
+    return min(steel, hoop_cap * max(m.youngs_modulus for m in silicones))
 
 
 def catheter_laws(design, *, hoop_cap: float | None = HOOP_CAP) -> dict[int, object]:
@@ -303,12 +307,9 @@ def catheter_laws(design, *, hoop_cap: float | None = HOOP_CAP) -> dict[int, obj
     mesh). ``hoop_cap=None`` keeps the steel value.
     """
 
-    e_max = stiffest_silicone_modulus(design)
-
     def coil_law(coil):
-        k = coil_stiffness(coil)
-        e_l = k.axial_modulus_tension
-        e_t = k.hoop_modulus if hoop_cap is None else min(k.hoop_modulus, hoop_cap * e_max)
+        e_l = coil_stiffness(coil).axial_modulus_tension
+        e_t = capped_hoop_modulus(design, coil, hoop_cap)
         return AnisotropicSVK(
             transversely_isotropic(
                 axial_modulus=e_l,

@@ -20,7 +20,7 @@ import numpy as np
 
 from softcath.design import coil_stiffness
 from softcath.fem.nonlinear.body import HyperelasticBody
-from softcath.fem.nonlinear.catheter import catheter_laws, stiffest_silicone_modulus
+from softcath.fem.nonlinear.catheter import capped_hoop_modulus, catheter_laws
 from softcath.fem.nonlinear.linsolve import TangentSolver
 from softcath.fem.nonlinear.post import bend_angle
 
@@ -34,7 +34,7 @@ class HoopCapEffect:
     Attributes
     ----------
     cap
-        The cap, as a multiple of the stiffest silicone's Young's modulus.
+        The cap, as a multiple of the stiffest silicone's Young's modulus (None: uncapped).
     hoop_modulus
         The outer coil's hoop modulus the model uses [MPa] (capped).
     steel_hoop_modulus
@@ -43,7 +43,7 @@ class HoopCapEffect:
         dθ/dp of the linear FEM on the same mesh [rad/MPa].
     """
 
-    cap: float
+    cap: float | None
     hoop_modulus: float
     steel_hoop_modulus: float
     angle_capped: float
@@ -94,13 +94,17 @@ def hoop_cap_effect(model) -> HoopCapEffect:
     One more body on the model's mesh with the steel hoop and one more factorisation.
     """
     design, cmesh, body = model.design, model.cmesh, model.body
-    steel = HyperelasticBody(cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=None), mixed=body.mixed)
-    e_max = stiffest_silicone_modulus(design)
-    steel_hoop = coil_stiffness(design.coil).hoop_modulus
+    if model.hoop_cap is None:  # an uncapped model: the steel hoop already, nothing to solve again
+        angle_steel = model.linear_unit_angle
+    else:
+        steel = HyperelasticBody(
+            cmesh.mesh, cmesh.labels, catheter_laws(design, hoop_cap=None), mixed=body.mixed
+        )
+        angle_steel = linear_unit_angle(steel, model.pressure, model.fixed, model.end)
     return HoopCapEffect(
-        cap=float(model.hoop_cap),
-        hoop_modulus=float(min(steel_hoop, model.hoop_cap * e_max)),
-        steel_hoop_modulus=float(steel_hoop),
+        cap=None if model.hoop_cap is None else float(model.hoop_cap),
+        hoop_modulus=float(capped_hoop_modulus(design, design.coil, model.hoop_cap)),
+        steel_hoop_modulus=float(coil_stiffness(design.coil).hoop_modulus),
         angle_capped=float(model.linear_unit_angle),
-        angle_steel=float(linear_unit_angle(steel, model.pressure, model.fixed, model.end)),
+        angle_steel=float(angle_steel),
     )

@@ -39,3 +39,10 @@ def test_a_cap_above_the_steel_modulus_changes_nothing(paper_mesh):
     assert effect.relative == pytest.approx(0.0, abs=1e-9)
     doc = effect.to_json()
     assert doc["relative"] == effect.relative and "not part of" in doc["method"]
+
+
+def test_an_uncapped_model_is_its_own_steel_reference(paper_mesh):
+    effect = hoop_cap_effect(_Model(preset("paper"), paper_mesh, load="lumen", mixed=True, hoop_cap=None))
+    assert effect.cap is None
+    assert effect.hoop_modulus == effect.steel_hoop_modulus
+    assert effect.relative == 0.0
